@@ -1,0 +1,65 @@
+// Periodic boundaries: image particles in the store's image range (the same mechanism MPI
+// halos will use), and wrapping of owned particles that cross a periodic face.
+#pragma once
+#include <vector>
+
+#include "sphflume/core/particles.hpp"
+
+namespace sph {
+
+template <int D>
+struct Periodic {
+  using V = Vec<D>;
+  bool axis[D]{};
+  V lo{}, hi{};
+
+  bool any() const {
+    for (int d = 0; d < D; ++d) if (axis[d]) return true;
+    return false;
+  }
+  double period(int d) const { return hi[d] - lo[d]; }
+
+  /// Add an image for every owned particle within `margin` of a periodic face (and of
+  /// edges/corners when several axes are periodic).
+  void build_images(ParticleStore<D>& P, double margin) const {
+    if (!any()) return;
+    const std::size_t n = P.n_owned();
+    for (std::size_t i = 0; i < n; ++i) {
+      // each axis: -1 (near lo, image shifted by +L), +1 (near hi, shifted by -L), 0
+      int side[D];
+      bool near = false;
+      for (int d = 0; d < D; ++d) {
+        side[d] = 0;
+        if (!axis[d]) continue;
+        if (P.pos[i][d] < lo[d] + margin) side[d] = -1;
+        else if (P.pos[i][d] > hi[d] - margin) side[d] = 1;
+        near |= side[d] != 0;
+      }
+      if (!near) continue;
+      // all non-empty subsets of the near axes
+      for (int mask = 1; mask < (1 << D); ++mask) {
+        bool ok = true;
+        V shift{};
+        for (int d = 0; d < D; ++d) {
+          if (!(mask & (1 << d))) continue;
+          if (side[d] == 0) { ok = false; break; }
+          shift[d] = -side[d] * period(d);
+        }
+        if (ok) P.add_image(static_cast<std::uint32_t>(i), shift);
+      }
+    }
+  }
+
+  /// Bring owned particles that crossed a periodic face back into [lo, hi).
+  void wrap(ParticleStore<D>& P) const {
+    if (!any()) return;
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      for (int d = 0; d < D; ++d) {
+        if (!axis[d]) continue;
+        if (P.pos[i][d] < lo[d]) P.pos[i][d] += period(d);
+        else if (P.pos[i][d] >= hi[d]) P.pos[i][d] -= period(d);
+      }
+  }
+};
+
+}  // namespace sph

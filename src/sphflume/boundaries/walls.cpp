@@ -1,0 +1,81 @@
+#include "sphflume/boundaries/walls.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sph {
+namespace {
+
+template <int D>
+class DummyWalls final : public WallModel<D> {
+ public:
+  using WallModel<D>::WallModel;
+  const char* name() const override { return "dummy"; }
+  bool evolves_density() const override { return false; }
+  const std::vector<Vec<D>>& viscous_velocity(const System<D>&) const override { return *ghost_; }
+
+  void prepare(System<D>& S) override {
+    auto& P = S.particles;
+    ghost_ = &P.vector("wall_ghost_velocity");
+    auto& gv = *ghost_;
+    const std::size_t n = P.n_owned();
+    const bool clamp = this->cfg.clamp_negative_pressure;
+    S.with_kernel([&](const auto& K) {
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        if (P.kind[i] != Kind::Wall) continue;
+        double sw = 0.0, sp = 0.0;
+        Vec<D> srr{}, sv{};
+        S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
+          if (P.kind[j] != Kind::Fluid) return;
+          const double w = K.W(std::sqrt(r2));
+          sw += w;
+          sp += P.p[j] * w;
+          srr += (P.rho[j] * w) * rij;
+          sv += w * P.vel[j];
+        });
+        double pw = S.eos.background;
+        Vec<D> g = P.vel[i];
+        if (sw > 0.0) {
+          pw = (sp + dot(S.gravity, srr)) / sw;  // fixed walls: wall acceleration a_w = 0
+          g = 2.0 * P.vel[i] - (1.0 / sw) * sv;
+        }
+        if (clamp) pw = std::max(pw, S.eos.background);
+        P.p[i] = pw;
+        P.rho[i] = S.eos.density(pw);
+        gv[i] = this->cfg.no_slip ? g : P.vel[i];
+      }
+    });
+    P.refresh_images();
+  }
+
+ private:
+  std::vector<Vec<D>>* ghost_ = nullptr;
+};
+
+template <int D>
+class DynamicWalls final : public WallModel<D> {
+ public:
+  using WallModel<D>::WallModel;
+  const char* name() const override { return "dynamic"; }
+  bool evolves_density() const override { return true; }
+  void prepare(System<D>&) override {}  // pressure follows the density in the integrator
+};
+
+}  // namespace
+
+template <int D>
+Registry<WallModel<D>, const WallConfig&>& wall_registry() {
+  static Registry<WallModel<D>, const WallConfig&> r = [] {
+    Registry<WallModel<D>, const WallConfig&> reg;
+    reg.add("dummy", [](const WallConfig& c) { return std::make_unique<DummyWalls<D>>(c); });
+    reg.add("dynamic", [](const WallConfig& c) { return std::make_unique<DynamicWalls<D>>(c); });
+    return reg;
+  }();
+  return r;
+}
+
+template Registry<WallModel<2>, const WallConfig&>& wall_registry<2>();
+template Registry<WallModel<3>, const WallConfig&>& wall_registry<3>();
+
+}  // namespace sph

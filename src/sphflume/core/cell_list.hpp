@@ -1,0 +1,123 @@
+// Cell-linked list: square (cubic) cells whose side is the kernel support, particle indices
+// counting-sorted by cell. Also gives the cell-order permutation used to reorder the particle
+// store for memory locality. Same template for 2D and 3D.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "sphflume/core/vec.hpp"
+
+namespace sph {
+
+template <int D>
+class CellList {
+ public:
+  using V = Vec<D>;
+
+  /// Bin positions [0, n) into cells of side `cell` covering their bounding box.
+  void build(const std::vector<V>& pos, std::size_t n, double cell) {
+    cell_ = cell;
+    inv_cell_ = 1.0 / cell;
+    for (int d = 0; d < D; ++d) { lo_[d] = std::numeric_limits<double>::max(); }
+    V hi;
+    for (int d = 0; d < D; ++d) hi[d] = -std::numeric_limits<double>::max();
+    for (std::size_t i = 0; i < n; ++i)
+      for (int d = 0; d < D; ++d) {
+        lo_[d] = std::min(lo_[d], pos[i][d]);
+        hi[d] = std::max(hi[d], pos[i][d]);
+      }
+    std::size_t ncell = 1;
+    for (int d = 0; d < D; ++d) {
+      if (n == 0) { lo_[d] = 0; hi[d] = 0; }
+      if (!std::isfinite(lo_[d]) || !std::isfinite(hi[d]))
+        throw std::runtime_error("cell list: non-finite particle position");
+      const double span = (hi[d] - lo_[d]) * inv_cell_;
+      if (span > 4.0e6) throw std::runtime_error("cell list: particles spread over too many cells");
+      dims_[d] = static_cast<int>(span) + 1;
+      ncell *= static_cast<std::size_t>(dims_[d]);
+    }
+    if (ncell > (std::size_t(1) << 31)) throw std::runtime_error("cell list: too many cells (particles flew apart?)");
+    cell_of_.resize(n);
+    cell_start_.assign(ncell + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t c = cell_index(pos[i]);
+      cell_of_[i] = c;
+      ++cell_start_[c + 1];
+    }
+    for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
+    sorted_.resize(n);
+    fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) sorted_[fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+
+  /// Calls f(j) for every particle j in the 3^D cells around position x (candidates; the
+  /// caller checks the distance).
+  template <class Fn>
+  void for_candidates(const V& x, Fn&& f) const {
+    int c[D];
+    for (int d = 0; d < D; ++d) c[d] = coord(x, d);
+    if constexpr (D == 2) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int z = c[1] + dz;
+        if (z < 0 || z >= dims_[1]) continue;
+        const int x0 = std::max(c[0] - 1, 0), x1 = std::min(c[0] + 1, dims_[0] - 1);
+        // cells x0..x1 in one row are contiguous: one range
+        const std::size_t a = static_cast<std::size_t>(z) * dims_[0] + x0;
+        const std::size_t b = static_cast<std::size_t>(z) * dims_[0] + x1;
+        for (std::uint32_t k = cell_start_[a]; k < cell_start_[b + 1]; ++k) f(sorted_[k]);
+      }
+    } else {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int z = c[2] + dz;
+        if (z < 0 || z >= dims_[2]) continue;
+        for (int dy = -1; dy <= 1; ++dy) {
+          const int y = c[1] + dy;
+          if (y < 0 || y >= dims_[1]) continue;
+          const int x0 = std::max(c[0] - 1, 0), x1 = std::min(c[0] + 1, dims_[0] - 1);
+          const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+          for (std::uint32_t k = cell_start_[row + x0]; k < cell_start_[row + x1 + 1]; ++k) f(sorted_[k]);
+        }
+      }
+    }
+  }
+
+  /// Calls f(j, r_ij, r2) for every j within `radius` of x (radius <= cell size).
+  template <class Fn>
+  void for_neighbours(const std::vector<V>& pos, const V& x, double radius, Fn&& f) const {
+    const double r2max = radius * radius;
+    for_candidates(x, [&](std::uint32_t j) {
+      const V rij = x - pos[j];
+      const double r2 = dot(rij, rij);
+      if (r2 < r2max) f(j, rij, r2);
+    });
+  }
+
+  /// Particle indices sorted by cell (cell-major order).
+  const std::vector<std::uint32_t>& sorted() const { return sorted_; }
+  std::size_t bytes() const {
+    return cell_of_.capacity() * 4 + sorted_.capacity() * 4 + cell_start_.capacity() * 4;
+  }
+  double cell_size() const { return cell_; }
+
+ private:
+  double cell_ = 1, inv_cell_ = 1;
+  V lo_{};
+  int dims_[D]{};
+  std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, fill_;
+
+  int coord(const V& x, int d) const {
+    int c = static_cast<int>((x[d] - lo_[d]) * inv_cell_);
+    return std::clamp(c, 0, dims_[d] - 1);
+  }
+  std::uint32_t cell_index(const V& x) const {
+    std::size_t idx = 0;
+    for (int d = D - 1; d >= 0; --d) idx = idx * dims_[d] + coord(x, d);
+    return static_cast<std::uint32_t>(idx);
+  }
+};
+
+}  // namespace sph

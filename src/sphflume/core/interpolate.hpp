@@ -1,0 +1,81 @@
+// Kernel interpolation of particle fields at arbitrary points (gauges, probes, averaging
+// nodes), from fluid particles only. Requires an up-to-date cell list in S.
+#pragma once
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include <Eigen/Dense>
+
+#include "sphflume/core/system.hpp"
+
+namespace sph {
+
+/// Σ_b V_b W(x - x_b) over fluid particles: 1 inside the fluid, ~0.5 at the free surface.
+template <int D>
+double fluid_fraction(const System<D>& S, const Vec<D>& x) {
+  const auto& P = S.particles;
+  return S.with_kernel([&](const auto& K) {
+    double s = 0.0;
+    S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
+      if (P.kind[b] == Kind::Fluid) s += P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+    });
+    return s;
+  });
+}
+
+/// Value of field f at x with a first-order (linear) moving-least-squares correction, which
+/// reproduces linear fields exactly also where the kernel is truncated (walls, surface).
+/// Falls back to the Shepard average when the moment matrix is ill-conditioned; empty when
+/// no fluid particle is within the kernel support.
+template <int D, class Field>
+std::optional<double> interpolate_mls(const System<D>& S, const Vec<D>& x, Field&& f) {
+  const auto& P = S.particles;
+  using M = Eigen::Matrix<double, D + 1, D + 1>;
+  using Vv = Eigen::Matrix<double, D + 1, 1>;
+  return S.with_kernel([&](const auto& K) -> std::optional<double> {
+    M A = M::Zero();
+    Vv rhs = Vv::Zero();
+    double sw = 0.0, sf = 0.0;
+    int n = 0;
+    S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
+      if (P.kind[b] != Kind::Fluid) return;
+      const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+      Vv q;
+      q[0] = 1.0;
+      for (int d = 0; d < D; ++d) q[d + 1] = -rxb[d] / K.h;  // (x_b - x)/h
+      A += w * q * q.transpose();
+      const double fb = f(b);
+      rhs += (w * fb) * q;
+      sw += w;
+      sf += w * fb;
+      ++n;
+    });
+    if (n == 0 || sw <= 0.0) return std::nullopt;
+    Eigen::FullPivLU<M> lu(A);
+    if (n > D + 1 && lu.rank() == D + 1 && std::abs(lu.determinant()) > 1e-6 * std::pow(A(0, 0), D + 1)) {
+      const Vv c = lu.solve(rhs);
+      return c[0];
+    }
+    return sf / sw;
+  });
+}
+
+/// Shepard (zeroth-order) average of field f at x over fluid particles.
+template <int D, class Field>
+std::optional<double> interpolate_shepard(const System<D>& S, const Vec<D>& x, Field&& f) {
+  const auto& P = S.particles;
+  return S.with_kernel([&](const auto& K) -> std::optional<double> {
+    double sw = 0.0, sf = 0.0;
+    S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
+      if (P.kind[b] != Kind::Fluid) return;
+      const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+      sw += w;
+      sf += w * f(b);
+    });
+    if (sw <= 0.0) return std::nullopt;
+    return sf / sw;
+  });
+}
+
+}  // namespace sph

@@ -1,0 +1,195 @@
+// Particle storage: structure of arrays, every kind of particle (fluid, wall, inflow, outflow)
+// in one store, told apart by a kind tag.
+//
+// Layout: indices [0, n_owned) are the particles this process owns and integrates; indices
+// [n_owned, size()) are image copies (periodic images now, MPI halo copies later), each with the
+// index of the owned particle it copies in `image_source`. Images are rebuilt before every
+// neighbour pass and never integrated.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "sphflume/core/vec.hpp"
+
+namespace sph {
+
+enum class Kind : std::uint8_t { Fluid = 0, Wall = 1, Inflow = 2, Outflow = 3 };
+inline constexpr int kKindCount = 4;
+
+inline const char* kind_name(Kind k) {
+  switch (k) {
+    case Kind::Fluid: return "fluid";
+    case Kind::Wall: return "wall";
+    case Kind::Inflow: return "inflow";
+    case Kind::Outflow: return "outflow";
+  }
+  return "?";
+}
+
+template <int D>
+class ParticleStore {
+ public:
+  using V = Vec<D>;
+  // --- state (integrated) ---
+  std::vector<V> pos, vel;
+  std::vector<double> rho;
+  // --- derived / constant ---
+  std::vector<double> p, mass;
+  std::vector<Kind> kind;
+  std::vector<std::uint32_t> id;
+  // --- rates, filled by the scheme each evaluation ---
+  std::vector<V> acc;
+  std::vector<double> drho;
+  // --- images ---
+  std::vector<std::uint32_t> image_source;  // size() - n_owned entries
+
+  std::size_t size() const { return pos.size(); }
+  std::size_t n_owned() const { return n_owned_; }
+
+  /// Append one owned particle (only valid while there are no images).
+  void add(const V& x, const V& v, double density, double m, Kind k) {
+    pos.push_back(x);
+    vel.push_back(v);
+    rho.push_back(density);
+    p.push_back(0.0);
+    mass.push_back(m);
+    kind.push_back(k);
+    id.push_back(static_cast<std::uint32_t>(id.size()));
+    acc.push_back(V{});
+    drho.push_back(0.0);
+    for (auto& [name, f] : scalar_fields_) f.push_back(0.0);
+    for (auto& [name, f] : vector_fields_) f.push_back(V{});
+    n_owned_ = pos.size();
+  }
+
+  /// Extra per-particle scalar field (e.g. a concentration, porosity). Created on first use;
+  /// kept consistent through add/reorder/images like the core fields.
+  std::vector<double>& scalar(const std::string& name) {
+    auto it = scalar_fields_.find(name);
+    if (it == scalar_fields_.end()) it = scalar_fields_.emplace(name, std::vector<double>(size(), 0.0)).first;
+    return it->second;
+  }
+  std::vector<V>& vector(const std::string& name) {
+    auto it = vector_fields_.find(name);
+    if (it == vector_fields_.end()) it = vector_fields_.emplace(name, std::vector<V>(size(), V{})).first;
+    return it->second;
+  }
+  bool has_scalar(const std::string& name) const { return scalar_fields_.count(name) != 0; }
+  const std::map<std::string, std::vector<double>>& scalar_fields() const { return scalar_fields_; }
+  const std::map<std::string, std::vector<V>>& vector_fields() const { return vector_fields_; }
+
+  /// Drop all images, keeping the owned particles.
+  void clear_images() { resize_all(n_owned_); image_source.clear(); image_shift_.clear(); }
+
+  /// Append an image of owned particle `src`, displaced by `shift`.
+  void add_image(std::uint32_t src, const V& shift) {
+    const std::size_t i = size();
+    resize_all(i + 1);
+    copy_particle(src, i);
+    pos[i] += shift;
+    image_source.push_back(src);
+    image_shift_.push_back(shift);
+  }
+
+  /// Refresh every image's fields from its source, keeping the image's displacement.
+  void refresh_images() {
+    for (std::size_t k = 0; k < image_source.size(); ++k) {
+      const std::size_t i = n_owned_ + k, s = image_source[k];
+      copy_particle(s, i);
+      pos[i] += image_shift_[k];
+    }
+  }
+
+  /// Reorder owned particles: new index i holds old particle perm[i]. Requires no images.
+  void permute(const std::vector<std::uint32_t>& perm) {
+    apply(pos, perm); apply(vel, perm); apply(rho, perm); apply(p, perm); apply(mass, perm);
+    apply(kind, perm); apply(id, perm); apply(acc, perm); apply(drho, perm);
+    for (auto& [n, f] : scalar_fields_) apply(f, perm);
+    for (auto& [n, f] : vector_fields_) apply(f, perm);
+  }
+
+  /// Remove owned particles whose flag is set (requires no images). Returns how many.
+  std::size_t remove_if_flagged(const std::vector<char>& flag) {
+    std::vector<std::uint32_t> keep;
+    keep.reserve(n_owned_);
+    for (std::uint32_t i = 0; i < n_owned_; ++i) if (!flag[i]) keep.push_back(i);
+    const std::size_t removed = n_owned_ - keep.size();
+    if (removed == 0) return 0;
+    permute_partial(keep);
+    return removed;
+  }
+
+  /// Bytes held by per-particle arrays, per owned particle (capacity, so what is really held).
+  std::size_t bytes() const {
+    std::size_t b = cap_bytes(pos) + cap_bytes(vel) + cap_bytes(rho) + cap_bytes(p) + cap_bytes(mass) +
+                    cap_bytes(kind) + cap_bytes(id) + cap_bytes(acc) + cap_bytes(drho) + cap_bytes(image_source) +
+                    cap_bytes(image_shift_) + cap_bytes(scratch_);
+    for (auto& [n, f] : scalar_fields_) b += cap_bytes(f);
+    for (auto& [n, f] : vector_fields_) b += cap_bytes(f);
+    return b;
+  }
+
+  std::size_t count(Kind k) const {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < n_owned_; ++i) n += (kind[i] == k);
+    return n;
+  }
+
+ private:
+  std::size_t n_owned_ = 0;
+  std::map<std::string, std::vector<double>> scalar_fields_;
+  std::map<std::string, std::vector<V>> vector_fields_;
+  std::vector<V> image_shift_;
+  std::vector<unsigned char> scratch_;
+
+  template <class T>
+  static std::size_t cap_bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
+
+  void resize_all(std::size_t n) {
+    pos.resize(n); vel.resize(n); rho.resize(n); p.resize(n); mass.resize(n); kind.resize(n); id.resize(n);
+    acc.resize(n); drho.resize(n);
+    for (auto& [k, f] : scalar_fields_) f.resize(n);
+    for (auto& [k, f] : vector_fields_) f.resize(n);
+  }
+
+  void copy_particle(std::size_t s, std::size_t d) {
+    pos[d] = pos[s]; vel[d] = vel[s]; rho[d] = rho[s]; p[d] = p[s]; mass[d] = mass[s]; kind[d] = kind[s];
+    id[d] = id[s]; acc[d] = acc[s]; drho[d] = drho[s];
+    for (auto& [k, f] : scalar_fields_) f[d] = f[s];
+    for (auto& [k, f] : vector_fields_) f[d] = f[s];
+  }
+
+  /// In-place gather v[i] <- v[perm[i]] by following cycles: no copy of the array is held.
+  /// perm may be shorter than v (particles dropped): those past perm.size() are discarded.
+  template <class T>
+  void apply(std::vector<T>& v, const std::vector<std::uint32_t>& perm) {
+    const std::size_t n = perm.size();
+    if (n == v.size()) {
+      scratch_.assign(n, 0);
+      for (std::size_t start = 0; start < n; ++start) {
+        if (scratch_[start] || perm[start] == start) { scratch_[start] = 1; continue; }
+        T first = v[start];
+        std::size_t i = start;
+        while (true) {
+          scratch_[i] = 1;
+          const std::size_t src = perm[i];
+          if (src == start) { v[i] = first; break; }
+          v[i] = v[src];
+          i = src;
+        }
+      }
+    } else {  // removal: perm is increasing, so a forward compaction is safe
+      for (std::size_t i = 0; i < n; ++i) v[i] = v[perm[i]];
+      v.resize(n);
+    }
+  }
+  void permute_partial(const std::vector<std::uint32_t>& keep) {
+    permute(keep);
+    n_owned_ = keep.size();
+  }
+};
+
+}  // namespace sph

@@ -1,0 +1,64 @@
+// The state every scheme shares: particles, neighbour search, kernel, equation of state,
+// gravity, periodic images, the wall model and the registered force terms.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "sphflume/boundaries/periodic.hpp"
+#include "sphflume/core/cell_list.hpp"
+#include "sphflume/core/kernels.hpp"
+#include "sphflume/core/particles.hpp"
+#include "sphflume/physics/eos.hpp"
+
+namespace sph {
+
+template <int D> class WallModel;
+template <int D> class ForceTerm;
+
+template <int D>
+struct System {
+  using V = Vec<D>;
+  ParticleStore<D> particles;
+  CellList<D> cells;
+  KernelType kernel = KernelType::WendlandC2;
+  double dx = 0.0, h = 0.0, support = 0.0;
+  Eos eos;
+  double nu = 0.0;  // kinematic viscosity
+  V gravity{};
+  Periodic<D> periodic;
+  std::unique_ptr<WallModel<D>> walls;
+  std::vector<std::unique_ptr<ForceTerm<D>>> forces;
+  double time = 0.0;
+  long step = 0;
+  std::uint64_t pairs_last_pass = 0;  // neighbour pairs visited in the last rates pass
+
+  /// Rebuild (rebuild=true) or refresh the images and rebin all particles.
+  void update_neighbours(bool rebuild_images) {
+    if (rebuild_images) {
+      particles.clear_images();
+      periodic.build_images(particles, support * 1.1 + dx);
+    } else {
+      particles.refresh_images();
+    }
+    cells.build(particles.pos, particles.size(), support);
+  }
+
+  /// Sort owned particles by cell for memory locality (no images may exist).
+  void reorder_by_cell() {
+    particles.clear_images();
+    cells.build(particles.pos, particles.n_owned(), support);
+    particles.permute(cells.sorted());
+  }
+
+  template <class Fn>
+  decltype(auto) with_kernel(Fn&& f) const { return sph::with_kernel<D>(kernel, h, std::forward<Fn>(f)); }
+
+  double total_mass(Kind k) const {
+    double m = 0.0;
+    for (std::size_t i = 0; i < particles.n_owned(); ++i)
+      if (particles.kind[i] == k) m += particles.mass[i];
+    return m;
+  }
+};
+
+}  // namespace sph

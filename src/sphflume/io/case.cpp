@@ -1,0 +1,403 @@
+#include "sphflume/io/case.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+namespace sph {
+namespace {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+/// Reads one YAML mapping strictly: every key must be read or is reported as unknown.
+class Reader {
+ public:
+  Reader(const YAML::Node& node, std::string file, std::string path)
+      : node_(node), file_(std::move(file)), path_(std::move(path)) {
+    if (!node_.IsMap()) fail_at(node_, path_.empty() ? "the document" : path_, "a mapping (key: value lines)");
+  }
+
+  [[noreturn]] void fail_at(const YAML::Node& n, const std::string& key, const std::string& expected) const {
+    throw InputError(fmt::format("{}: {}: '{}': expected {}", file_, where(n), key, expected));
+  }
+  std::string where(const YAML::Node& n) const {
+    const auto m = n.Mark();
+    if (m.line < 0) return "(value given with --set)";
+    return fmt::format("line {}", m.line + 1);
+  }
+  std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+  const std::string& file() const { return file_; }
+
+  bool has(const std::string& k) { seen_.insert(k); return node_[k].IsDefined() && !node_[k].IsNull(); }
+  YAML::Node get(const std::string& k) { seen_.insert(k); return node_[k]; }
+
+  template <class T>
+  T scalar(const std::string& k, T def) {
+    if (!has(k)) return def;
+    return as<T>(node_[k], k);
+  }
+  template <class T>
+  T required(const std::string& k, const std::string& expected) {
+    if (!has(k))
+      throw InputError(fmt::format("{}: {}: missing required key '{}': expected {}", file_, where(node_), key_path(k),
+                                   expected));
+    return as<T>(node_[k], k);
+  }
+  template <class T>
+  T as(const YAML::Node& n, const std::string& k) {
+    try {
+      return n.as<T>();
+    } catch (const YAML::Exception&) {
+      if constexpr (std::is_same_v<T, double>) fail_at(n, key_path(k), "a number");
+      else if constexpr (std::is_same_v<T, int>) fail_at(n, key_path(k), "an integer");
+      else if constexpr (std::is_same_v<T, bool>) fail_at(n, key_path(k), "true or false");
+      else fail_at(n, key_path(k), "a text value");
+    }
+  }
+  std::vector<double> vec(const std::string& k, std::size_t n_expected, std::vector<double> def = {}) {
+    if (!has(k)) return def;
+    const YAML::Node v = node_[k];
+    const std::string what = fmt::format("a list of {} numbers, e.g. [{}]", n_expected, n_expected == 2 ? "0.0, 1.0" : "0.0, 0.0, 1.0");
+    if (!v.IsSequence() || v.size() != n_expected) fail_at(v, key_path(k), what);
+    std::vector<double> out;
+    for (const auto& e : v) {
+      try { out.push_back(e.as<double>()); } catch (const YAML::Exception&) { fail_at(e, key_path(k), what); }
+    }
+    return out;
+  }
+  double positive(const std::string& k, double def, bool required_key = false) {
+    const double v = required_key ? required<double>(k, "a positive number") : scalar<double>(k, def);
+    if (!(v > 0.0) || !std::isfinite(v)) fail_at(node_[k], key_path(k), fmt::format("a positive number (got {})", v));
+    return v;
+  }
+  double in_range(const std::string& k, double def, double lo, double hi) {
+    const double v = scalar<double>(k, def);
+    if (!(v >= lo && v <= hi)) fail_at(node_[k], key_path(k), fmt::format("a number in [{}, {}] (got {})", lo, hi, v));
+    return v;
+  }
+  std::string choice(const std::string& k, const std::string& def, std::initializer_list<const char*> options) {
+    const std::string v = scalar<std::string>(k, def);
+    std::string list;
+    for (const char* o : options) {
+      if (v == o) return v;
+      list += (list.empty() ? "" : ", ") + std::string(o);
+    }
+    fail_at(node_[k], key_path(k), "one of " + list + " (got '" + v + "')");
+  }
+
+  /// Report keys that were never read, with the closest known key.
+  void finish() {
+    for (const auto& kv : node_) {
+      const std::string k = kv.first.as<std::string>();
+      if (seen_.count(k)) continue;
+      std::string best;
+      std::size_t bd = 1000;
+      for (const auto& s : seen_) {
+        const std::size_t d = edit_distance(k, s);
+        if (d < bd) { bd = d; best = s; }
+      }
+      std::string hint = (bd <= std::max<std::size_t>(2, k.size() / 3)) ? fmt::format(" (did you mean '{}'?)", key_path(best)) : "";
+      std::string known;
+      for (const auto& s : seen_) known += (known.empty() ? "" : ", ") + s;
+      throw InputError(fmt::format("{}: {}: unknown key '{}'{}; known keys here: {}", file_, where(kv.first),
+                                   key_path(k), hint, known));
+    }
+  }
+
+ private:
+  YAML::Node node_;
+  std::string file_, path_;
+  std::set<std::string> seen_;
+};
+
+void apply_override(YAML::Node root, const std::string& spec) {
+  const auto eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(fmt::format("--set '{}': expected KEY=VALUE with a dotted key, e.g. particles.dx=0.005", spec));
+  const std::string key = spec.substr(0, eq), value = spec.substr(eq + 1);
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  YAML::Node cur = root;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    const bool last = i + 1 == parts.size();
+    YAML::Node next;
+    if (cur.IsSequence()) {
+      std::size_t idx = 0;
+      try { idx = std::stoul(p); } catch (...) {
+        throw InputError(fmt::format("--set {}: '{}' indexes a list: expected a number", key, p));
+      }
+      if (idx >= cur.size()) throw InputError(fmt::format("--set {}: list index {} out of range (the list has {} items)", key, idx, cur.size()));
+      next.reset(cur[idx]);
+    } else {
+      if (!cur.IsMap() && cur.IsDefined() && !cur.IsNull())
+        throw InputError(fmt::format("--set {}: '{}' is not a mapping", key, p));
+      next.reset(cur[p]);
+    }
+    YAML::Node parsed;
+    if (last) {
+      try { parsed = YAML::Load(value); } catch (const YAML::Exception& e) {
+        throw InputError(fmt::format("--set {}: cannot read value '{}': {}", key, value, e.msg));
+      }
+      if (cur.IsSequence()) cur[std::stoul(p)] = parsed; else cur[p] = parsed;
+      return;
+    }
+    if (!next.IsDefined() || next.IsNull()) {
+      cur[p] = YAML::Node(YAML::NodeType::Map);
+      next.reset(cur[p]);
+    }
+    cur.reset(next);
+  }
+}
+
+int axis_index(const std::string& a, int dim) {
+  if (a == "x") return 0;
+  if (a == "y" && dim == 3) return 1;
+  if (a == "z") return dim - 1;
+  return -1;
+}
+
+ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+  Reader r(n, file, path);
+  ShapeConfig s;
+  s.line = n.Mark().line + 1;
+  s.type = r.choice("type", "", {"box", "tank", "polygon", "plane"});
+  s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" ? "wall" : "fluid", {"fluid", "wall"});
+  const std::size_t d = static_cast<std::size_t>(dim);
+  if (s.type == "box" || s.type == "tank") {
+    s.min = r.vec("min", d);
+    s.max = r.vec("max", d);
+    if (s.min.empty() || s.max.empty()) r.fail_at(n, path, "'min' and 'max' corners");
+    for (std::size_t i = 0; i < d; ++i)
+      if (!(s.max[i] > s.min[i])) r.fail_at(r.get("max"), r.key_path("max"), "max > min in every coordinate");
+    if (s.type == "tank") {
+      s.open_top = r.scalar<bool>("open_top", true);
+      if (s.fill != "wall") r.fail_at(r.get("fill"), r.key_path("fill"), "'wall' (a tank is made of wall particles)");
+    }
+  } else if (s.type == "polygon") {
+    if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
+    const YAML::Node v = r.get("vertices");
+    if (!v.IsSequence() || v.size() < 3) r.fail_at(v.IsDefined() ? v : n, r.key_path("vertices"), "a list of at least 3 [x, z] points");
+    for (const auto& p : v) {
+      if (!p.IsSequence() || p.size() != 2) r.fail_at(p, r.key_path("vertices"), "[x, z] pairs");
+      try { s.vertices.push_back({p[0].as<double>(), p[1].as<double>()}); } catch (const YAML::Exception&) {
+        r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of numbers");
+      }
+    }
+  } else if (s.type == "plane") {
+    s.point = r.vec("point", d);
+    s.normal = r.vec("normal", d);
+    s.min = r.vec("min", d);
+    s.max = r.vec("max", d);
+    if (s.point.empty() || s.normal.empty() || s.min.empty() || s.max.empty())
+      r.fail_at(n, path, "'point', 'normal' (pointing into the fluid), and the extent 'min'/'max'");
+    double nn = 0;
+    for (double c : s.normal) nn += c * c;
+    if (nn <= 0) r.fail_at(r.get("normal"), r.key_path("normal"), "a non-zero normal");
+    s.thickness = r.scalar<double>("thickness", 0.0);
+  }
+  s.velocity = r.vec("velocity", d, std::vector<double>(d, 0.0));
+  r.finish();
+  return s;
+}
+
+GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+  Reader r(n, file, path);
+  GaugeConfig g;
+  g.line = n.Mark().line + 1;
+  g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
+  for (char c : g.name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+      r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "front"});
+  const std::size_t d = static_cast<std::size_t>(dim);
+  if (g.type == "water_level") {
+    g.point = r.vec("point", d);
+    if (g.point.empty()) {
+      g.x = r.required<double>("x", "the x of the vertical line");
+      g.point.assign(d, 0.0);
+      g.point[0] = g.x;
+    }
+  } else if (g.type == "pressure") {
+    g.point = r.vec("point", d);
+    if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
+  } else if (g.type == "velocity_profile") {
+    g.start = r.vec("start", d);
+    g.end = r.vec("end", d);
+    if (g.start.empty() || g.end.empty()) r.fail_at(n, path, "'start' and 'end' points of the line");
+    g.points = r.scalar<int>("points", 20);
+    if (g.points < 2 || g.points > 10000) r.fail_at(r.get("points"), r.key_path("points"), "an integer in [2, 10000]");
+  } else if (g.type == "front") {
+    const std::string ax = r.scalar<std::string>("axis", "x");
+    g.axis = axis_index(ax, dim);
+    if (g.axis < 0) r.fail_at(r.get("axis"), r.key_path("axis"), dim == 2 ? "x or z" : "x, y or z");
+    g.direction = r.scalar<double>("direction", 1.0) >= 0 ? 1.0 : -1.0;
+  }
+  r.finish();
+  return g;
+}
+
+Case build_case(YAML::Node root, const std::string& file) {
+  Case c;
+  c.file = file;
+  c.raw = root;
+  Reader top(root, file, "");
+  c.name = top.scalar<std::string>("name", "case");
+  c.dimension = top.scalar<int>("dimension", 2);
+  if (c.dimension != 2 && c.dimension != 3) top.fail_at(top.get("dimension"), "dimension", "2 or 3");
+  const std::size_t d = static_cast<std::size_t>(c.dimension);
+  std::vector<double> g_def(d, 0.0);
+  g_def[d - 1] = -9.81;
+  c.gravity = top.vec("gravity", d, g_def);
+
+  {  // particles / kernel
+    if (!top.has("particles")) throw InputError(fmt::format("{}: missing required section 'particles' (with at least dx, the particle spacing in m)", file));
+    Reader r(top.get("particles"), file, "particles");
+    c.dx = r.positive("dx", 0.0, true);
+    c.kernel = kernel_from_name(r.choice("kernel", "wendland_c2", {"wendland_c2", "cubic_spline", "quintic_spline"}));
+    const auto [lo, hi] = kernel_h_over_dx_range(c.kernel);
+    c.h_over_dx = r.in_range("h_over_dx", kernel_default_h_over_dx(c.kernel), lo, hi);
+    r.finish();
+  }
+  if (top.has("domain")) {
+    Reader r(top.get("domain"), file, "domain");
+    c.domain_min = r.vec("min", d);
+    c.domain_max = r.vec("max", d);
+    if (r.has("periodic")) {
+      const YAML::Node p = r.get("periodic");
+      if (!p.IsSequence()) r.fail_at(p, "domain.periodic", "a list of axes, e.g. [x]");
+      for (const auto& a : p) {
+        const int ax = axis_index(a.as<std::string>(), c.dimension);
+        if (ax < 0) r.fail_at(a, "domain.periodic", c.dimension == 2 ? "axes among x, z" : "axes among x, y, z");
+        c.periodic.push_back(ax);
+      }
+      if (!c.periodic.empty() && (c.domain_min.empty() || c.domain_max.empty()))
+        r.fail_at(p, "domain.periodic", "'min' and 'max' of the domain too (they set the period)");
+    }
+    r.finish();
+  }
+  {
+    if (!top.has("fluid")) throw InputError(fmt::format("{}: missing required section 'fluid'", file));
+    Reader r(top.get("fluid"), file, "fluid");
+    c.fluid.density = r.positive("density", 1000.0);
+    c.fluid.viscosity = r.scalar<double>("viscosity", 1.0e-6);
+    if (!(c.fluid.viscosity >= 0)) r.fail_at(r.get("viscosity"), "fluid.viscosity", "a kinematic viscosity >= 0 in m2/s");
+    c.fluid.sound_speed = r.scalar<double>("sound_speed", 0.0);
+    if (!(c.fluid.sound_speed >= 0)) r.fail_at(r.get("sound_speed"), "fluid.sound_speed", "a speed > 0 in m/s (or 0 for 10 x the reference velocity)");
+    c.fluid.reference_velocity = r.scalar<double>("reference_velocity", 0.0);
+    c.fluid.eos = r.choice("eos", "tait", {"tait", "linear"}) == "tait" ? EosType::Tait : EosType::Linear;
+    c.fluid.gamma = r.positive("gamma", 7.0);
+    c.fluid.background_pressure = r.scalar<double>("background_pressure", 0.0);
+    c.fluid.hydrostatic_init = r.scalar<bool>("hydrostatic_init", true);
+    r.finish();
+  }
+  if (top.has("scheme")) {
+    Reader r(top.get("scheme"), file, "scheme");
+    c.scheme.type = r.choice("type", "wcsph", {"wcsph"});
+    c.scheme.integrator = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector"}) == "symplectic"
+                              ? Integrator::Symplectic : Integrator::PredictorCorrector;
+    const std::string dd = r.choice("density_diffusion", "fourtakas", {"none", "molteni_colagrossi", "fourtakas"});
+    c.scheme.density_diffusion = dd == "none" ? DensityDiffusion::None
+                                 : dd == "fourtakas" ? DensityDiffusion::Fourtakas : DensityDiffusion::MolteniColagrossi;
+    c.scheme.delta = r.in_range("delta", 0.1, 0.0, 1.0);
+    const std::string vm = r.choice("viscosity", "laminar", {"none", "laminar", "artificial"});
+    c.scheme.viscosity = vm == "none" ? ViscosityModel::None : vm == "laminar" ? ViscosityModel::Laminar : ViscosityModel::Artificial;
+    c.scheme.alpha = r.in_range("alpha", 0.01, 0.0, 10.0);
+    c.scheme.pressure_gradient = r.choice("pressure_gradient", "sum", {"sum", "symmetric"}) == "sum"
+                                     ? PressureGradient::Sum : PressureGradient::Symmetric;
+    c.scheme.shepard_every = r.scalar<int>("shepard_every", 0);
+    if (c.scheme.shepard_every < 0) r.fail_at(r.get("shepard_every"), "scheme.shepard_every", "an integer >= 0 (0 = off)");
+    c.scheme.xsph = r.in_range("xsph", 0.0, 0.0, 1.0);
+    c.scheme.cfl = r.in_range("cfl", 0.2, 1e-4, 1.5);
+    c.scheme.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
+    c.scheme.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
+    c.scheme.reorder_every = r.scalar<int>("reorder_every", 10);
+    if (c.scheme.reorder_every < 0) r.fail_at(r.get("reorder_every"), "scheme.reorder_every", "an integer >= 0 (0 = never)");
+    r.finish();
+  }
+  if (top.has("walls")) {
+    Reader r(top.get("walls"), file, "walls");
+    c.walls.type = r.choice("type", "dummy", {"dummy", "dynamic"});
+    c.walls.no_slip = r.choice("slip", "no_slip", {"no_slip", "free_slip"}) == "no_slip";
+    c.walls.layers = r.scalar<int>("layers", 0);
+    if (c.walls.layers < 0 || c.walls.layers > 10) r.fail_at(r.get("layers"), "walls.layers", "an integer in [0, 10] (0 = from the kernel support)");
+    c.walls.clamp_negative_pressure = r.scalar<bool>("clamp_negative_pressure", true);
+    r.finish();
+  }
+  {
+    const YAML::Node geo = top.get("geometry");
+    if (!geo.IsDefined() || geo.IsNull()) throw InputError(fmt::format("{}: missing required section 'geometry' (a list of shapes filled with fluid or wall)", file));
+    if (!geo.IsSequence()) top.fail_at(geo, "geometry", "a list of shapes, each starting with '- type: box'");
+    for (std::size_t i = 0; i < geo.size(); ++i)
+      c.shapes.push_back(read_shape(geo[i], file, fmt::format("geometry.{}", i), c.dimension));
+  }
+  {
+    if (!top.has("time")) throw InputError(fmt::format("{}: missing required section 'time' (end and output_interval in s)", file));
+    Reader r(top.get("time"), file, "time");
+    c.t_end = r.positive("end", 0.0, true);
+    c.output_interval = r.positive("output_interval", c.t_end / 20.0);
+    r.finish();
+  }
+  if (top.has("gauges")) {
+    const YAML::Node gs = top.get("gauges");
+    if (!gs.IsSequence()) top.fail_at(gs, "gauges", "a list of gauges");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < gs.size(); ++i) {
+      c.gauges.push_back(read_gauge(gs[i], file, fmt::format("gauges.{}", i), c.dimension));
+      if (!names.insert(c.gauges.back().name).second)
+        top.fail_at(gs[i], fmt::format("gauges.{}.name", i), "a name not used by another gauge");
+    }
+  }
+  if (top.has("forces")) {
+    c.forces = top.get("forces");
+    if (!c.forces.IsSequence()) top.fail_at(c.forces, "forces", "a list of force terms, each {type: NAME, ...}");
+  }
+  top.finish();
+  return c;
+}
+
+}  // namespace
+
+Case parse_case(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(fmt::format("{}: line {}, column {}: YAML syntax error: {}", name, e.mark.line + 1,
+                                 e.mark.column + 1, e.msg));
+  }
+  if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping of sections (particles, fluid, geometry, time, ...)", name));
+  for (const auto& o : overrides) apply_override(root, o);
+  try {
+    return build_case(root, name);
+  } catch (const YAML::Exception& e) {
+    throw InputError(fmt::format("{}: line {}: {}", name, e.mark.line + 1, e.msg));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", name, e.what()));
+  }
+}
+
+Case load_case(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open the case file (check the path)", path));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_case(ss.str(), path, overrides);
+}
+
+}  // namespace sph

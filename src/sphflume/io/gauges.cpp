@@ -1,0 +1,126 @@
+#include "sphflume/io/gauges.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "sphflume/core/interpolate.hpp"
+#include "sphflume/io/snapshot.hpp"
+
+namespace sph {
+
+template <int D>
+GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top)
+    : cfg_(gauges), level_top_(level_top) {
+  if (gauges.empty()) return;
+  std::filesystem::create_directories(dir + "/gauges");
+  const char* ax = D == 2 ? "xz" : "xyz";
+  for (const auto& g : gauges) {
+    const std::string path = dir + "/gauges/" + g.name + ".csv";
+    auto f = std::make_unique<std::ofstream>(path, std::ios::trunc);
+    if (!*f) throw IoError(fmt::format("cannot write gauge file '{}'", path));
+    *f << "time";
+    if (g.type == "water_level") *f << ",level";
+    else if (g.type == "pressure") *f << ",pressure";
+    else if (g.type == "front") *f << ",front";
+    else if (g.type == "velocity_profile") {
+      std::string pts = "index,x,y,z\n";
+      for (int i = 0; i < g.points; ++i) {
+        const double s = static_cast<double>(i) / (g.points - 1);
+        double c[3] = {0, 0, 0};
+        for (int d = 0; d < D; ++d) c[d == D - 1 ? 2 : d] = g.start[d] + s * (g.end[d] - g.start[d]);
+        pts += fmt::format("{},{:.9g},{:.9g},{:.9g}\n", i, c[0], c[1], c[2]);
+        for (int d = 0; d < D; ++d) *f << fmt::format(",u{}_{}", ax[d], i);
+      }
+      write_file_atomically(dir + "/gauges/" + g.name + ".points.csv", pts);
+    }
+    *f << "\n";
+    files_.push_back(std::move(f));
+  }
+}
+
+template <int D>
+std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>& S, double level_top) {
+  const auto& P = S.particles;
+  constexpr int vz = D - 1;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto at = [&](const std::vector<double>& v) {
+    Vec<D> x{};
+    for (int d = 0; d < D; ++d) x[d] = v[d];
+    return x;
+  };
+  if (g.type == "pressure") {
+    auto v = interpolate_mls(S, at(g.point), [&](std::uint32_t b) { return P.p[b]; });
+    return {v ? *v : nan};
+  }
+  if (g.type == "velocity_profile") {
+    std::vector<double> out;
+    for (int i = 0; i < g.points; ++i) {
+      const double s = static_cast<double>(i) / (g.points - 1);
+      Vec<D> x{};
+      for (int d = 0; d < D; ++d) x[d] = g.start[d] + s * (g.end[d] - g.start[d]);
+      for (int d = 0; d < D; ++d) {
+        auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d]; });
+        out.push_back(v ? *v : nan);
+      }
+    }
+    return out;
+  }
+  if (g.type == "water_level") {
+    // scan down the vertical line in steps of dx/4 from the top of the particles
+    Vec<D> x = at(g.point);
+    const double step = 0.25 * S.dx;
+    double zlo = level_top;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) zlo = std::min(zlo, P.pos[i][vz]);
+    double prev_f = 0.0, prev_z = level_top;
+    for (double z = level_top; z >= zlo; z -= step) {
+      x[vz] = z;
+      const double f = fluid_fraction(S, x);
+      if (f >= 0.5) {
+        if (z == level_top) return {z};
+        return {z + (prev_z - z) * (f - 0.5) / (f - prev_f)};
+      }
+      prev_f = f;
+      prev_z = z;
+    }
+    return {nan};
+  }
+  if (g.type == "front") {
+    double best = -std::numeric_limits<double>::max();
+    const double r = 2.0 * S.dx;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      const double s = g.direction * P.pos[i][g.axis];
+      if (s <= best) continue;
+      int nb = 0;
+      S.cells.for_neighbours(P.pos, P.pos[i], r, [&](std::uint32_t b, const Vec<D>&, double r2) {
+        nb += (P.kind[b] == Kind::Fluid && r2 > 0.0);
+      });
+      if (nb >= 3) best = s;
+    }
+    return {best == -std::numeric_limits<double>::max() ? nan : g.direction * best};
+  }
+  return {nan};
+}
+
+template <int D>
+void GaugeSet<D>::sample(const System<D>& S) {
+  double top = level_top_;
+  for (std::size_t i = 0; i < S.particles.n_owned(); ++i) top = std::max(top, S.particles.pos[i][D - 1] + S.support);
+  for (std::size_t k = 0; k < cfg_.size(); ++k) {
+    auto& f = *files_[k];
+    f << fmt::format("{:.9g}", S.time);
+    for (double v : evaluate(cfg_[k], S, top)) f << fmt::format(",{:.9g}", v);
+    f << "\n";
+    f.flush();
+    if (!f) throw IoError(fmt::format("writing gauge '{}' failed (disk full?)", cfg_[k].name));
+  }
+}
+
+template class GaugeSet<2>;
+template class GaugeSet<3>;
+
+}  // namespace sph

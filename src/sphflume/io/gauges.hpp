@@ -1,0 +1,38 @@
+// Gauges: one CSV per gauge in OUTPUT/gauges/NAME.csv, first column `time`, one row per
+// output time.
+//  water_level       level: highest z on the vertical line where the fluid fraction
+//                    Σ V_b W >= 0.5 (linearly interpolated)
+//  pressure          pressure: linear-MLS kernel interpolation from fluid particles
+//  velocity_profile  ux_i, (uy_i,) uz_i at points i along the line (Shepard average);
+//                    the points' coordinates go to NAME.points.csv
+//  front             front: furthest fluid particle along the axis that has at least 3 fluid
+//                    neighbours (isolated droplets ignored)
+#pragma once
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sphflume/core/system.hpp"
+#include "sphflume/io/case.hpp"
+
+namespace sph {
+
+template <int D>
+class GaugeSet {
+ public:
+  /// Open the CSV files (truncating) and write their headers.
+  GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top);
+  /// Append one row per gauge; S must have an up-to-date cell list.
+  void sample(const System<D>& S);
+  /// Evaluate one gauge (also used by tests).
+  /// level_top: height from which water-level gauges scan down.
+  static std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double level_top);
+
+ private:
+  std::vector<GaugeConfig> cfg_;
+  std::vector<std::unique_ptr<std::ofstream>> files_;
+  double level_top_;
+};
+
+}  // namespace sph

@@ -1,0 +1,145 @@
+#include "sphflume/io/snapshot.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+namespace sph {
+namespace fs = std::filesystem;
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(fmt::format("cannot write '{}': {}", tmp, std::strerror(errno)));
+    out << text;
+    out.flush();
+    if (!out) throw IoError(fmt::format("writing '{}' failed (disk full?): {}", tmp, std::strerror(errno)));
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw IoError(fmt::format("cannot rename '{}' to '{}': {}", tmp, path, ec.message()));
+}
+
+namespace {
+
+struct H5File {
+  hid_t id;
+  ~H5File() { if (id >= 0) H5Fclose(id); }
+};
+
+void check(herr_t st, const std::string& what, const std::string& path) {
+  if (st < 0) throw IoError(fmt::format("HDF5: cannot write {} to '{}' (disk full or no permission?)", what, path));
+}
+
+void write_dataset(hid_t f, const char* name, hid_t type, const void* data, hsize_t n, hsize_t cols,
+                   const std::string& path) {
+  hsize_t dims[2] = {n, cols};
+  const hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, nullptr);
+  const hid_t ds = H5Dcreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (ds < 0) { H5Sclose(space); throw IoError(fmt::format("HDF5: cannot create dataset {} in '{}'", name, path)); }
+  const herr_t st = n > 0 ? H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+  H5Dclose(ds);
+  H5Sclose(space);
+  check(st, name, path);
+}
+
+void write_attr(hid_t f, const char* name, hid_t type, const void* v, const std::string& path) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t st = H5Awrite(a, type, v);
+  H5Aclose(a);
+  H5Sclose(space);
+  check(st, name, path);
+}
+
+}  // namespace
+
+template <int D>
+std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long step) {
+  const std::string name = fmt::format("snap_{:06d}.h5", entries_.size());
+  const std::string rel = "snapshots/" + name;
+  const std::string path = dir_ + "/" + rel, tmp = path + ".tmp";
+  fs::create_directories(dir_ + "/snapshots");
+  const std::size_t n = P.n_owned();
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves
+  {
+    H5File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT)};
+    if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' (folder missing, no permission or disk full)", tmp));
+    std::vector<double> buf(n * 3, 0.0);
+    auto vec3 = [&](const std::vector<Vec<D>>& v) {
+      for (std::size_t i = 0; i < n; ++i) {
+        buf[3 * i] = v[i][0];
+        buf[3 * i + 1] = D == 3 ? v[i][1] : 0.0;
+        buf[3 * i + 2] = v[i][D - 1];
+      }
+      return buf.data();
+    };
+    write_dataset(f.id, "position", H5T_NATIVE_DOUBLE, vec3(P.pos), n, 3, tmp);
+    write_dataset(f.id, "velocity", H5T_NATIVE_DOUBLE, vec3(P.vel), n, 3, tmp);
+    write_dataset(f.id, "pressure", H5T_NATIVE_DOUBLE, P.p.data(), n, 1, tmp);
+    write_dataset(f.id, "density", H5T_NATIVE_DOUBLE, P.rho.data(), n, 1, tmp);
+    write_dataset(f.id, "mass", H5T_NATIVE_DOUBLE, P.mass.data(), n, 1, tmp);
+    std::vector<std::int32_t> kind(n);
+    for (std::size_t i = 0; i < n; ++i) kind[i] = static_cast<std::int32_t>(P.kind[i]);
+    write_dataset(f.id, "kind", H5T_NATIVE_INT32, kind.data(), n, 1, tmp);
+    write_dataset(f.id, "id", H5T_NATIVE_UINT32, P.id.data(), n, 1, tmp);
+    Entry e{rel, t, n, {}};
+    for (const auto& [fname, field] : P.scalar_fields()) {
+      write_dataset(f.id, fname.c_str(), H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp);
+      e.scalars.push_back(fname);
+    }
+    write_attr(f.id, "time", H5T_NATIVE_DOUBLE, &t, tmp);
+    write_attr(f.id, "step", H5T_NATIVE_LONG, &step, tmp);
+    const int dim = D;
+    write_attr(f.id, "dimension", H5T_NATIVE_INT, &dim, tmp);
+    if (H5Fflush(f.id, H5F_SCOPE_LOCAL) < 0) throw IoError(fmt::format("HDF5: flushing '{}' failed (disk full?)", tmp));
+    entries_.push_back(e);
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw IoError(fmt::format("cannot rename '{}' to '{}': {}", tmp, path, ec.message()));
+  write_xdmf();
+  return path;
+}
+
+template <int D>
+void SnapshotWriter<D>::write_xdmf() const {
+  std::string x;
+  x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n <Domain>\n";
+  x += "  <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto& e : entries_) {
+    auto item = [&](const char* ds, int cols, const char* type, int prec) {
+      return fmt::format("      <DataItem Dimensions=\"{}{}\" NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:/{}</DataItem>\n",
+                         e.n, cols > 1 ? fmt::format(" {}", cols) : "", type, prec, e.file, ds);
+    };
+    x += fmt::format("   <Grid Name=\"t={:.9g}\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", e.time, e.time);
+    x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", e.n);
+    x += "    <Geometry GeometryType=\"XYZ\">\n" + item("position", 3, "Float", 8) + "    </Geometry>\n";
+    auto attr = [&](const std::string& name, const char* atype, int cols, const char* type, int prec) {
+      x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name, atype);
+      x += item(name.c_str(), cols, type, prec);
+      x += "    </Attribute>\n";
+    };
+    attr("velocity", "Vector", 3, "Float", 8);
+    attr("pressure", "Scalar", 1, "Float", 8);
+    attr("density", "Scalar", 1, "Float", 8);
+    attr("mass", "Scalar", 1, "Float", 8);
+    attr("kind", "Scalar", 1, "Int", 4);
+    attr("id", "Scalar", 1, "UInt", 4);
+    for (const auto& s : e.scalars) attr(s, "Scalar", 1, "Float", 8);
+    x += "   </Grid>\n";
+  }
+  x += "  </Grid>\n </Domain>\n</Xdmf>\n";
+  write_file_atomically(dir_ + "/particles.xdmf", x);
+}
+
+template class SnapshotWriter<2>;
+template class SnapshotWriter<3>;
+
+}  // namespace sph

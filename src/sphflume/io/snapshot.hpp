@@ -1,0 +1,41 @@
+// Particle snapshots: one HDF5 file per output time (snapshots/snap_NNNNNN.h5) plus one XDMF
+// file (particles.xdmf) that lists them as a time series ParaView opens directly.
+// Every file is written under a temporary name and renamed, so a crash never leaves a
+// truncated file that looks valid.
+// HDF5 layout (h5py: f["position"][:]): position, velocity (N x 3, 2D has y = 0), pressure,
+// density, mass (N), kind (N, int32: 0 fluid, 1 wall, 2 inflow, 3 outflow), id (N, uint32),
+// plus any extra per-particle scalar fields; attributes time, step, dimension.
+#pragma once
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sphflume/core/particles.hpp"
+
+namespace sph {
+
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+template <int D>
+class SnapshotWriter {
+ public:
+  explicit SnapshotWriter(std::string dir) : dir_(std::move(dir)) {}
+  /// Write the owned particles at time t; returns the snapshot's path.
+  std::string write(const ParticleStore<D>& P, double t, long step);
+  const std::string& dir() const { return dir_; }
+  std::size_t count() const { return entries_.size(); }
+
+ private:
+  struct Entry { std::string file; double time; std::size_t n; std::vector<std::string> scalars; };
+  void write_xdmf() const;
+  std::string dir_;
+  std::vector<Entry> entries_;
+};
+
+/// Write text to path atomically (temporary file + rename).
+void write_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace sph

@@ -1,0 +1,39 @@
+// A scheme advances the shared System by one time step. WCSPH now; ISPH (projection + PPE)
+// plugs in the same way, reusing particles, neighbour search, walls, force terms and I/O.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+#include "sphflume/core/registry.hpp"
+#include "sphflume/core/system.hpp"
+#include "sphflume/io/case.hpp"
+
+namespace sph {
+
+/// The simulation cannot go on (NaN, collapsing dt, ...): exit code 3.
+class SimulationError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+template <int D>
+class Scheme {
+ public:
+  virtual ~Scheme() = default;
+  virtual const char* name() const = 0;
+  /// Compute the rates of the initial state (needed by the first time step estimate).
+  virtual void initialise(System<D>& S) = 0;
+  /// Largest stable time step for the current state.
+  virtual double time_step(const System<D>& S) const = 0;
+  /// Advance by dt.
+  virtual void step(System<D>& S, double dt) = 0;
+  /// Rates passes (neighbour sweeps) per step, for throughput accounting.
+  virtual int passes_per_step() const = 0;
+  /// Bytes per owned particle held by the scheme itself (integrator state).
+  virtual std::size_t bytes() const = 0;
+};
+
+template <int D>
+Registry<Scheme<D>, const Case&>& scheme_registry();
+
+}  // namespace sph

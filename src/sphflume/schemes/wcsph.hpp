@@ -1,0 +1,43 @@
+// Weakly-compressible SPH (the theses' WCSPH, Federico ch. 3, Kazemi §1):
+//  continuity  Dρa/Dt = ρa Σ (ua-ub)·∇aW Vb  + δ-SPH diffusion (Molteni–Colagrossi, or
+//              Fourtakas et al. 2019 with the hydrostatic part removed)
+//  momentum    Dua/Dt = -Σ mb (pa+pb)/(ρaρb) ∇aW   [or pa/ρa²+pb/ρb²]
+//              + Lo & Shao laminar viscosity Σ mb 4ν (rab·∇aW)/((ρa+ρb)(r²+η²)) uab
+//                or Monaghan artificial viscosity, + g + registered force terms
+//  Tait or linear EOS; XSPH; Shepard filter every N steps;
+//  symplectic (position-Verlet, as DualSPHysics) or Monaghan predictor–corrector (Kazemi).
+#pragma once
+#include <vector>
+
+#include "sphflume/schemes/scheme.hpp"
+
+namespace sph {
+
+template <int D>
+class WCSPH final : public Scheme<D> {
+ public:
+  explicit WCSPH(const Case& c) : cfg_(c.scheme) {}
+  const char* name() const override { return "wcsph"; }
+  void initialise(System<D>& S) override;
+  double time_step(const System<D>& S) const override;
+  void step(System<D>& S, double dt) override;
+  int passes_per_step() const override { return 2; }
+  std::size_t bytes() const override;
+
+  /// One rates pass: fills acc and drho of owned particles (exposed for tests).
+  void rates(System<D>& S);
+
+ private:
+  template <class K>
+  void pair_loop(System<D>& S, const K& kernel);
+  void update_pressure(System<D>& S) const;
+  void shepard_filter(System<D>& S) const;
+  void check_finite(const System<D>& S) const;
+
+  SchemeConfig cfg_;
+  std::vector<Vec<D>> x0_, v0_;
+  std::vector<double> rho0_;
+  double max_acc_ = 0.0;
+};
+
+}  // namespace sph
