@@ -17,9 +17,13 @@ template <int D>
 class CellList {
  public:
   using V = Vec<D>;
+  /// Cells have side radius / kReach and the stencil spans ±kReach cells: with kReach = 2 the
+  /// candidates cover (5/2)^D radius^D instead of 3^D, ~30 % fewer distance checks in 2D.
+  static constexpr int kReach = 2;
 
-  /// Bin positions [0, n) into cells of side `cell` covering their bounding box.
-  void build(const std::vector<V>& pos, std::size_t n, double cell) {
+  /// Bin positions [0, n) for neighbour queries up to distance `radius`.
+  void build(const std::vector<V>& pos, std::size_t n, double radius) {
+    const double cell = radius / kReach;
     cell_ = cell;
     inv_cell_ = 1.0 / cell;
     for (int d = 0; d < D; ++d) { lo_[d] = std::numeric_limits<double>::max(); }
@@ -54,30 +58,30 @@ class CellList {
     for (std::size_t i = 0; i < n; ++i) sorted_[fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   }
 
-  /// Calls f(j) for every particle j in the 3^D cells around position x (candidates; the
-  /// caller checks the distance).
+  /// Calls f(j) for every particle j in the stencil around position x (candidates; the
+  /// caller checks the distance). Covers every particle within the build radius.
   template <class Fn>
   void for_candidates(const V& x, Fn&& f) const {
     int c[D];
     for (int d = 0; d < D; ++d) c[d] = coord(x, d);
     if constexpr (D == 2) {
-      for (int dz = -1; dz <= 1; ++dz) {
+      for (int dz = -kReach; dz <= kReach; ++dz) {
         const int z = c[1] + dz;
         if (z < 0 || z >= dims_[1]) continue;
-        const int x0 = std::max(c[0] - 1, 0), x1 = std::min(c[0] + 1, dims_[0] - 1);
+        const int x0 = std::max(c[0] - kReach, 0), x1 = std::min(c[0] + kReach, dims_[0] - 1);
         // cells x0..x1 in one row are contiguous: one range
         const std::size_t a = static_cast<std::size_t>(z) * dims_[0] + x0;
         const std::size_t b = static_cast<std::size_t>(z) * dims_[0] + x1;
         for (std::uint32_t k = cell_start_[a]; k < cell_start_[b + 1]; ++k) f(sorted_[k]);
       }
     } else {
-      for (int dz = -1; dz <= 1; ++dz) {
+      for (int dz = -kReach; dz <= kReach; ++dz) {
         const int z = c[2] + dz;
         if (z < 0 || z >= dims_[2]) continue;
-        for (int dy = -1; dy <= 1; ++dy) {
+        for (int dy = -kReach; dy <= kReach; ++dy) {
           const int y = c[1] + dy;
           if (y < 0 || y >= dims_[1]) continue;
-          const int x0 = std::max(c[0] - 1, 0), x1 = std::min(c[0] + 1, dims_[0] - 1);
+          const int x0 = std::max(c[0] - kReach, 0), x1 = std::min(c[0] + kReach, dims_[0] - 1);
           const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
           for (std::uint32_t k = cell_start_[row + x0]; k < cell_start_[row + x1 + 1]; ++k) f(sorted_[k]);
         }
@@ -85,7 +89,36 @@ class CellList {
     }
   }
 
-  /// Calls f(j, r_ij, r2) for every j within `radius` of x (radius <= cell size).
+  /// Max number of ranges returned by ranges().
+  static constexpr int kMaxRanges = D == 2 ? 2 * kReach + 1 : (2 * kReach + 1) * (2 * kReach + 1);
+  /// Index ranges [begin, end) into sorted() that cover the stencil around x (at most 5^(D-1)
+  /// ranges: cells adjacent along x are contiguous). Returns the number of ranges. For hot
+  /// loops that want plain code instead of a callback.
+  int ranges(const V& x, std::uint32_t (*out)[2]) const {
+    int c[D];
+    for (int d = 0; d < D; ++d) c[d] = coord(x, d);
+    int n = 0;
+    const int x0 = std::max(c[0] - kReach, 0), x1 = std::min(c[0] + kReach, dims_[0] - 1);
+    if constexpr (D == 2) {
+      for (int z = std::max(c[1] - kReach, 0); z <= std::min(c[1] + kReach, dims_[1] - 1); ++z) {
+        const std::size_t row = static_cast<std::size_t>(z) * dims_[0];
+        out[n][0] = cell_start_[row + x0];
+        out[n][1] = cell_start_[row + x1 + 1];
+        ++n;
+      }
+    } else {
+      for (int z = std::max(c[2] - kReach, 0); z <= std::min(c[2] + kReach, dims_[2] - 1); ++z)
+        for (int y = std::max(c[1] - kReach, 0); y <= std::min(c[1] + kReach, dims_[1] - 1); ++y) {
+          const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+          out[n][0] = cell_start_[row + x0];
+          out[n][1] = cell_start_[row + x1 + 1];
+          ++n;
+        }
+    }
+    return n;
+  }
+
+  /// Calls f(j, r_ij, r2) for every j within `radius` of x (radius <= the build radius).
   template <class Fn>
   void for_neighbours(const std::vector<V>& pos, const V& x, double radius, Fn&& f) const {
     const double r2max = radius * radius;

@@ -326,6 +326,7 @@ Case build_case(YAML::Node root, const std::string& file) {
     c.scheme.cfl = r.in_range("cfl", 0.2, 1e-4, 1.5);
     c.scheme.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
     c.scheme.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
+    c.scheme.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);
     c.scheme.reorder_every = r.scalar<int>("reorder_every", 10);
     if (c.scheme.reorder_every < 0) r.fail_at(r.get("reorder_every"), "scheme.reorder_every", "an integer >= 0 (0 = never)");
     r.finish();

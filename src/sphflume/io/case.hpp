@@ -51,6 +51,7 @@ struct SchemeConfig {
   double viscous_coefficient = 0.125;  // dt <= coef * h^2 / nu
   double force_coefficient = 0.25;     // dt <= coef * sqrt(h / |a|_max)
   int reorder_every = 10;              // cell-sort the store every N steps
+  double eta2 = 0.01;  // η²/h² regularising 1/(r²+η²) in viscous and diffusion terms (theses: 0.01)
 };
 
 struct WallConfig {

@@ -42,7 +42,7 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
   const bool dyn = S.walls->evolves_density();
   const bool no_slip = S.walls->cfg.no_slip;
   const auto& wall_vel = S.walls->viscous_velocity(S);
-  const double h = S.h, eta2 = 0.01 * h * h, c0 = S.eos.c0, rho0 = S.eos.rho0;
+  const double h = S.h, eta2 = cfg_.eta2 * h * h, c0 = S.eos.c0, rho0 = S.eos.rho0;
   const bool laminar = cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0;
   const bool artificial = cfg_.viscosity == ViscosityModel::Artificial && cfg_.alpha > 0.0;
   const bool diffusion = cfg_.density_diffusion != DensityDiffusion::None && cfg_.delta > 0.0;
@@ -57,67 +57,90 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
   const Vec<D> g = S.gravity;
   const double support2 = ker.support2;
   std::uint64_t pairs = 0;
+  // raw pointers: the loop must not reload vector data through possibly aliasing references
+  const Vec<D>* __restrict pos = P.pos.data();
+  const Vec<D>* __restrict vel = P.vel.data();
+  const Vec<D>* __restrict wvel = wall_vel.data();
+  const double* __restrict rho = P.rho.data();
+  const double* __restrict prs = P.p.data();
+  const double* __restrict mass = P.mass.data();
+  const Kind* __restrict kind = P.kind.data();
+  const std::uint32_t* __restrict sorted = S.cells.sorted().data();
+  Vec<D>* __restrict acc_out = P.acc.data();
+  double* __restrict drho_out = P.drho.data();
+  Vec<D>* __restrict xs_out = xs ? xs->data() : nullptr;
+  const Eos eos = S.eos;
 
 #pragma omp parallel for schedule(static) reduction(+ : pairs)
   for (std::size_t a = 0; a < n; ++a) {
-    const Kind ka = P.kind[a];
-    if (ka == Kind::Wall && !dyn) { P.acc[a] = Vec<D>{}; P.drho[a] = 0.0; continue; }
-    const Vec<D> xa = P.pos[a], va = P.vel[a];
-    const double rhoa = P.rho[a], pa = P.p[a];
-    const double ca = S.eos.sound_speed(rhoa);
+    const Kind ka = kind[a];
+    if (ka == Kind::Wall && !dyn) { acc_out[a] = Vec<D>{}; drho_out[a] = 0.0; continue; }
+    const Vec<D> xa = pos[a], va = vel[a];
+    const double rhoa = rho[a], pa = prs[a];
+    const double ca = eos.sound_speed(rhoa);
+    const double pa_r2 = pa / (rhoa * rhoa);
+    const double inv_rhoa = 1.0 / rhoa;
     double drho = 0.0, ddiff = 0.0;
     Vec<D> acc{}, dxs{};
     std::uint64_t np = 0;
-    S.cells.for_candidates(xa, [&](std::uint32_t b) {
-      const Vec<D> rab = xa - P.pos[b];
-      const double r2 = dot(rab, rab);
-      if (r2 >= support2 || r2 == 0.0) return;
-      ++np;
-      const double r = std::sqrt(r2);
-      const double F = ker.F(r);
-      const Vec<D> gradW = F * rab;
-      const Kind kb = P.kind[b];
-      const double rhob = P.rho[b], mb = P.mass[b];
-      const double Vb = mb / rhob;
-      const Vec<D> uab = va - P.vel[b];
-      const double udotgw = dot(uab, gradW);
-      if (ka == Kind::Wall) {  // dynamic wall: continuity from the fluid only
-        if (kb == Kind::Fluid) drho += rhoa * udotgw * Vb;
-        return;
-      }
-      drho += rhoa * udotgw * Vb;
-      if (diffusion && kb == Kind::Fluid) {
-        double drh = rhoa - rhob;
-        if (fourtakas) drh -= rhoH * dot(g, rab);
-        ddiff += drh * F * r2 / (r2 + eta2) * Vb;
-      }
-      const double pb = P.p[b];
-      const double pterm = sym_p ? mb * (pa / (rhoa * rhoa) + pb / (rhob * rhob)) : mb * (pa + pb) / (rhoa * rhob);
-      acc -= pterm * gradW;
-      const bool wall = kb == Kind::Wall;
-      if (laminar && (!wall || no_slip)) {
-        const Vec<D> u = wall ? va - wall_vel[b] : uab;
-        acc += (mb * four_nu * F * r2 / ((rhoa + rhob) * (r2 + eta2))) * u;
-      }
-      if (artificial && (!wall || no_slip)) {
-        const Vec<D> u = wall ? va - wall_vel[b] : uab;
-        const double vr = dot(u, rab);
-        if (vr < 0.0) {
-          const double mu = h * vr / (r2 + eta2);
-          const double cb = S.eos.sound_speed(rhob);
-          const double pi_ab = -alpha * 0.5 * (ca + cb) * mu / (0.5 * (rhoa + rhob));
-          acc -= (mb * pi_ab) * gradW;
+    std::uint32_t rg[CellList<D>::kMaxRanges][2];
+    const int nr = S.cells.ranges(xa, rg);
+    for (int ri = 0; ri < nr; ++ri) {
+      for (std::uint32_t k = rg[ri][0]; k < rg[ri][1]; ++k) {
+        const std::uint32_t b = sorted[k];
+        const Vec<D> rab = xa - pos[b];
+        const double r2 = dot(rab, rab);
+        if (r2 >= support2 || r2 == 0.0) continue;
+        ++np;
+        const double r = std::sqrt(r2);
+        const double F = ker.F(r);
+        const Vec<D> gradW = F * rab;
+        const Kind kb = kind[b];
+        const double rhob = rho[b], mb = mass[b];
+        const double inv_rhob = 1.0 / rhob;
+        const double Vb = mb * inv_rhob;
+        const Vec<D> uab = va - vel[b];
+        const double udotgw = dot(uab, gradW);
+        if (ka == Kind::Wall) {  // dynamic wall: continuity from the fluid only
+          if (kb == Kind::Fluid) drho += rhoa * udotgw * Vb;
+          continue;
         }
+        drho += rhoa * udotgw * Vb;
+        const bool fluid_b = kb == Kind::Fluid;
+        const double fr = F * r2 / (r2 + eta2);  // r·∇W/(r²+η²) × r² / r²: the regularised F
+        if (diffusion && fluid_b) {
+          double drh = rhoa - rhob;
+          if (fourtakas) drh -= rhoH * dot(g, rab);
+          ddiff += drh * fr * Vb;
+        }
+        const double pb = prs[b];
+        const double pterm = sym_p ? mb * (pa_r2 + pb * inv_rhob * inv_rhob) : (pa + pb) * Vb * inv_rhoa;
+        acc -= pterm * gradW;
+        if (laminar || artificial) {
+          if (fluid_b || no_slip) {
+            const Vec<D> u = fluid_b ? uab : va - wvel[b];
+            if (laminar) acc += (mb * four_nu * fr / (rhoa + rhob)) * u;
+            if (artificial) {
+              const double vr = dot(u, rab);
+              if (vr < 0.0) {
+                const double mu = h * vr / (r2 + eta2);
+                const double cb = eos.sound_speed(rhob);
+                const double pi_ab = -alpha * (ca + cb) * mu / (rhoa + rhob);
+                acc -= (mb * pi_ab) * gradW;
+              }
+            }
+          }
+        }
+        if (xs_out && fluid_b) dxs -= (mb / (0.5 * (rhoa + rhob)) * ker.W(r)) * uab;
       }
-      if (xs && kb == Kind::Fluid) dxs -= (mb / (0.5 * (rhoa + rhob)) * ker.W(r)) * uab;
-    });
+    }
     pairs += np;
-    P.drho[a] = drho + dcoef * ddiff;
+    drho_out[a] = drho + dcoef * ddiff;
     if (ka == Kind::Fluid) {
-      P.acc[a] = acc + g;
-      if (xs) (*xs)[a] = xsph * dxs;
+      acc_out[a] = acc + g;
+      if (xs_out) xs_out[a] = xsph * dxs;
     } else {
-      P.acc[a] = Vec<D>{};
+      acc_out[a] = Vec<D>{};
     }
   }
   S.pairs_last_pass = pairs;

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Install SPHFlume's build and run dependencies from Debian 12 packages. Idempotent: packages
+# already installed are left as they are. Needs root (or sudo).
+set -euo pipefail
+PKGS=(
+  build-essential g++ cmake make pkg-config git
+  libeigen3-dev libyaml-cpp-dev libhdf5-dev libcli11-dev libfmt-dev libspdlog-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-numpy python3-matplotlib python3-h5py
+)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PKGS[@]} packages already installed"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

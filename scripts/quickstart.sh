@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Fresh machine -> a dam break you can open in ParaView: install dependencies, build, run the
+# default case (cases/dambreak_2d.yaml, coarse so it takes about a minute on 2 cores).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+scripts/build.sh
+out="${1:-output/dambreak_2d}"
+build/sphflume run cases/dambreak_2d.yaml --output "$out" --set particles.dx=0.0073 --set time.end=0.6
+echo
+echo "Done. Open $out/particles.xdmf in ParaView (File > Open, Xdmf3ReaderS), or read $out/snapshots/*.h5 with h5py."
+echo "Gauges (CSV): $out/gauges/   Run summary: $out/summary.json"
