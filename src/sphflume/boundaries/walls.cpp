@@ -12,12 +12,15 @@ class DummyWalls final : public WallModel<D> {
   using WallModel<D>::WallModel;
   const char* name() const override { return "dummy"; }
   bool evolves_density() const override { return false; }
-  const std::vector<Vec<D>>& viscous_velocity(const System<D>&) const override { return *ghost_; }
+  const std::vector<Vec<D>>& viscous_velocity(const System<D>& S) const override {
+    return ghost_ ? *ghost_ : S.particles.vel;
+  }
 
   void prepare(System<D>& S) override {
     auto& P = S.particles;
-    ghost_ = &P.vector("wall_ghost_velocity");
-    auto& gv = *ghost_;
+    // the ghost velocity is only needed for no-slip walls (free-slip walls skip the viscous term)
+    ghost_ = this->cfg.no_slip ? &P.vector("wall_ghost_velocity") : nullptr;
+    Vec<D>* gv = ghost_ ? ghost_->data() : nullptr;
     const std::size_t n = P.n_owned();
     const bool clamp = this->cfg.clamp_negative_pressure;
     S.with_kernel([&](const auto& K) {
@@ -43,7 +46,7 @@ class DummyWalls final : public WallModel<D> {
         if (clamp) pw = std::max(pw, S.eos.background);
         P.p[i] = pw;
         P.rho[i] = S.eos.density(pw);
-        gv[i] = this->cfg.no_slip ? g : P.vel[i];
+        if (gv) gv[i] = g;
       }
     });
     P.refresh_images();

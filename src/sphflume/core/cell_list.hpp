@@ -50,43 +50,13 @@ class CellList {
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t c = cell_index(pos[i]);
       cell_of_[i] = c;
-      ++cell_start_[c + 1];
+      ++cell_start_[c];
     }
+    // prefix sums give each cell's end; placing particles backwards while decrementing leaves
+    // each cell's start and keeps indices ascending inside a cell (no extra array)
     for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
     sorted_.resize(n);
-    fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) sorted_[fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
-  }
-
-  /// Calls f(j) for every particle j in the stencil around position x (candidates; the
-  /// caller checks the distance). Covers every particle within the build radius.
-  template <class Fn>
-  void for_candidates(const V& x, Fn&& f) const {
-    int c[D];
-    for (int d = 0; d < D; ++d) c[d] = coord(x, d);
-    if constexpr (D == 2) {
-      for (int dz = -kReach; dz <= kReach; ++dz) {
-        const int z = c[1] + dz;
-        if (z < 0 || z >= dims_[1]) continue;
-        const int x0 = std::max(c[0] - kReach, 0), x1 = std::min(c[0] + kReach, dims_[0] - 1);
-        // cells x0..x1 in one row are contiguous: one range
-        const std::size_t a = static_cast<std::size_t>(z) * dims_[0] + x0;
-        const std::size_t b = static_cast<std::size_t>(z) * dims_[0] + x1;
-        for (std::uint32_t k = cell_start_[a]; k < cell_start_[b + 1]; ++k) f(sorted_[k]);
-      }
-    } else {
-      for (int dz = -kReach; dz <= kReach; ++dz) {
-        const int z = c[2] + dz;
-        if (z < 0 || z >= dims_[2]) continue;
-        for (int dy = -kReach; dy <= kReach; ++dy) {
-          const int y = c[1] + dy;
-          if (y < 0 || y >= dims_[1]) continue;
-          const int x0 = std::max(c[0] - kReach, 0), x1 = std::min(c[0] + kReach, dims_[0] - 1);
-          const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
-          for (std::uint32_t k = cell_start_[row + x0]; k < cell_start_[row + x1 + 1]; ++k) f(sorted_[k]);
-        }
-      }
-    }
+    for (std::size_t i = n; i-- > 0;) sorted_[--cell_start_[cell_of_[i]]] = static_cast<std::uint32_t>(i);
   }
 
   /// Max number of ranges returned by ranges().
@@ -118,6 +88,16 @@ class CellList {
     return n;
   }
 
+  /// Calls f(j) for every particle j in the stencil around position x (candidates; the
+  /// caller checks the distance). Covers every particle within the build radius.
+  template <class Fn>
+  void for_candidates(const V& x, Fn&& f) const {
+    std::uint32_t rg[kMaxRanges][2];
+    const int nr = ranges(x, rg);
+    for (int r = 0; r < nr; ++r)
+      for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) f(sorted_[k]);
+  }
+
   /// Calls f(j, r_ij, r2) for every j within `radius` of x (radius <= the build radius).
   template <class Fn>
   void for_neighbours(const std::vector<V>& pos, const V& x, double radius, Fn&& f) const {
@@ -140,7 +120,7 @@ class CellList {
   double cell_ = 1, inv_cell_ = 1;
   V lo_{};
   int dims_[D]{};
-  std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, fill_;
+  std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
 
   int coord(const V& x, int d) const {
     int c = static_cast<int>((x[d] - lo_[d]) * inv_cell_);

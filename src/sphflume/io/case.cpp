@@ -224,7 +224,7 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "front"});
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "front", "energy"});
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.type == "water_level") {
     g.point = r.vec("point", d);
@@ -309,8 +309,9 @@ Case build_case(YAML::Node root, const std::string& file) {
   if (top.has("scheme")) {
     Reader r(top.get("scheme"), file, "scheme");
     c.scheme.type = r.choice("type", "wcsph", {"wcsph"});
-    c.scheme.integrator = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector"}) == "symplectic"
-                              ? Integrator::Symplectic : Integrator::PredictorCorrector;
+    const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "leapfrog"});
+    c.scheme.integrator = integ == "symplectic" ? Integrator::Symplectic
+                          : integ == "leapfrog"  ? Integrator::Leapfrog : Integrator::PredictorCorrector;
     const std::string dd = r.choice("density_diffusion", "fourtakas", {"none", "molteni_colagrossi", "fourtakas"});
     c.scheme.density_diffusion = dd == "none" ? DensityDiffusion::None
                                  : dd == "fourtakas" ? DensityDiffusion::Fourtakas : DensityDiffusion::MolteniColagrossi;

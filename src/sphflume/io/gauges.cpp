@@ -26,6 +26,7 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     if (g.type == "water_level") *f << ",level";
     else if (g.type == "pressure") *f << ",pressure";
     else if (g.type == "front") *f << ",front";
+    else if (g.type == "energy") *f << ",kinetic,potential,total";
     else if (g.type == "velocity_profile") {
       std::string pts = "index,x,y,z\n";
       for (int i = 0; i < g.points; ++i) {
@@ -87,6 +88,15 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
       prev_z = z;
     }
     return {nan};
+  }
+  if (g.type == "energy") {
+    double ek = 0.0, ep = 0.0;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      ek += 0.5 * P.mass[i] * dot(P.vel[i], P.vel[i]);
+      ep -= P.mass[i] * dot(S.gravity, P.pos[i]);
+    }
+    return {ek, ep, ek + ep};
   }
   if (g.type == "front") {
     double best = -std::numeric_limits<double>::max();

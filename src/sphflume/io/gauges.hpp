@@ -7,6 +7,8 @@
 //                    the points' coordinates go to NAME.points.csv
 //  front             front: furthest fluid particle along the axis that has at least 3 fluid
 //                    neighbours (isolated droplets ignored)
+//  energy            kinetic, potential, total: fluid energies [J (per m in 2D)], potential
+//                    -Σ m g·x relative to the origin
 #pragma once
 #include <fstream>
 #include <memory>

@@ -70,8 +70,9 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
   double* __restrict drho_out = P.drho.data();
   Vec<D>* __restrict xs_out = xs ? xs->data() : nullptr;
   const Eos eos = S.eos;
+  int overflow = 0;
 
-#pragma omp parallel for schedule(static) reduction(+ : pairs)
+#pragma omp parallel for schedule(static) reduction(+ : pairs) reduction(max : overflow)
   for (std::size_t a = 0; a < n; ++a) {
     const Kind ka = kind[a];
     if (ka == Kind::Wall && !dyn) { acc_out[a] = Vec<D>{}; drho_out[a] = 0.0; continue; }
@@ -85,13 +86,27 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     std::uint64_t np = 0;
     std::uint32_t rg[CellList<D>::kMaxRanges][2];
     const int nr = S.cells.ranges(xa, rg);
+    // gather the neighbours first, branch-free (half the candidates are rejected, at random),
+    // then run the pair physics on the compact list
+    constexpr int kBuf = 1024;
+    std::uint32_t nbr[kBuf];
+    int nn = 0;
     for (int ri = 0; ri < nr; ++ri) {
       for (std::uint32_t k = rg[ri][0]; k < rg[ri][1]; ++k) {
         const std::uint32_t b = sorted[k];
         const Vec<D> rab = xa - pos[b];
         const double r2 = dot(rab, rab);
-        if (r2 >= support2 || r2 == 0.0) continue;
-        ++np;
+        nbr[nn] = b;
+        nn += (r2 < support2) & (r2 > 0.0);
+        if (nn == kBuf) [[unlikely]] { nn = kBuf - 1; overflow = 1; }  // clumped particles: reported below
+      }
+    }
+    np = static_cast<std::uint64_t>(nn);
+    for (int ni = 0; ni < nn; ++ni) {
+      {
+        const std::uint32_t b = nbr[ni];
+        const Vec<D> rab = xa - pos[b];
+        const double r2 = dot(rab, rab);
         const double r = std::sqrt(r2);
         const double F = ker.F(r);
         const Vec<D> gradW = F * rab;
@@ -144,6 +159,9 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     }
   }
   S.pairs_last_pass = pairs;
+  if (overflow)
+    throw SimulationError(fmt::format("a particle has more than 1023 neighbours at step {}, t = {:.6g} s: particles "
+                                      "have clumped (time step too large or sound speed too small)", S.step, S.time));
 }
 
 template <int D>
@@ -200,6 +218,7 @@ template <int D>
 void WCSPH<D>::step(System<D>& S, double dt) {
   auto& P = S.particles;
   if (cfg_.reorder_every > 0 && S.step % cfg_.reorder_every == 0) S.reorder_by_cell();
+  if (cfg_.integrator == Integrator::Leapfrog) return step_leapfrog(S, dt);
   // stage 1: rates at t^n
   S.update_neighbours(true);
   rates(S);
@@ -252,6 +271,41 @@ void WCSPH<D>::step(System<D>& S, double dt) {
       P.vel[i] = v0_[i] + dt * P.acc[i];
     }
   }
+  S.periodic.wrap(P);
+  S.time += dt;
+  ++S.step;
+  if (cfg_.shepard_every > 0 && S.step % cfg_.shepard_every == 0) shepard_filter(S);
+  update_pressure(S);
+}
+
+template <int D>
+void WCSPH<D>::step_leapfrog(System<D>& S, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const bool dyn = S.walls->evolves_density();
+  const double hdt = 0.5 * dt;
+  auto drift = [&](bool with_density) {
+    std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector("xsph") : nullptr;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (P.kind[i] == Kind::Fluid) {
+        Vec<D> u = P.vel[i];
+        if (xs) u += (*xs)[i];
+        P.pos[i] += hdt * u;
+        if (with_density) P.rho[i] += hdt * P.drho[i];
+      } else if (P.kind[i] == Kind::Wall && dyn && with_density) {
+        P.rho[i] += hdt * P.drho[i];
+      }
+    }
+  };
+  drift(true);  // x^{n+1/2}, and the density with the latest rates
+  update_pressure(S);
+  S.update_neighbours(true);
+  rates(S);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid) P.vel[i] += dt * P.acc[i];
+  drift(true);
   S.periodic.wrap(P);
   S.time += dt;
   ++S.step;

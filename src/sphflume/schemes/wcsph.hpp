@@ -5,7 +5,13 @@
 //              + Lo & Shao laminar viscosity Σ mb 4ν (rab·∇aW)/((ρa+ρb)(r²+η²)) uab
 //                or Monaghan artificial viscosity, + g + registered force terms
 //  Tait or linear EOS; XSPH; Shepard filter every N steps;
-//  symplectic (position-Verlet, as DualSPHysics) or Monaghan predictor–corrector (Kazemi).
+//  time integration:
+//   symplectic           position-Verlet as in DualSPHysics: rates at t^n and t^{n+1/2}
+//                        (two neighbour passes per step), second order;
+//   predictor_corrector  Monaghan (1989) as in SPHysics / Kazemi (two passes);
+//   leapfrog             drift-kick-drift with ONE pass per step: rates at x^{n+1/2} with the
+//                        velocities of t^n (the viscous and continuity terms lag half a step)
+//                        and the density drifted with the previous rates; half the cost.
 #pragma once
 #include <vector>
 
@@ -21,7 +27,7 @@ class WCSPH final : public Scheme<D> {
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
-  int passes_per_step() const override { return 2; }
+  int passes_per_step() const override { return cfg_.integrator == Integrator::Leapfrog ? 1 : 2; }
   std::size_t bytes() const override;
 
   /// One rates pass: fills acc and drho of owned particles (exposed for tests).
@@ -33,6 +39,7 @@ class WCSPH final : public Scheme<D> {
   void update_pressure(System<D>& S) const;
   void shepard_filter(System<D>& S) const;
   void check_finite(const System<D>& S) const;
+  void step_leapfrog(System<D>& S, double dt);
 
   SchemeConfig cfg_;
   std::vector<Vec<D>> x0_, v0_;
