@@ -199,14 +199,34 @@ def wait_quiet(max_wait, threshold, log):
     return busy
 
 
+def busy_seconds():
+    """CPU-seconds spent busy by the whole machine so far (from /proc/stat)."""
+    try:
+        with open("/proc/stat") as f:
+            v = [int(x) for x in f.readline().split()[1:]]
+        idle = v[3] + (v[4] if len(v) > 4 else 0)
+        return (sum(v[:8]) - idle) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError):
+        return float("nan")
+
+
+LAST_OTHERS = {"value": None}
+
+
 def run_timed(cmd, env=None, cwd=ROOT, timeout=None):
-    """Run a child; return (CompletedProcess, wall s, child cpu s)."""
+    """Run a child; return (CompletedProcess, wall s, child cpu s).
+    LAST_OTHERS['value'] is set to the fraction of the machine's CPU used by
+    other processes while the child ran (contention indicator)."""
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    b0 = busy_seconds()
     t0 = time.time()
     p = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=cwd, timeout=timeout)
     wall = time.time() - t0
+    b1 = busy_seconds()
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    if wall > 0:
+        LAST_OTHERS["value"] = max(0.0, (b1 - b0 - cpu) / (wall * (os.cpu_count() or 1)))
     return p, wall, cpu
 
 
@@ -275,11 +295,13 @@ def run_sphflume(binary, dx, steps, threads, outdir, args, log):
             "process_wall_seconds": wall, "process_cpu_seconds": cpu,
             "cpu_utilisation": cpu / wall / max(1, threads) if wall > 0 else None,
             "background_busy_before": busy,
+            "others_cpu_during": LAST_OTHERS["value"],
             "command": " ".join(cmd),
         }
         log(f"    SPHFlume dx={fmt_dx(dx)} T={threads}: {r['fluid']} fluid, {r['steps']} steps, "
             f"{r['wall_seconds']:.2f} s, {r['fluid_particle_steps_per_second'] / 1e6:.3f} M fluid-steps/s"
-            f" (rep {rep + 1}/{args.repeat}, others busy {busy:.0%})")
+            f" (rep {rep + 1}/{args.repeat}, others busy {busy:.0%} before, "
+            f"{LAST_OTHERS['value'] or 0:.0%} during)")
         if s.get("exit_status") not in (None, "done"):
             log(f"    warning: SPHFlume exit_status {s.get('exit_status')}: {s.get('message')}")
         if best is None or r["wall_seconds"] < best["wall_seconds"]:
@@ -349,12 +371,14 @@ def run_pysph(dx, steps, outdir, args, geometry, log):
             "variant": args.pysph_variant, "geometry": geometry,
             "process_wall_seconds": wall, "process_cpu_seconds": cpu,
             "background_busy_before": busy,
+            "others_cpu_during": LAST_OTHERS["value"],
             "command": f"OMP_NUM_THREADS={args.pysph_threads} " + " ".join(cmd),
         }
         log(f"    PySPH ({geometry} geometry) dx={fmt_dx(dx)} T={args.pysph_threads}: {r['fluid']} fluid "
             f"(+{r['boundary']} boundary), {r['steps']} steps, {run_s:.2f} s "
             f"(set-up {d['setup_seconds']:.1f} s), {r['fluid_particle_steps_per_second'] / 1e6:.3f} M fluid-steps/s, "
-            f"h/dx {r['h_over_dx_final']:.2f} (rep {rep + 1}/{args.repeat}, others busy {busy:.0%})")
+            f"h/dx {r['h_over_dx_final']:.2f} (rep {rep + 1}/{args.repeat}, others busy {busy:.0%} before, "
+            f"{LAST_OTHERS['value'] or 0:.0%} during)")
         if best is None or r["run_seconds"] < best["run_seconds"]:
             best = r
     best["repeats"] = args.repeat
@@ -525,8 +549,12 @@ def report(res):
     busy = [v["background_busy_before"] for r in res["sizes"] for k, v in r.items()
             if k.startswith("sphflume_")]
     busy += [v["background_busy_before"] for r in res["sizes"] for v in (r.get("pysph") or {}).values()]
+    during = [v.get("others_cpu_during") or 0 for r in res["sizes"] for k, v in r.items()
+              if k.startswith("sphflume_")]
+    during += [v.get("others_cpu_during") or 0 for r in res["sizes"] for v in (r.get("pysph") or {}).values()]
     if busy:
-        out.append(f"CPU busy (other processes) just before the timed runs: max {max(busy):.0%}")
+        out.append(f"CPU used by other processes (share of all cores), kept runs: max {max(busy):.0%} "
+                   f"just before, max {max(during):.0%} during")
     out.append("")
     out.append("targets (issue):")
     out += targets(res)

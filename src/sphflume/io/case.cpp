@@ -36,7 +36,7 @@ class Reader {
   }
   std::string where(const YAML::Node& n) const {
     const auto m = n.Mark();
-    if (m.line < 0) return "(value given with --set)";
+    if (m.line < 0 || n.Tag() == "!set") return "(value given with --set)";
     return fmt::format("line {}", m.line + 1);
   }
   std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
@@ -154,6 +154,7 @@ void apply_override(YAML::Node root, const std::string& spec) {
       try { parsed = YAML::Load(value); } catch (const YAML::Exception& e) {
         throw InputError(fmt::format("--set {}: cannot read value '{}': {}", key, value, e.msg));
       }
+      parsed.SetTag("!set");  // so messages say the value came from the command line
       if (cur.IsSequence()) cur[std::stoul(p)] = parsed; else cur[p] = parsed;
       return;
     }
@@ -176,6 +177,7 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
   Reader r(n, file, path);
   ShapeConfig s;
   s.line = n.Mark().line + 1;
+  (void)r.required<std::string>("type", "a shape type: box, tank, polygon or plane");
   s.type = r.choice("type", "", {"box", "tank", "polygon", "plane"});
   s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" ? "wall" : "fluid", {"fluid", "wall"});
   const std::size_t d = static_cast<std::size_t>(dim);
@@ -209,7 +211,10 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
     double nn = 0;
     for (double c : s.normal) nn += c * c;
     if (nn <= 0) r.fail_at(r.get("normal"), r.key_path("normal"), "a non-zero normal");
+    for (std::size_t i = 0; i < d; ++i)
+      if (!(s.max[i] > s.min[i])) r.fail_at(r.get("max"), r.key_path("max"), "max > min in every coordinate");
     s.thickness = r.scalar<double>("thickness", 0.0);
+    if (s.thickness < 0) r.fail_at(r.get("thickness"), r.key_path("thickness"), "a thickness >= 0 in m (0 = the wall layers)");
   }
   s.velocity = r.vec("velocity", d, std::vector<double>(d, 0.0));
   r.finish();
@@ -224,6 +229,7 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, front or energy");
   g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "front", "energy"});
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.type == "water_level") {
@@ -278,6 +284,10 @@ Case build_case(YAML::Node root, const std::string& file) {
     Reader r(top.get("domain"), file, "domain");
     c.domain_min = r.vec("min", d);
     c.domain_max = r.vec("max", d);
+    if (c.domain_min.empty() != c.domain_max.empty())
+      r.fail_at(top.get("domain"), "domain", "both 'min' and 'max' corners (or neither)");
+    for (std::size_t i = 0; i < c.domain_min.size(); ++i)
+      if (!(c.domain_max[i] > c.domain_min[i])) r.fail_at(r.get("max"), "domain.max", "max > min in every coordinate");
     if (r.has("periodic")) {
       const YAML::Node p = r.get("periodic");
       if (!p.IsSequence()) r.fail_at(p, "domain.periodic", "a list of axes, e.g. [x]");
@@ -300,6 +310,7 @@ Case build_case(YAML::Node root, const std::string& file) {
     c.fluid.sound_speed = r.scalar<double>("sound_speed", 0.0);
     if (!(c.fluid.sound_speed >= 0)) r.fail_at(r.get("sound_speed"), "fluid.sound_speed", "a speed > 0 in m/s (or 0 for 10 x the reference velocity)");
     c.fluid.reference_velocity = r.scalar<double>("reference_velocity", 0.0);
+    if (!(c.fluid.reference_velocity >= 0)) r.fail_at(r.get("reference_velocity"), "fluid.reference_velocity", "a speed >= 0 in m/s (0 = sqrt(2 g H))");
     c.fluid.eos = r.choice("eos", "tait", {"tait", "linear"}) == "tait" ? EosType::Tait : EosType::Linear;
     c.fluid.gamma = r.positive("gamma", 7.0);
     c.fluid.background_pressure = r.scalar<double>("background_pressure", 0.0);

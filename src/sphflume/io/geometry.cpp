@@ -118,6 +118,8 @@ BuildReport build_system(const Case& c, System<D>& S) {
       wl.for_neighbours(wall_x, fluid_x[i], 0.5 * dx * 0.999, [&](std::uint32_t, const Vec<D>&, double) { drop[i] = 1; });
   }
 
+  if (std::count(drop.begin(), drop.end(), 0) == 0)
+    throw InputError(fmt::format("{}: every fluid particle lies inside a wall: move the fluid shapes off the walls", c.file));
   double zmin = 1e300, zmax = -1e300;
   for (std::size_t i = 0; i < fluid_x.size(); ++i)
     if (!drop[i]) { zmin = std::min(zmin, fluid_x[i][vz]); zmax = std::max(zmax, fluid_x[i][vz]); }
@@ -178,8 +180,9 @@ BuildReport build_system(const Case& c, System<D>& S) {
     for (int ax : c.periodic) {
       S.periodic.axis[ax] = true;
       if (S.periodic.period(ax) < 2.0 * S.support)
-        throw InputError(fmt::format("{}: domain: the periodic length along axis {} ({} m) must be at least twice "
-                                     "the kernel support ({} m)", c.file, ax, S.periodic.period(ax), S.support));
+        throw InputError(fmt::format("{}: domain: the periodic length along {} ({:.4g} m) must be at least twice "
+                                     "the kernel support ({:.4g} m)", c.file, "xyz"[D == 2 && ax == 1 ? 2 : ax],
+                                     S.periodic.period(ax), S.support));
     }
   }
   return rep;

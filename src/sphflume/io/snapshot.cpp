@@ -89,6 +89,10 @@ std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long s
     for (std::size_t i = 0; i < n; ++i) kind[i] = static_cast<std::int32_t>(P.kind[i]);
     write_dataset(f.id, "kind", H5T_NATIVE_INT32, kind.data(), n, 1, tmp);
     write_dataset(f.id, "id", H5T_NATIVE_UINT32, P.id.data(), n, 1, tmp);
+    // explicit Polyvertex connectivity: VTK's XDMF3 reader makes no cells without it
+    std::vector<std::int32_t> conn(n);
+    for (std::size_t i = 0; i < n; ++i) conn[i] = static_cast<std::int32_t>(i);
+    write_dataset(f.id, "connectivity", H5T_NATIVE_INT32, conn.data(), n, 1, tmp);
     Entry e{rel, t, n, {}};
     for (const auto& [fname, field] : P.scalar_fields()) {
       write_dataset(f.id, fname.c_str(), H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp);
@@ -119,7 +123,8 @@ void SnapshotWriter<D>::write_xdmf() const {
                          e.n, cols > 1 ? fmt::format(" {}", cols) : "", type, prec, e.file, ds);
     };
     x += fmt::format("   <Grid Name=\"t={:.9g}\" GridType=\"Uniform\">\n    <Time Value=\"{:.12g}\"/>\n", e.time, e.time);
-    x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", e.n);
+    x += fmt::format("    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\">\n", e.n);
+    x += item("connectivity", 1, "Int", 4) + "    </Topology>\n";
     x += "    <Geometry GeometryType=\"XYZ\">\n" + item("position", 3, "Float", 8) + "    </Geometry>\n";
     auto attr = [&](const std::string& name, const char* atype, int cols, const char* type, int prec) {
       x += fmt::format("    <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name, atype);

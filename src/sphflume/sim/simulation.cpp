@@ -33,6 +33,16 @@ int thread_count() {
 #endif
 }
 
+std::string json_escape(const std::string& in) {
+  std::string s;
+  for (char ch : in) {
+    if (ch == '"' || ch == '\\') s += '\\';
+    if (ch == '\n') { s += "\\n"; continue; }
+    s += ch;
+  }
+  return s;
+}
+
 std::string hms(double s) {
   if (!std::isfinite(s) || s < 0) return "--:--:--";
   const long t = std::lround(s);
@@ -100,6 +110,10 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (ec || !t) throw InputError(fmt::format("output folder '{}' is not writable: {} (choose another with --output)", o.output, ec ? ec.message() : "cannot create files there"));
   }
   fs::remove(probe, ec);
+  // a re-run into the same folder must not leave snapshots of an earlier, longer run behind
+  if (o.write_output && fs::exists(o.output + "/snapshots"))
+    for (const auto& e : fs::directory_iterator(o.output + "/snapshots", ec))
+      if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
 
   Vec<D> lo, hi;
   domain_box(c, S, lo, hi);
@@ -141,7 +155,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
         throw SimulationError(fmt::format("time step collapsed to {:.3g} s (started at {:.3g} s) at step {}, t = {:.6g} s: "
                                           "particles are being accelerated violently (check walls and the sound speed)",
                                           dt, dt_first, S.step, S.time));
-      const double to_out = next_out - S.time;
+      const double to_out = std::min(next_out, c.t_end) - S.time;
       if (dt > to_out && to_out > 1e-12 * dt) dt = to_out;
       scheme->step(S, dt);
       ++steps_done;
@@ -168,7 +182,8 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
         if (!flag.empty()) { P.clear_images(); P.remove_if_flagged(flag); }
       }
       fluid_particle_steps += static_cast<double>(S.particles.count(Kind::Fluid));
-      if (S.time >= next_out * (1.0 - 1e-9)) {
+      const bool last = S.time >= c.t_end * (1.0 - 1e-12);
+      if (S.time >= next_out * (1.0 - 1e-9) || last) {
         output();
         while (next_out <= S.time * (1.0 + 1e-9)) next_out += c.output_interval;
       }
@@ -187,7 +202,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     failure = e.what();
     res.exit_code = 3;
     S.particles.clear_images();
-    try { snaps.write(S.particles, S.time, S.step); } catch (const std::exception&) {}
+    if (o.write_output) try { snaps.write(S.particles, S.time, S.step); } catch (const std::exception&) {}
   }
   if (o.progress && tty) fmt::print(stderr, "\n");
   const double wall = elapsed();
@@ -208,7 +223,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   std::string faces;
   for (const auto& [f, n] : removed_by_face) faces += fmt::format("{}\"{}\": {}", faces.empty() ? "" : ", ", f, n);
   std::string json = "{\n";
-  json += fmt::format("  \"version\": \"{}\",\n  \"case\": \"{}\",\n  \"case_file\": \"{}\",\n", o.version, c.name, c.file);
+  json += fmt::format("  \"version\": \"{}\",\n  \"case\": \"{}\",\n  \"case_file\": \"{}\",\n", o.version, json_escape(c.name), json_escape(c.file));
   json += fmt::format("  \"dimension\": {},\n  \"scheme\": \"{}\",\n  \"kernel\": \"{}\",\n", D, scheme->name(), kernel_name(c.kernel));
   json += fmt::format("  \"dx\": {:.9g},\n  \"h\": {:.9g},\n  \"sound_speed\": {:.9g},\n", S.dx, S.h, S.eos.c0);
   json += fmt::format("  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"inflow\": {}, \"outflow\": {}, \"total\": {}, \"initial_fluid\": {}}},\n",
@@ -225,7 +240,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
                       m0, removed_mass, m1, res.mass_error);
   json += fmt::format("  \"removed_particles\": {{{}}},\n", faces);
   json += fmt::format("  \"exit_status\": \"{}\",\n  \"exit_code\": {},\n  \"message\": \"{}\"\n}}\n", status, res.exit_code,
-                      [&] { std::string s; for (char ch : failure) { if (ch == '"' || ch == '\\') s += '\\'; s += ch; } return s; }());
+                      json_escape(failure));
   write_file_atomically(o.output + "/summary.json", json);
 
   if (res.exit_code != 0) fmt::print(stderr, "error: the simulation failed: {}\nlast state written to {}/\n", failure, o.output);
