@@ -72,7 +72,7 @@ void BM_Step(benchmark::State& st, const char* integrator) {
                                                        benchmark::Counter::kIsRate);
 }
 BENCHMARK_CAPTURE(BM_Step, symplectic, "symplectic")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Step, leapfrog, "leapfrog")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Step, predictor_corrector, "predictor_corrector")->Unit(benchmark::kMillisecond);
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -320,9 +320,8 @@ Case build_case(YAML::Node root, const std::string& file) {
   if (top.has("scheme")) {
     Reader r(top.get("scheme"), file, "scheme");
     c.scheme.type = r.choice("type", "wcsph", {"wcsph"});
-    const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "leapfrog"});
-    c.scheme.integrator = integ == "symplectic" ? Integrator::Symplectic
-                          : integ == "leapfrog"  ? Integrator::Leapfrog : Integrator::PredictorCorrector;
+    c.scheme.integrator = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector"}) == "symplectic"
+                              ? Integrator::Symplectic : Integrator::PredictorCorrector;
     const std::string dd = r.choice("density_diffusion", "fourtakas", {"none", "molteni_colagrossi", "fourtakas"});
     c.scheme.density_diffusion = dd == "none" ? DensityDiffusion::None
                                  : dd == "fourtakas" ? DensityDiffusion::Fourtakas : DensityDiffusion::MolteniColagrossi;

@@ -21,7 +21,7 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class Integrator { Symplectic, PredictorCorrector, Leapfrog };
+enum class Integrator { Symplectic, PredictorCorrector };
 enum class DensityDiffusion { None, MolteniColagrossi, Fourtakas };
 enum class ViscosityModel { None, Laminar, Artificial };
 enum class PressureGradient { Sum, Symmetric };  // (pa+pb)/(ra rb) [Federico 3.8] ; pa/ra^2+pb/rb^2 [3.9]
@@ -39,7 +39,7 @@ struct FluidConfig {
 
 struct SchemeConfig {
   std::string type = "wcsph";
-  Integrator integrator = Integrator::Symplectic;  // symplectic | predictor_corrector | leapfrog
+  Integrator integrator = Integrator::Symplectic;  // symplectic | predictor_corrector
   DensityDiffusion density_diffusion = DensityDiffusion::Fourtakas;
   double delta = 0.1;
   ViscosityModel viscosity = ViscosityModel::Laminar;

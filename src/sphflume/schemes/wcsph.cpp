@@ -218,7 +218,6 @@ template <int D>
 void WCSPH<D>::step(System<D>& S, double dt) {
   auto& P = S.particles;
   if (cfg_.reorder_every > 0 && S.step % cfg_.reorder_every == 0) S.reorder_by_cell();
-  if (cfg_.integrator == Integrator::Leapfrog) return step_leapfrog(S, dt);
   // stage 1: rates at t^n
   S.update_neighbours(true);
   rates(S);
@@ -271,41 +270,6 @@ void WCSPH<D>::step(System<D>& S, double dt) {
       P.vel[i] = v0_[i] + dt * P.acc[i];
     }
   }
-  S.periodic.wrap(P);
-  S.time += dt;
-  ++S.step;
-  if (cfg_.shepard_every > 0 && S.step % cfg_.shepard_every == 0) shepard_filter(S);
-  update_pressure(S);
-}
-
-template <int D>
-void WCSPH<D>::step_leapfrog(System<D>& S, double dt) {
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  const bool dyn = S.walls->evolves_density();
-  const double hdt = 0.5 * dt;
-  auto drift = [&](bool with_density) {
-    std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector("xsph") : nullptr;
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (P.kind[i] == Kind::Fluid) {
-        Vec<D> u = P.vel[i];
-        if (xs) u += (*xs)[i];
-        P.pos[i] += hdt * u;
-        if (with_density) P.rho[i] += hdt * P.drho[i];
-      } else if (P.kind[i] == Kind::Wall && dyn && with_density) {
-        P.rho[i] += hdt * P.drho[i];
-      }
-    }
-  };
-  drift(true);  // x^{n+1/2}, and the density with the latest rates
-  update_pressure(S);
-  S.update_neighbours(true);
-  rates(S);
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i)
-    if (P.kind[i] == Kind::Fluid) P.vel[i] += dt * P.acc[i];
-  drift(true);
   S.periodic.wrap(P);
   S.time += dt;
   ++S.step;

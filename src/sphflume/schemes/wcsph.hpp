@@ -9,9 +9,6 @@
 //   symplectic           position-Verlet as in DualSPHysics: rates at t^n and t^{n+1/2}
 //                        (two neighbour passes per step), second order;
 //   predictor_corrector  Monaghan (1989) as in SPHysics / Kazemi (two passes);
-//   leapfrog             drift-kick-drift with ONE pass per step: rates at x^{n+1/2} with the
-//                        velocities of t^n (the viscous and continuity terms lag half a step)
-//                        and the density drifted with the previous rates; half the cost.
 #pragma once
 #include <vector>
 
@@ -27,7 +24,7 @@ class WCSPH final : public Scheme<D> {
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
-  int passes_per_step() const override { return cfg_.integrator == Integrator::Leapfrog ? 1 : 2; }
+  int passes_per_step() const override { return 2; }
   std::size_t bytes() const override;
 
   /// One rates pass: fills acc and drho of owned particles (exposed for tests).
@@ -39,7 +36,6 @@ class WCSPH final : public Scheme<D> {
   void update_pressure(System<D>& S) const;
   void shepard_filter(System<D>& S) const;
   void check_finite(const System<D>& S) const;
-  void step_leapfrog(System<D>& S, double dt);
 
   SchemeConfig cfg_;
   std::vector<Vec<D>> x0_, v0_;
