@@ -33,7 +33,7 @@ TEST(Case, ParsesDefaults) {
   EXPECT_EQ(c.dimension, 2);
   EXPECT_DOUBLE_EQ(c.dx, 0.01);
   EXPECT_EQ(c.kernel, KernelType::WendlandC2);
-  EXPECT_DOUBLE_EQ(c.h_over_dx, 1.3);
+  EXPECT_DOUBLE_EQ(c.h_over_dx, 1.5);
   ASSERT_EQ(c.gravity.size(), 2u);
   EXPECT_DOUBLE_EQ(c.gravity[1], -9.81);
   EXPECT_EQ(c.shapes.size(), 1u);

@@ -23,10 +23,19 @@ class DummyWalls final : public WallModel<D> {
     Vec<D>* gv = ghost_ ? ghost_->data() : nullptr;
     const std::size_t n = P.n_owned();
     const bool clamp = this->cfg.clamp_negative_pressure;
+    // walls with no fluid within the kernel support keep the background state: skip their
+    // neighbour search (most of a tank's walls, most of the time)
+    S.cells.mark_near(near_, [&](std::size_t j) { return P.kind[j] == Kind::Fluid; });
     S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < n; ++i) {
         if (P.kind[i] != Kind::Wall) continue;
+        if (!near_[S.cells.cell_of(i)]) {
+          P.p[i] = S.eos.background;
+          P.rho[i] = S.eos.density(S.eos.background);
+          if (gv) gv[i] = P.vel[i];
+          continue;
+        }
         double sw = 0.0, sp = 0.0;
         Vec<D> srr{}, sv{};
         S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
@@ -54,6 +63,7 @@ class DummyWalls final : public WallModel<D> {
 
  private:
   std::vector<Vec<D>>* ghost_ = nullptr;
+  std::vector<char> near_;
 };
 
 template <int D>

@@ -109,6 +109,35 @@ class CellList {
     });
   }
 
+  /// near[c] = 1 for every cell whose stencil holds a particle i with pred(i): a particle in a
+  /// cell with near == 0 has no such particle within the build radius. Separable dilation of
+  /// the occupied cells by ±kReach along each axis; O(cells).
+  template <class Pred>
+  void mark_near(std::vector<char>& near, Pred&& pred) const {
+    const std::size_t ncell = cell_start_.size() - 1;
+    near.assign(ncell, 0);
+    for (std::size_t i = 0; i < cell_of_.size(); ++i)
+      if (pred(i)) near[cell_of_[i]] = 1;
+    std::vector<char> tmp(ncell);
+    std::size_t stride = 1;
+    for (int d = 0; d < D; ++d) {
+      const std::size_t n = static_cast<std::size_t>(dims_[d]);
+      for (std::size_t c = 0; c < ncell; ++c) {
+        const long k = static_cast<long>((c / stride) % n);
+        char v = 0;
+        for (long o = -kReach; o <= kReach && !v; ++o) {
+          const long kk = k + o;
+          if (kk >= 0 && kk < static_cast<long>(n)) v = near[c + static_cast<std::size_t>(kk - k) * stride];
+        }
+        tmp[c] = v;
+      }
+      near.swap(tmp);
+      stride *= n;
+    }
+  }
+  /// Cell of particle i (as binned by the last build).
+  std::uint32_t cell_of(std::size_t i) const { return cell_of_[i]; }
+
   /// Particle indices sorted by cell (cell-major order).
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
   std::size_t bytes() const {
