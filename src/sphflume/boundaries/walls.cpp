@@ -38,14 +38,23 @@ class DummyWalls final : public WallModel<D> {
         }
         double sw = 0.0, sp = 0.0;
         Vec<D> srr{}, sv{};
-        S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
-          if (P.kind[j] != Kind::Fluid) return;
-          const double w = K.W(std::sqrt(r2));
-          sw += w;
-          sp += P.p[j] * w;
-          srr += (P.rho[j] * w) * rij;
-          sv += w * P.vel[j];
-        });
+        const Vec<D> xi = P.pos[i];
+        std::uint32_t rg[CellList<D>::kMaxRanges][2];
+        const int nr = S.cells.ranges(xi, rg);
+        const auto& sorted = S.cells.sorted();
+        for (int r = 0; r < nr; ++r)
+          for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) {
+            const std::uint32_t j = sorted[k];
+            if (P.kind[j] != Kind::Fluid) continue;
+            const Vec<D> rij = xi - P.pos[j];
+            const double r2 = dot(rij, rij);
+            if (r2 >= K.support2) continue;
+            const double w = K.W(std::sqrt(r2));
+            sw += w;
+            sp += P.p[j] * w;
+            srr += (P.rho[j] * w) * rij;
+            sv += w * P.vel[j];
+          }
         double pw = S.eos.background;
         Vec<D> g = P.vel[i];
         if (sw > 0.0) {
