@@ -287,7 +287,7 @@ def locate_binary(path, log, wait=300):
 def run_sphflume(binary, dx, steps, threads, outdir, args, log, rnd=0):
     od = os.path.join(outdir, f"sphflume_dx{fmt_dx(dx)}_t{threads}")
     shutil.rmtree(od, ignore_errors=True)
-    cmd = [binary, "run", CASE, "-o", od, "-q", "--no-output", "--max-steps", str(steps),
+    cmd = [binary, "run", args.case_copy, "-o", od, "-q", "--no-output", "--max-steps", str(steps),
            "--threads", str(threads), "--set", f"particles.dx={fmt_dx(dx)}"]
     best = None
     rep, retries = 0, 0
@@ -307,6 +307,8 @@ def run_sphflume(binary, dx, steps, threads, outdir, args, log, rnd=0):
             "fluid_particle_steps_per_second": s["fluid_particle_steps_per_second"],
             "pair_interactions_per_second": s["pair_interactions_per_second"],
             "bytes_per_particle": s["bytes_per_particle"],
+            "h_over_dx": s["h"] / s["dx"] if s.get("h") and s.get("dx") else None,
+            "kernel": s.get("kernel"),
             "exit_status": s.get("exit_status"),
             "process_wall_seconds": wall, "process_cpu_seconds": cpu,
             "cpu_utilisation": cpu / wall / max(1, threads) if wall > 0 else None,
@@ -335,11 +337,12 @@ def run_sphflume(binary, dx, steps, threads, outdir, args, log, rnd=0):
 # ---------------------------------------------------------------------------
 # PySPH
 # ---------------------------------------------------------------------------
-def pysph_cmd(dx, steps, outdir, args, geometry):
+def pysph_cmd(dx, steps, outdir, args, geometry, hdx):
     return [sys.executable, os.path.abspath(__file__), "--pysph-driver",
             "--variant", args.pysph_variant, "--geometry", geometry,
             "--integrator", args.pysph_integrator, "--",
-            "--openmp", "--nnps", "box", "--dx", fmt_dx(dx), "--max-steps", str(steps),
+            "--openmp", "--nnps", "box", "--dx", fmt_dx(dx), "--hdx", f"{hdx:.6g}",
+            "--max-steps", str(steps),
             "--disable-output", "-q", "-d", outdir]
 
 
@@ -360,7 +363,7 @@ def pysph_warmup(outdir, args, log):
     """First run compiles the kernels into ~/.pysph; do it untimed, at a coarse dx."""
     od = os.path.join(outdir, "pysph_warmup")
     t0 = time.time()
-    p, _, _ = run_timed(pysph_cmd(0.03, 2, od, args, "pysph"), env=pysph_env(args.pysph_threads))
+    p, _, _ = run_timed(pysph_cmd(0.03, 2, od, args, "pysph", 1.3), env=pysph_env(args.pysph_threads))
     r = parse_driver(p)
     log(f"  PySPH warm-up (compile if not cached): {time.time() - t0:.1f} s, "
         f"setup {r['setup_seconds']:.1f} s")
@@ -372,10 +375,10 @@ def pysph_expected_fluid(dx, geometry):
     return (PY_COL_W / dx + 1) * (PY_COL_H / dx + 1)
 
 
-def run_pysph(dx, steps, outdir, args, geometry, log, rnd=0):
+def run_pysph(dx, steps, outdir, args, geometry, hdx, log, rnd=0):
     od = os.path.join(outdir, f"pysph_{geometry}_dx{fmt_dx(dx)}")
     shutil.rmtree(od, ignore_errors=True)
-    cmd = pysph_cmd(dx, steps, od, args, geometry)
+    cmd = pysph_cmd(dx, steps, od, args, geometry, hdx)
     best = None
     rep, retries = 0, 0
     while rep < 1:
@@ -392,6 +395,7 @@ def run_pysph(dx, steps, outdir, args, geometry, log, rnd=0):
             "fluid_particle_steps_per_second": d["fluid"] * d["steps"] / run_s,
             "particle_steps_per_second": (d["fluid"] + d["boundary"]) * d["steps"] / run_s,
             "h_over_dx_final": d["h_final"] / dx,
+            "hdx_option": hdx,
             "variant": args.pysph_variant, "geometry": geometry,
             "integrator": d["integrator"],
             "evaluations_per_step": 2 if args.pysph_integrator == "epec" else 1,
@@ -497,6 +501,11 @@ def pysph_geoms(res):
         if not res["args"]["skip_pysph"] else []
 
 
+def pysph_hdx(res):
+    v = sorted({f"{p.get('hdx_option', 1.3):.3g}" for r in res["sizes"] for p in (r.get("pysph") or {}).values()})
+    return "/".join(v) if v else "-"
+
+
 def table(res):
     geoms = pysph_geoms(res)
     hdr = ["dx [m]", "SF fluid (total)", "SF M fluid-st/s 1T", "SF M fluid-st/s 2T", "speed-up 1->2",
@@ -575,21 +584,28 @@ def report(res):
     out.append(f"machine: {mi['cpu']}, {mi['cores']} cores, {mi['mem_gib']} GiB")
     out.append(f"commit:  {gi['commit']}{' (+ uncommitted changes)' if gi['dirty'] else ''}")
     out.append(f"command: {res['command']}")
+    sf_any = next((r.get("sphflume_2t") or r.get("sphflume_1t") for r in res["sizes"]
+                   if r.get("sphflume_2t") or r.get("sphflume_1t")), None)
+    if sf_any:
+        out.append(f"SPHFlume: {res.get('sphflume_version', '')}, case {res.get('case', CASE)}, "
+                   f"kernel {sf_any.get('kernel')}, h/dx {sf_any.get('h_over_dx') or 0:.3g}")
     if res.get("pysph_version"):
         out.append(f"PySPH:   {res['pysph_version']}, variant '{res['args']['pysph_variant']}', "
                    f"geometry '{res['args']['pysph_geometry']}', integrator "
-                   f"'{res['args'].get('pysph_integrator', 'pec')}', {res['args']['pysph_threads']} threads")
+                   f"'{res['args'].get('pysph_integrator', 'pec')}', {res['args']['pysph_threads']} threads, "
+                   f"kernel WendlandQuintic (Wendland C2), h/dx {pysph_hdx(res)}")
     out.append("")
     out.append(table(res))
     out.append("")
-    out.append("SF = SPHFlume (cases/dambreak_2d.yaml); st/s = particle-steps per second; 'fluid' counts "
+    out.append(f"SF = SPHFlume ({res.get('case', CASE)}); st/s = particle-steps per second; 'fluid' counts "
                "fluid particles only, 'part' all particles incl. walls; 1T/2T = threads.")
     evals = sorted({v.get("evaluations_per_step", 1) for r in res["sizes"]
                     for v in (r.get("pysph") or {}).values()})
     if evals:
         out.append(f"rate evaluations per step: SPHFlume 2 (symplectic), PySPH {'/'.join(map(str, evals))} "
                    f"({res['args'].get('pysph_integrator', 'pec').upper()}); SF/PySPH compares steps, "
-                   + ("so per rate evaluation SPHFlume's lead is twice that." if evals == [1]
+                   + ("so for the same work SPHFlume's lead is up to twice that (PySPH's profile_info.csv: "
+                      "rate evaluation ~80-85 % of its step)." if evals == [1]
                       else "same work per step."))
     steps = []
     for r in res["sizes"]:
@@ -642,6 +658,9 @@ def main():
     ap.add_argument("--pysph-integrator", choices=["pec", "epec"], default="pec",
                     help="pec: the example's PECIntegrator, 1 rate evaluation per step (default); "
                          "epec: EPECIntegrator, 2 per step like SPHFlume's symplectic scheme")
+    ap.add_argument("--pysph-hdx", default="auto",
+                    help="PySPH h/dx (its --hdx); auto (default): the h/dx of SPHFlume's case, so that both "
+                         "codes have the same kernel support and neighbour count (the example's default is 1.3)")
     ap.add_argument("--skip-pysph", action="store_true")
     ap.add_argument("--sphinxsys", action="store_true",
                     help="print how to run SPHinXsys's 2D dam-break set-up with SPHFlume and exit")
@@ -656,6 +675,7 @@ def main():
     ap.add_argument("--busy-threshold", type=float, default=0.15,
                     help="'quiet' = less than this fraction of all CPUs busy (default 0.15)")
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "sphflume"))
+    ap.add_argument("--case", default=CASE, help=f"SPHFlume case (default {CASE})")
     ap.add_argument("--out", default="/tmp/bench", help="output folder (results.json, run folders)")
     args = ap.parse_args()
 
@@ -681,12 +701,18 @@ def main():
     binary = os.path.join(args.out, "sphflume")
     shutil.copy2(src, binary)
     ver = sh([binary, "--version"])
+    # and one copy of the case file (it may be edited meanwhile too)
+    args.case_copy = os.path.join(args.out, os.path.basename(args.case))
+    shutil.copy2(os.path.join(ROOT, args.case), args.case_copy)
+    with open(args.case_copy) as f:
+        case_text = f.read()
 
     res = {
         "date": datetime.datetime.now().astimezone().isoformat(timespec="seconds"),
         "machine": machine_info(), "git": git_info(),
         "command": "/usr/bin/python3 bench/compare.py " + " ".join(sys.argv[1:]),
         "sphflume_version": ver.stdout.strip(),
+        "case": args.case, "case_text": case_text,
         "args": vars(args), "sizes": [],
     }
     if not args.skip_pysph:
@@ -714,8 +740,11 @@ def main():
                 for geom in geoms:
                     npf = pysph_expected_fluid(dx, geom)
                     psteps = args.pysph_steps or max(10, min(steps, int(args.pysph_work / npf)))
+                    hdx = (float(args.pysph_hdx) if args.pysph_hdx != "auto"
+                           else runs[f"sphflume_{threads[0]}t"][-1]["h_over_dx"] or 1.3)
                     runs.setdefault(f"pysph:{geom}", []).append(
-                        run_pysph(dx, psteps, os.path.join(args.out, "pysph_runs"), args, geom, log, rnd))
+                        run_pysph(dx, psteps, os.path.join(args.out, "pysph_runs"), args, geom, hdx,
+                                  log, rnd))
         for key, lst in runs.items():
             tkey = "run_seconds" if key.startswith("pysph") else "wall_seconds"
             best = dict(min(lst, key=lambda r: r[tkey]))

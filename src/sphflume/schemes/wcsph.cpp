@@ -50,7 +50,7 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
   const bool sym_p = cfg_.pressure_gradient == PressureGradient::Symmetric;
   const double dcoef = 2.0 * cfg_.delta * h * c0;
   const double four_nu = 4.0 * S.nu;
-  const double rhoH = rho0 / (c0 * c0);  // hydrostatic density difference per unit g·r (linearised)
+  (void)rho0;
   const double alpha = cfg_.alpha;
   const double xsph = cfg_.xsph;
   std::vector<Vec<D>>* xs = xsph > 0.0 ? &P.vector("xsph") : nullptr;
@@ -125,7 +125,13 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
         const double fr = F * r2 / (r2 + eta2);  // r·∇W/(r²+η²) × r² / r²: the regularised F
         if (diffusion && fluid_b) {
           double drh = rhoa - rhob;
-          if (fourtakas) drh -= rhoH * dot(g, rab);
+          if (fourtakas) {
+            // hydrostatic density difference: dρ = ρ g·dr / c² with the pair's mean ρ and c²
+            // (the EOS's local c, not c0: with Tait, c0 alone leaves a ~6 gH/c0² mismatch
+            // between the diffusion's equilibrium and hydrostatic balance)
+            const double cb = eos.sound_speed(rhob);
+            drh -= (rhoa + rhob) / (ca * ca + cb * cb) * dot(g, rab);
+          }
           ddiff += drh * fr * Vb;
         }
         const double pb = prs[b];
