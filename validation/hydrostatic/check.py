@@ -145,6 +145,13 @@ def main():
         t_snap = float(f.attrs["time"])
     fl = kind == 0
     umax = float(np.max(np.linalg.norm(vel[fl], axis=1)))
+    with h5py.File(snap, "r") as f:
+        rho_f, m_f = f["density"][:][fl], f["mass"][:][fl]
+    slope, icpt = np.polyfit(pos[fl, 2], pres[fl], 1)
+    rho_mean = float(m_f.sum() / np.sum(m_f / rho_f))
+    print(f"  (info) particle pressures, linear fit: dp/dz = {slope:.1f} Pa/m (-rho_mean g = {-rho_mean * G:.1f}, "
+          f"{100 * (slope / (-rho_mean * G) - 1):+.2f} %), p(z=0) = {icpt:.1f} Pa; weight per unit width M g / W = "
+          f"{m_f.sum() * G / 0.5:.1f} Pa (what the bed must carry)")
     rep.metric(f"max |u| of fluid at t = {t_snap:.2f} s (m/s)", f"{umax:.3e}", umax < U_TOL,
                f"< 0.01 sqrt(gH) = {U_TOL:.4e}", "issue (closed form u = 0)")
 
