@@ -46,7 +46,7 @@ void BM_RatesPass(benchmark::State& st) {
   Fixture f(kDx[st.range(0)]);
   std::uint64_t pairs = 0;
   for (auto _ : st) {
-    f.S.update_neighbours(true);
+    f.S.update_neighbours();
     f.scheme->rates(f.S);
     pairs += f.S.pairs_last_pass;
   }
@@ -59,7 +59,7 @@ BENCHMARK(BM_RatesPass)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
 void BM_CellListBuild(benchmark::State& st) {
   Fixture f(kDx[st.range(0)]);
-  for (auto _ : st) f.S.update_neighbours(true);
+  for (auto _ : st) f.S.update_neighbours();
   st.counters["particles/s"] = benchmark::Counter(static_cast<double>(f.S.particles.size()) * st.iterations(),
                                                   benchmark::Counter::kIsRate);
 }

@@ -53,7 +53,7 @@ TEST(WCSPH, PressureGradientOfLinearField) {
   const double G = 2.0e4;  // dp/dz [Pa/m]
   for (std::size_t i = 0; i < P.n_owned(); ++i) P.p[i] = 1.0e3 + G * P.pos[i][1];
   s.S.nu = 0.0;
-  s.S.update_neighbours(true);
+  s.S.update_neighbours();
   s.scheme->rates(s.S);
   int n = 0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
@@ -72,7 +72,7 @@ TEST(WCSPH, ContinuityOfLinearVelocityField) {
   auto& P = s.S.particles;
   const double A = 0.5, B = -0.2;  // u = A x, w = B z: div u = A + B
   for (std::size_t i = 0; i < P.n_owned(); ++i) P.vel[i] = Vec<2>{{A * P.pos[i][0], B * P.pos[i][1]}};
-  s.S.update_neighbours(true);
+  s.S.update_neighbours();
   s.scheme->rates(s.S);
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     if (!interior(P.pos[i])) continue;
@@ -86,7 +86,7 @@ TEST(WCSPH, LaminarViscosityIsNuLaplacian) {
   auto& P = s.S.particles;
   const double C = 3.0;  // u = C z^2 -> nu ∇²u = 2 C nu
   for (std::size_t i = 0; i < P.n_owned(); ++i) P.vel[i] = Vec<2>{{C * P.pos[i][1] * P.pos[i][1], 0.0}};
-  s.S.update_neighbours(true);
+  s.S.update_neighbours();
   s.scheme->rates(s.S);
   const double expected = 2.0 * C * 1.0e-3;
   int n = 0;

@@ -26,45 +26,93 @@ class DummyWalls final : public WallModel<D> {
     // walls with no fluid within the kernel support keep the background state: skip their
     // neighbour search (most of a tank's walls, most of the time)
     S.cells.mark_near(near_, [&](std::size_t j) { return P.kind[j] == Kind::Fluid; });
+    const auto& cells = S.cells;
+    const std::size_t ncell = cells.cell_count();
+    const std::uint32_t* __restrict sorted = cells.sorted().data();
+    const Vec<D>* __restrict pos = P.pos.data();
+    const Vec<D>* __restrict vel = P.vel.data();
+    const double* __restrict rho = P.rho.data();
+    const double* __restrict prs = P.p.data();
+    const Kind* __restrict kind = P.kind.data();
+    const double rho_bg = S.eos.density(S.eos.background);
+    enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
     S.with_kernel([&](const auto& K) {
-#pragma omp parallel for schedule(static)
-      for (std::size_t i = 0; i < n; ++i) {
-        if (P.kind[i] != Kind::Wall) continue;
-        if (!near_[S.cells.cell_of(i)]) {
-          P.p[i] = S.eos.background;
-          P.rho[i] = S.eos.density(S.eos.background);
-          if (gv) gv[i] = P.vel[i];
-          continue;
-        }
-        double sw = 0.0, sp = 0.0;
-        Vec<D> srr{}, sv{};
-        const Vec<D> xi = P.pos[i];
-        std::uint32_t rg[CellList<D>::kMaxRanges][2];
-        const int nr = S.cells.ranges(xi, rg);
-        const auto& sorted = S.cells.sorted();
-        for (int r = 0; r < nr; ++r)
-          for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) {
-            const std::uint32_t j = sorted[k];
-            if (P.kind[j] != Kind::Fluid) continue;
-            const Vec<D> rij = xi - P.pos[j];
-            const double r2 = dot(rij, rij);
-            if (r2 >= K.support2) continue;
-            const double w = K.W(std::sqrt(r2));
-            sw += w;
-            sp += P.p[j] * w;
-            srr += (P.rho[j] * w) * rij;
-            sv += w * P.vel[j];
+      const double support2 = K.support2;
+#pragma omp parallel
+      {
+        ScratchColumns B(NCOL);
+        CellStencil<D> st;
+#pragma omp for schedule(dynamic, 16)
+        for (std::size_t cell = 0; cell < ncell; ++cell) {
+          const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+          bool walls_here = false;
+          for (std::uint32_t k = c0k; k < c1k; ++k) {
+            const std::uint32_t i = sorted[k];
+            if (i >= n || kind[i] != Kind::Wall) continue;
+            if (!near_[cell]) {  // no fluid within reach: the background state
+              P.p[i] = S.eos.background;
+              P.rho[i] = rho_bg;
+              if (gv) gv[i] = vel[i];
+              continue;
+            }
+            walls_here = true;
           }
-        double pw = S.eos.background;
-        Vec<D> g = P.vel[i];
-        if (sw > 0.0) {
-          pw = (sp + dot(S.gravity, srr)) / sw;  // fixed walls: wall acceleration a_w = 0
-          g = 2.0 * P.vel[i] - (1.0 / sw) * sv;
+          if (!walls_here) continue;
+          st.set(cells, cell);
+          const std::size_t npad = st.padded;
+          B.reserve(npad);
+          for (int d = 0; d < D; ++d) {
+            st.fill(B[X0 + d], 1.0e6, [&](std::uint32_t j) { return pos[j][d]; });
+            st.fill(B[V0 + d], 0.0, [&](std::uint32_t j) { return vel[j][d]; });
+          }
+          st.fill(B[PRS], 0.0, [&](std::uint32_t j) { return prs[j]; });
+          st.fill(B[RHO], 0.0, [&](std::uint32_t j) { return rho[j]; });
+          st.fill(B[FLUID], 0.0, [&](std::uint32_t j) { return kind[j] == Kind::Fluid ? 1.0 : 0.0; });
+          const double* __restrict bx0 = B[X0];
+          const double* __restrict bx1 = B[X1];
+          const double* __restrict bx2 = B[X0 + D - 1];
+          const double* __restrict bv0 = B[V0];
+          const double* __restrict bv1 = B[V1];
+          const double* __restrict bv2 = B[V0 + D - 1];
+          const double* __restrict bp = B[PRS];
+          const double* __restrict br = B[RHO];
+          const double* __restrict bf = B[FLUID];
+          for (std::uint32_t k = c0k; k < c1k; ++k) {
+            const std::uint32_t i = sorted[k];
+            if (i >= n || kind[i] != Kind::Wall) continue;
+            // Shepard-weighted sums over the fluid neighbours (branch-free, vectorised)
+            double sw = 0.0, sp = 0.0, sr0 = 0.0, sr1 = 0.0, sr2 = 0.0, sv0 = 0.0, sv1 = 0.0, sv2 = 0.0;
+            const double xi0 = pos[i][0], xi1 = pos[i][1], xi2 = pos[i][D - 1];
+#pragma omp simd reduction(+ : sw, sp, sr0, sr1, sr2, sv0, sv1, sv2)
+            for (std::size_t m = 0; m < npad; ++m) {
+              const double r0 = xi0 - bx0[m], r1 = xi1 - bx1[m], r2c = D == 3 ? xi2 - bx2[m] : 0.0;
+              const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+              const double w = K.W(std::sqrt(r2)) * ((r2 < support2) ? bf[m] : 0.0);
+              sw += w;
+              sp += bp[m] * w;
+              const double rw = br[m] * w;
+              sr0 += rw * r0;
+              sr1 += rw * r1;
+              sr2 += rw * r2c;
+              sv0 += w * bv0[m];
+              sv1 += w * bv1[m];
+              sv2 += D == 3 ? w * bv2[m] : 0.0;
+            }
+            Vec<D> srr, sv;
+            srr[0] = sr0; srr[1] = sr1; sv[0] = sv0; sv[1] = sv1;
+            if constexpr (D == 3) { srr[2] = sr2; sv[2] = sv2; }
+            double pw = S.eos.background;
+            Vec<D> g = vel[i];
+            if (sw > 0.0) {
+              pw = (sp + dot(S.gravity, srr)) / sw;  // fixed walls: wall acceleration a_w = 0
+              g = 2.0 * vel[i] - (1.0 / sw) * sv;
+            }
+            if (clamp) pw = std::max(pw, S.eos.background);
+            P.p[i] = pw;
+            P.rho[i] = S.eos.density(pw);
+            if (gv) gv[i] = g;
+          }
         }
-        if (clamp) pw = std::max(pw, S.eos.background);
-        P.p[i] = pw;
-        P.rho[i] = S.eos.density(pw);
-        if (gv) gv[i] = g;
       }
     });
     P.refresh_images();

@@ -57,7 +57,23 @@ class CellList {
     for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
     sorted_.resize(n);
     for (std::size_t i = n; i-- > 0;) sorted_[--cell_start_[cell_of_[i]]] = static_cast<std::uint32_t>(i);
+    identity_ = true;
+    for (std::size_t k = 0; k < n && identity_; ++k) identity_ = sorted_[k] == k;
   }
+
+  /// After the binned positions were permuted into cell order by sorted() (the caller moved
+  /// particle sorted()[k] to index k), make the list describe the new order without rebinning:
+  /// sorted() becomes the identity, so stencil ranges are plain index ranges.
+  void adopt_permutation() {
+    for (std::size_t c = 0; c + 1 < cell_start_.size(); ++c)
+      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) cell_of_[k] = static_cast<std::uint32_t>(c);
+    for (std::size_t k = 0; k < sorted_.size(); ++k) sorted_[k] = static_cast<std::uint32_t>(k);
+    identity_ = true;
+  }
+
+  /// True when sorted() is the identity: the store is in cell order and ranges() are index
+  /// ranges into the particle arrays themselves (the fast, vectorised pair loops use this).
+  bool identity() const { return identity_; }
 
   /// Max number of ranges returned by ranges().
   static constexpr int kMaxRanges = D == 2 ? 2 * kReach + 1 : (2 * kReach + 1) * (2 * kReach + 1);
@@ -67,6 +83,24 @@ class CellList {
   int ranges(const V& x, std::uint32_t (*out)[2]) const {
     int c[D];
     for (int d = 0; d < D; ++d) c[d] = coord(x, d);
+    return stencil_ranges(c, out);
+  }
+  /// The same ranges for every particle of cell `cell` (they share one stencil).
+  int cell_ranges(std::size_t cell, std::uint32_t (*out)[2]) const {
+    int c[D];
+    for (int d = 0; d < D; ++d) {
+      c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
+      cell /= static_cast<std::size_t>(dims_[d]);
+    }
+    return stencil_ranges(c, out);
+  }
+  /// Number of cells, and the slice [begin, end) of sorted() that holds cell c.
+  std::size_t cell_count() const { return cell_start_.empty() ? 0 : cell_start_.size() - 1; }
+  std::uint32_t cell_begin(std::size_t c) const { return cell_start_[c]; }
+  std::uint32_t cell_end(std::size_t c) const { return cell_start_[c + 1]; }
+
+ private:
+  int stencil_ranges(const int* c, std::uint32_t (*out)[2]) const {
     int n = 0;
     const int x0 = std::max(c[0] - kReach, 0), x1 = std::min(c[0] + kReach, dims_[0] - 1);
     if constexpr (D == 2) {
@@ -88,6 +122,7 @@ class CellList {
     return n;
   }
 
+ public:
   /// Calls f(j) for every particle j in the stencil around position x (candidates; the
   /// caller checks the distance). Covers every particle within the build radius.
   template <class Fn>
@@ -119,20 +154,24 @@ class CellList {
     for (std::size_t i = 0; i < cell_of_.size(); ++i)
       if (pred(i)) near[cell_of_[i]] = 1;
     std::vector<char> tmp(ncell);
-    std::size_t stride = 1;
+    std::size_t inner = 1;
     for (int d = 0; d < D; ++d) {
+      // view the cells as [outer][n][inner] with axis d in the middle; dilate along it
       const std::size_t n = static_cast<std::size_t>(dims_[d]);
-      for (std::size_t c = 0; c < ncell; ++c) {
-        const long k = static_cast<long>((c / stride) % n);
-        char v = 0;
-        for (long o = -kReach; o <= kReach && !v; ++o) {
-          const long kk = k + o;
-          if (kk >= 0 && kk < static_cast<long>(n)) v = near[c + static_cast<std::size_t>(kk - k) * stride];
+      const std::size_t outer = ncell / (n * inner);
+      for (std::size_t o = 0; o < outer; ++o)
+        for (std::size_t k = 0; k < n; ++k) {
+          char* __restrict out = tmp.data() + (o * n + k) * inner;
+          for (std::size_t i = 0; i < inner; ++i) out[i] = 0;
+          const std::size_t k0 = k >= static_cast<std::size_t>(kReach) ? k - kReach : 0;
+          const std::size_t k1 = std::min(n - 1, k + kReach);
+          for (std::size_t kk = k0; kk <= k1; ++kk) {
+            const char* __restrict in = near.data() + (o * n + kk) * inner;
+            for (std::size_t i = 0; i < inner; ++i) out[i] |= in[i];
+          }
         }
-        tmp[c] = v;
-      }
       near.swap(tmp);
-      stride *= n;
+      inner *= n;
     }
   }
   /// Cell of particle i (as binned by the last build).
@@ -147,6 +186,7 @@ class CellList {
 
  private:
   double cell_ = 1, inv_cell_ = 1;
+  bool identity_ = false;
   V lo_{};
   int dims_[D]{};
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
@@ -160,6 +200,53 @@ class CellList {
     for (int d = D - 1; d >= 0; --d) idx = idx * dims_[d] + coord(x, d);
     return static_cast<std::uint32_t>(idx);
   }
+};
+
+/// The candidate neighbours shared by all particles of one cell, for vectorised pair loops:
+/// each per-particle field the loop needs is copied into a unit-stride array (fill), padded
+/// to a multiple of kLanes with entries the loop masks out, so the loop over them has no
+/// remainder and no indirection; the copy is paid once per cell, not per particle.
+template <int D>
+struct CellStencil {
+  static constexpr std::size_t kLanes = 8;
+  std::uint32_t rg[CellList<D>::kMaxRanges][2];
+  int nr = 0;
+  std::size_t count = 0, padded = 0;
+  const std::uint32_t* sorted = nullptr;
+  bool identity = false;
+
+  void set(const CellList<D>& cells, std::size_t cell) {
+    nr = cells.cell_ranges(cell, rg);
+    count = 0;
+    for (int r = 0; r < nr; ++r) count += rg[r][1] - rg[r][0];
+    padded = (count + kLanes - 1) / kLanes * kLanes;
+    sorted = cells.sorted().data();
+    identity = cells.identity();
+  }
+  /// dst[m] = get(j) for the m-th candidate j, then `pad` up to `padded`.
+  template <class Get>
+  void fill(double* __restrict dst, double pad, Get&& get) const {
+    std::size_t m = 0;
+    if (identity) {  // the cell-ordered store: each range is contiguous (the copy vectorises)
+      for (int r = 0; r < nr; ++r)
+        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) dst[m++] = get(k);
+    } else {
+      for (int r = 0; r < nr; ++r)
+        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) dst[m++] = get(sorted[k]);
+    }
+    for (; m < padded; ++m) dst[m] = pad;
+  }
+};
+
+/// Growable per-thread scratch arrays for CellStencil::fill.
+struct ScratchColumns {
+  std::vector<std::vector<double>> col;
+  explicit ScratchColumns(int ncol) : col(static_cast<std::size_t>(ncol)) {}
+  void reserve(std::size_t n) {
+    if (!col.empty() && col[0].size() >= n) return;
+    for (auto& c : col) c.resize(n + n / 2);
+  }
+  double* operator[](int i) { return col[static_cast<std::size_t>(i)].data(); }
 };
 
 }  // namespace sph

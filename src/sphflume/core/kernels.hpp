@@ -3,6 +3,7 @@
 // support_factor * h. Normalisations are the standard ones (see shared/spec/federico.md §1.2
 // for the thesis's misprints, which are not reproduced here).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -66,16 +67,14 @@ struct WendlandC2 {
   }
   double W(double r) const {
     const double q = r * inv_h;
-    if (q >= 2.0) return 0.0;
-    const double t = 1.0 - 0.5 * q;
+    const double t = std::max(1.0 - 0.5 * q, 0.0);
     const double t2 = t * t;
     return sigma * t2 * t2 * (2.0 * q + 1.0);
   }
   /// W'(r)/r
   double F(double r) const {
-    const double q = r * inv_h;
-    if (q >= 2.0) return 0.0;
-    const double t = 1.0 - 0.5 * q;
+    // branch-free (vectorises in the pair loops): t = 0 at and beyond the support
+    const double t = std::max(1.0 - 0.5 * r * inv_h, 0.0);
     // dW/dq = sigma * (-5 q) (1 - q/2)^3 ; divide by r = q h and multiply by dq/dr = 1/h
     return -5.0 * sigma * t * t * t * inv_h * inv_h;
   }
@@ -92,22 +91,16 @@ struct CubicSpline {
   }
   double W(double r) const {
     const double q = r * inv_h;
-    if (q >= 2.0) return 0.0;
-    if (q < 1.0) return sigma * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
-    const double t = 2.0 - q;
-    return sigma * 0.25 * t * t * t;
+    const double t = std::max(2.0 - q, 0.0);
+    return q < 1.0 ? sigma * (1.0 - 1.5 * q * q + 0.75 * q * q * q) : sigma * 0.25 * t * t * t;
   }
   double F(double r) const {
+    // branch-free: inner piece sigma (-3 + 9q/4) (the 1/q cancels), outer -3/4 sigma (2-q)^2 / q
     const double q = r * inv_h;
-    if (q >= 2.0) return 0.0;
-    double dwdq;
-    if (q < 1.0) {
-      dwdq = sigma * (-3.0 + 2.25 * q);  // (-3q + 2.25 q^2) / q
-      return dwdq * inv_h * inv_h;
-    }
-    const double t = 2.0 - q;
-    dwdq = -0.75 * sigma * t * t;
-    return dwdq / q * inv_h * inv_h;
+    const double t = std::max(2.0 - q, 0.0);
+    const double inner = sigma * (-3.0 + 2.25 * q);
+    const double outer = -0.75 * sigma * t * t / std::max(q, 1.0);
+    return (q < 1.0 ? inner : outer) * inv_h * inv_h;
   }
 };
 
@@ -124,19 +117,15 @@ struct QuinticSpline {
   static double p4(double t) { return t * t * t * t; }
   double W(double r) const {
     const double q = r * inv_h;
-    if (q >= 3.0) return 0.0;
-    double w = p5(3.0 - q);
-    if (q < 2.0) w -= 6.0 * p5(2.0 - q);
-    if (q < 1.0) w += 15.0 * p5(1.0 - q);
-    return sigma * w;
+    const double t3 = std::max(3.0 - q, 0.0), t2 = std::max(2.0 - q, 0.0), t1 = std::max(1.0 - q, 0.0);
+    return sigma * (p5(t3) - 6.0 * p5(t2) + 15.0 * p5(t1));
   }
   double F(double r) const {
+    // branch-free: dW/dq vanishes at q = 0 exactly (-405 + 480 - 75), so d / max(q, tiny) is 0 there
     const double q = r * inv_h;
-    if (q >= 3.0 || q <= 0.0) return 0.0;
-    double d = -5.0 * p4(3.0 - q);
-    if (q < 2.0) d += 30.0 * p4(2.0 - q);
-    if (q < 1.0) d -= 75.0 * p4(1.0 - q);
-    return sigma * d / q * inv_h * inv_h;
+    const double t3 = std::max(3.0 - q, 0.0), t2 = std::max(2.0 - q, 0.0), t1 = std::max(1.0 - q, 0.0);
+    const double d = -5.0 * p4(t3) + 30.0 * p4(t2) - 75.0 * p4(t1);
+    return sigma * d / std::max(q, 1e-12) * inv_h * inv_h;
   }
 };
 

@@ -104,11 +104,15 @@ class ParticleStore {
   }
 
   /// Reorder owned particles: new index i holds old particle perm[i]. Requires no images.
+  /// The permutation's cycles are found once and applied to every field in place, touching
+  /// only the particles that move (after the first sort, few change cell between steps).
   void permute(const std::vector<std::uint32_t>& perm) {
-    apply(pos, perm); apply(vel, perm); apply(rho, perm); apply(p, perm); apply(mass, perm);
-    apply(kind, perm); apply(id, perm); apply(acc, perm); apply(drho, perm);
-    for (auto& [n, f] : scalar_fields_) apply(f, perm);
-    for (auto& [n, f] : vector_fields_) apply(f, perm);
+    if (perm.size() != n_owned_) { permute_fields(perm); return; }
+    find_cycles(perm);
+    if (cycles_.empty()) return;
+    cycle(pos); cycle(vel); cycle(rho); cycle(p); cycle(mass); cycle(kind); cycle(id); cycle(acc); cycle(drho);
+    for (auto& [n, f] : scalar_fields_) cycle(f);
+    for (auto& [n, f] : vector_fields_) cycle(f);
   }
 
   /// Remove owned particles whose flag is set (requires no images). Returns how many.
@@ -126,7 +130,7 @@ class ParticleStore {
   std::size_t bytes() const {
     std::size_t b = cap_bytes(pos) + cap_bytes(vel) + cap_bytes(rho) + cap_bytes(p) + cap_bytes(mass) +
                     cap_bytes(kind) + cap_bytes(id) + cap_bytes(acc) + cap_bytes(drho) + cap_bytes(image_source) +
-                    cap_bytes(image_shift_) + cap_bytes(scratch_);
+                    cap_bytes(image_shift_) + cap_bytes(scratch_) + cap_bytes(cycles_) + cap_bytes(cycle_len_);
     for (auto& [n, f] : scalar_fields_) b += cap_bytes(f);
     for (auto& [n, f] : vector_fields_) b += cap_bytes(f);
     return b;
@@ -144,6 +148,7 @@ class ParticleStore {
   std::map<std::string, std::vector<V>> vector_fields_;
   std::vector<V> image_shift_;
   std::vector<unsigned char> scratch_;
+  std::vector<std::uint32_t> cycles_, cycle_len_;
 
   template <class T>
   static std::size_t cap_bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
@@ -186,8 +191,42 @@ class ParticleStore {
       v.resize(n);
     }
   }
+  void permute_fields(const std::vector<std::uint32_t>& perm) {
+    apply(pos, perm); apply(vel, perm); apply(rho, perm); apply(p, perm); apply(mass, perm);
+    apply(kind, perm); apply(id, perm); apply(acc, perm); apply(drho, perm);
+    for (auto& [n, f] : scalar_fields_) apply(f, perm);
+    for (auto& [n, f] : vector_fields_) apply(f, perm);
+  }
+  /// cycles_ holds every non-trivial cycle (i0, perm[i0], perm[perm[i0]], ...) back to back;
+  /// cycle_len_ their lengths.
+  void find_cycles(const std::vector<std::uint32_t>& perm) {
+    cycles_.clear();
+    cycle_len_.clear();
+    const std::size_t n = perm.size();
+    scratch_.assign(n, 0);
+    for (std::size_t start = 0; start < n; ++start) {
+      if (scratch_[start] || perm[start] == start) continue;
+      std::uint32_t len = 0;
+      for (std::size_t i = start; !scratch_[i]; i = perm[i]) {
+        scratch_[i] = 1;
+        cycles_.push_back(static_cast<std::uint32_t>(i));
+        ++len;
+      }
+      cycle_len_.push_back(len);
+    }
+  }
+  template <class T>
+  void cycle(std::vector<T>& v) const {
+    const std::uint32_t* c = cycles_.data();
+    for (const std::uint32_t len : cycle_len_) {
+      const T first = v[c[0]];
+      for (std::uint32_t j = 0; j + 1 < len; ++j) v[c[j]] = v[c[j + 1]];
+      v[c[len - 1]] = first;
+      c += len;
+    }
+  }
   void permute_partial(const std::vector<std::uint32_t>& keep) {
-    permute(keep);
+    permute_fields(keep);
     n_owned_ = keep.size();
   }
 };

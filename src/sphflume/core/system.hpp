@@ -32,22 +32,19 @@ struct System {
   long step = 0;
   std::uint64_t pairs_last_pass = 0;  // neighbour pairs visited in the last rates pass
 
-  /// Rebuild (rebuild=true) or refresh the images and rebin all particles.
-  void update_neighbours(bool rebuild_images) {
-    if (rebuild_images) {
-      particles.clear_images();
-      periodic.build_images(particles, support * 1.1 + dx);
-    } else {
-      particles.refresh_images();
-    }
-    cells.build(particles.pos, particles.size(), support);
-  }
-
-  /// Sort owned particles by cell for memory locality (no images may exist).
-  void reorder_by_cell() {
+  /// Sort the owned particles into cell order (moving every per-particle field), rebuild the
+  /// images and rebin. Without images the cell list then indexes the store directly
+  /// (cells.identity()); images sit after the owned particles and are reached through sorted().
+  /// Particle indices change: anything indexed by particle must be a store field.
+  void update_neighbours() {
     particles.clear_images();
     cells.build(particles.pos, particles.n_owned(), support);
     particles.permute(cells.sorted());
+    cells.adopt_permutation();
+    if (periodic.any()) {
+      periodic.build_images(particles, support * 1.1 + dx);
+      if (particles.size() > particles.n_owned()) cells.build(particles.pos, particles.size(), support);
+    }
   }
 
   template <class Fn>

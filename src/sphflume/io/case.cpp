@@ -320,8 +320,11 @@ Case build_case(YAML::Node root, const std::string& file) {
   if (top.has("scheme")) {
     Reader r(top.get("scheme"), file, "scheme");
     c.scheme.type = r.choice("type", "wcsph", {"wcsph"});
-    c.scheme.integrator = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector"}) == "symplectic"
-                              ? Integrator::Symplectic : Integrator::PredictorCorrector;
+    const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "verlet"});
+    c.scheme.integrator = integ == "symplectic" ? Integrator::Symplectic
+                          : integ == "verlet"   ? Integrator::Verlet : Integrator::PredictorCorrector;
+    c.scheme.verlet_steps = r.scalar<int>("verlet_steps", 40);
+    if (c.scheme.verlet_steps < 0) r.fail_at(r.get("verlet_steps"), "scheme.verlet_steps", "an integer >= 0 (0 = no Euler steps)");
     const std::string dd = r.choice("density_diffusion", "fourtakas", {"none", "molteni_colagrossi", "fourtakas"});
     c.scheme.density_diffusion = dd == "none" ? DensityDiffusion::None
                                  : dd == "fourtakas" ? DensityDiffusion::Fourtakas : DensityDiffusion::MolteniColagrossi;
@@ -338,8 +341,6 @@ Case build_case(YAML::Node root, const std::string& file) {
     c.scheme.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
     c.scheme.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
     c.scheme.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);
-    c.scheme.reorder_every = r.scalar<int>("reorder_every", 10);
-    if (c.scheme.reorder_every < 0) r.fail_at(r.get("reorder_every"), "scheme.reorder_every", "an integer >= 0 (0 = never)");
     r.finish();
   }
   if (top.has("walls")) {

@@ -21,7 +21,7 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class Integrator { Symplectic, PredictorCorrector };
+enum class Integrator { Symplectic, PredictorCorrector, Verlet };
 enum class DensityDiffusion { None, MolteniColagrossi, Fourtakas };
 enum class ViscosityModel { None, Laminar, Artificial };
 enum class PressureGradient { Sum, Symmetric };  // (pa+pb)/(ra rb) [Federico 3.8] ; pa/ra^2+pb/rb^2 [3.9]
@@ -39,7 +39,8 @@ struct FluidConfig {
 
 struct SchemeConfig {
   std::string type = "wcsph";
-  Integrator integrator = Integrator::Symplectic;  // symplectic | predictor_corrector
+  Integrator integrator = Integrator::Symplectic;  // symplectic | predictor_corrector | verlet
+  int verlet_steps = 40;  // verlet: an Euler step every N steps (DualSPHysics VerletSteps)
   DensityDiffusion density_diffusion = DensityDiffusion::Fourtakas;
   double delta = 0.1;
   ViscosityModel viscosity = ViscosityModel::Laminar;
@@ -50,7 +51,6 @@ struct SchemeConfig {
   double cfl = 0.2;       // dt <= cfl * h / (c_max + |u|_max)
   double viscous_coefficient = 0.125;  // dt <= coef * h^2 / nu
   double force_coefficient = 0.25;     // dt <= coef * sqrt(h / |a|_max)
-  int reorder_every = 10;              // cell-sort the store every N steps
   double eta2 = 0.01;  // η²/h² regularising 1/(r²+η²) in viscous and diffusion terms (theses: 0.01)
 };
 

@@ -14,7 +14,7 @@ namespace sph {
 template <int D>
 void WCSPH<D>::initialise(System<D>& S) {
   update_pressure(S);
-  S.update_neighbours(true);
+  S.update_neighbours();
   rates(S);
 }
 
@@ -37,30 +37,50 @@ void WCSPH<D>::update_pressure(System<D>& S) const {
 template <int D>
 template <class K>
 void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
+  // the common EOS (Tait with gamma = 7, or linear) evaluates c(rho) inline
+  const bool fast_eos = S.eos.type == EosType::Linear || S.eos.gamma == 7.0;
+  if (fast_eos) sweep<K, true>(S, ker);
+  else sweep<K, false>(S, ker);
+}
+
+template <int D>
+template <class K, bool FastEos>
+void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   auto& P = S.particles;
-  const std::size_t n = P.n_owned();
   const bool dyn = S.walls->evolves_density();
-  const bool no_slip = S.walls->cfg.no_slip;
-  const auto& wall_vel = S.walls->viscous_velocity(S);
   const double h = S.h, eta2 = cfg_.eta2 * h * h, c0 = S.eos.c0, rho0 = S.eos.rho0;
-  const bool laminar = cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0;
-  const bool artificial = cfg_.viscosity == ViscosityModel::Artificial && cfg_.alpha > 0.0;
-  const bool diffusion = cfg_.density_diffusion != DensityDiffusion::None && cfg_.delta > 0.0;
-  const bool fourtakas = cfg_.density_diffusion == DensityDiffusion::Fourtakas;
-  const bool sym_p = cfg_.pressure_gradient == PressureGradient::Symmetric;
+  const double tiny = 1e-12 * h * h;  // keeps the masked self pair finite when eta2 = 0
+  const double inv_rho0 = 1.0 / rho0;
+  const double tait = S.eos.type == EosType::Tait ? 1.0 : 0.0;
+  // every optional term is on the same code path, scaled by a 0/1 (or coefficient) factor:
+  // the inner loop has no branches and vectorises
+  const double lam = (cfg_.viscosity == ViscosityModel::Laminar) ? 4.0 * S.nu : 0.0;
+  const double alpha = (cfg_.viscosity == ViscosityModel::Artificial) ? cfg_.alpha : 0.0;
+  const double fdiff = (cfg_.density_diffusion != DensityDiffusion::None && cfg_.delta > 0.0) ? 1.0 : 0.0;
+  const double four = cfg_.density_diffusion == DensityDiffusion::Fourtakas ? 1.0 : 0.0;
+  const double sym = cfg_.pressure_gradient == PressureGradient::Symmetric ? 1.0 : 0.0;
+  const double visc_wall = S.walls->cfg.no_slip ? 1.0 : 0.0;  // walls enter the viscous terms
   const double dcoef = 2.0 * cfg_.delta * h * c0;
-  const double four_nu = 4.0 * S.nu;
-  (void)rho0;
-  const double alpha = cfg_.alpha;
   const double xsph = cfg_.xsph;
   std::vector<Vec<D>>* xs = xsph > 0.0 ? &P.vector("xsph") : nullptr;
-  const Vec<D> g = S.gravity;
+  const double use_xs = xs ? 1.0 : 0.0;
+  double g[3] = {0.0, 0.0, 0.0};
+  for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
   const double support2 = ker.support2;
-  std::uint64_t pairs = 0;
-  // raw pointers: the loop must not reload vector data through possibly aliasing references
+  const Eos eos = S.eos;
+  auto sound = [&](double rh) {  // c(rho)
+    if constexpr (FastEos) {
+      const double r = rh * inv_rho0;
+      return c0 * (tait * (r * r * r - 1.0) + 1.0);
+    } else {
+      return eos.sound_speed(rh);
+    }
+  };
+  const double far = 1.0e6;  // padding entries sit this far away (m): outside every support
+
   const Vec<D>* __restrict pos = P.pos.data();
   const Vec<D>* __restrict vel = P.vel.data();
-  const Vec<D>* __restrict wvel = wall_vel.data();
+  const Vec<D>* __restrict wvel = S.walls->viscous_velocity(S).data();
   const double* __restrict rho = P.rho.data();
   const double* __restrict prs = P.p.data();
   const double* __restrict mass = P.mass.data();
@@ -69,105 +89,132 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
   Vec<D>* __restrict acc_out = P.acc.data();
   double* __restrict drho_out = P.drho.data();
   Vec<D>* __restrict xs_out = xs ? xs->data() : nullptr;
-  const Eos eos = S.eos;
-  int overflow = 0;
+  const auto& cells = S.cells;
+  const std::size_t ncell = cells.cell_count();
+  const std::size_t n_owned = P.n_owned();
+  std::uint64_t pairs = 0;
 
-#pragma omp parallel for schedule(static) reduction(+ : pairs) reduction(max : overflow)
-  for (std::size_t a = 0; a < n; ++a) {
-    const Kind ka = kind[a];
-    if (ka == Kind::Wall && !dyn) { acc_out[a] = Vec<D>{}; drho_out[a] = 0.0; continue; }
-    const Vec<D> xa = pos[a], va = vel[a];
-    const double rhoa = rho[a], pa = prs[a];
-    const double ca = eos.sound_speed(rhoa);
-    const double pa_r2 = pa / (rhoa * rhoa);
-    const double inv_rhoa = 1.0 / rhoa;
-    double drho = 0.0, ddiff = 0.0;
-    Vec<D> acc{}, dxs{};
-    std::uint64_t np = 0;
-    std::uint32_t rg[CellList<D>::kMaxRanges][2];
-    const int nr = S.cells.ranges(xa, rg);
-    // gather the neighbours first, branch-free (half the candidates are rejected, at random),
-    // then run the pair physics on the compact list
-    constexpr int kBuf = 1024;
-    std::uint32_t nbr[kBuf];
-    int nn = 0;
-    for (int ri = 0; ri < nr; ++ri) {
-      for (std::uint32_t k = rg[ri][0]; k < rg[ri][1]; ++k) {
-        const std::uint32_t b = sorted[k];
-        const Vec<D> rab = xa - pos[b];
-        const double r2 = dot(rab, rab);
-        nbr[nn] = b;
-        nn += (r2 < support2) & (r2 > 0.0);
-        if (nn == kBuf) [[unlikely]] { nn = kBuf - 1; overflow = 1; }  // clumped particles: reported below
+  // columns of the candidate buffer
+  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, NCOL };
+
+#pragma omp parallel reduction(+ : pairs)
+  {
+    ScratchColumns B(NCOL);
+    CellStencil<D> st;
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t cell = 0; cell < ncell; ++cell) {
+      const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+      // owned particles of this cell that need rates (fluid; walls only when dynamic)
+      bool any = false;
+      for (std::uint32_t k = c0k; k < c1k; ++k) {
+        const std::uint32_t a = sorted[k];
+        if (a >= n_owned) continue;
+        if (kind[a] == Kind::Wall && !dyn) { acc_out[a] = Vec<D>{}; drho_out[a] = 0.0; continue; }
+        any = true;
       }
-    }
-    np = static_cast<std::uint64_t>(nn);
-    for (int ni = 0; ni < nn; ++ni) {
-      {
-        const std::uint32_t b = nbr[ni];
-        const Vec<D> rab = xa - pos[b];
-        const double r2 = dot(rab, rab);
-        const double r = std::sqrt(r2);
-        const double F = ker.F(r);
-        const Vec<D> gradW = F * rab;
-        const Kind kb = kind[b];
-        const double rhob = rho[b], mb = mass[b];
-        const double inv_rhob = 1.0 / rhob;
-        const double Vb = mb * inv_rhob;
-        const Vec<D> uab = va - vel[b];
-        const double udotgw = dot(uab, gradW);
-        if (ka == Kind::Wall) {  // dynamic wall: continuity from the fluid only
-          if (kb == Kind::Fluid) drho += rhoa * udotgw * Vb;
+      if (!any) continue;
+      st.set(cells, cell);
+      const std::size_t npad = st.padded;
+      B.reserve(npad);
+      for (int d = 0; d < D; ++d) {
+        st.fill(B[X0 + d], far, [&](std::uint32_t b) { return pos[b][d]; });
+        st.fill(B[U0 + d], 0.0, [&](std::uint32_t b) { return vel[b][d]; });
+        // ghost correction of the viscous velocity: 0 for fluid neighbours
+        st.fill(B[W0 + d], 0.0, [&](std::uint32_t b) { return kind[b] == Kind::Fluid ? 0.0 : vel[b][d] - wvel[b][d]; });
+      }
+      st.fill(B[RHO], rho0, [&](std::uint32_t b) { return rho[b]; });
+      st.fill(B[PRS], 0.0, [&](std::uint32_t b) { return prs[b]; });
+      st.fill(B[MASS], 0.0, [&](std::uint32_t b) { return mass[b]; });
+      st.fill(B[FLUID], 0.0, [&](std::uint32_t b) { return kind[b] == Kind::Fluid ? 1.0 : 0.0; });
+      const double* __restrict bx0 = B[X0];
+      const double* __restrict bx1 = B[X1];
+      const double* __restrict bx2 = B[X0 + D - 1];
+      const double* __restrict bu0 = B[U0];
+      const double* __restrict bu1 = B[U1];
+      const double* __restrict bu2 = B[U0 + D - 1];
+      const double* __restrict bw0 = B[W0];
+      const double* __restrict bw1 = B[W1];
+      const double* __restrict bw2 = B[W0 + D - 1];
+      const double* __restrict brho = B[RHO];
+      const double* __restrict bp = B[PRS];
+      const double* __restrict bm = B[MASS];
+      const double* __restrict bf = B[FLUID];
+
+      for (std::uint32_t ka_k = c0k; ka_k < c1k; ++ka_k) {
+        const std::uint32_t a = sorted[ka_k];
+        if (a >= n_owned) continue;
+        const Kind ka = kind[a];
+        if (ka == Kind::Wall && !dyn) continue;
+        const double xa0 = pos[a][0], xa1 = pos[a][1], xa2 = pos[a][D - 1];
+        const double va0 = vel[a][0], va1 = vel[a][1], va2 = vel[a][D - 1];
+        const double rhoa = rho[a], pa = prs[a];
+        const double ca = sound(rhoa), ca2 = ca * ca;
+        const double pa_r2 = pa / (rhoa * rhoa);
+        const double inv_rhoa = 1.0 / rhoa;
+        const double wa = ka == Kind::Fluid ? 1.0 : 0.0;  // a dynamic wall: continuity from fluid only
+        double a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
+#pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt)
+        for (std::size_t k = 0; k < npad; ++k) {
+          const double r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : 0.0;
+          const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+          const double fb = bf[k];
+          // in: a neighbour within the support (not a itself); a wall a only sees fluid
+          const double in = ((r2 < support2) & (r2 > 0.0)) ? (wa + (1.0 - wa) * fb) : 0.0;
+          const double r = std::sqrt(r2);
+          const double F = ker.F(r) * in;
+          const double gw0 = F * r0, gw1 = F * r1, gw2 = F * r2c;
+          const double rhob = brho[k], mb = bm[k], pb = bp[k], cb = sound(rhob);
+          const double u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : 0.0;
+          // one division for the four reciprocals this pair needs
+          const double cb2 = cb * cb;
+          const double r2e = r2 + eta2 + tiny, rsum = rhoa + rhob, csum = ca2 + cb2;
+          const double inv = 1.0 / (rhob * r2e * rsum * csum);
+          const double inv_rhob = inv * r2e * rsum * csum;
+          const double inv_r2e = inv * rhob * rsum * csum;
+          const double inv_rsum = inv * rhob * r2e * csum;
+          const double inv_csum = inv * rhob * r2e * rsum;
+          const double Vb = mb * inv_rhob;
+          dr += (u0 * gw0 + u1 * gw1 + u2 * gw2) * Vb;
+          const double fr = F * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
+          // δ-SPH: Fourtakas removes the hydrostatic density difference ρ g·r / c² (pair means)
+          const double gr = g[0] * r0 + g[1] * r1 + g[2] * r2c;
+          dd += fb * (rhoa - rhob - four * rsum * inv_csum * gr) * fr * Vb;
+          const double pterm = sym * mb * (pa_r2 + pb * inv_rhob * inv_rhob) + (1.0 - sym) * (pa + pb) * Vb * inv_rhoa;
+          // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
+          const double mv = fb + (1.0 - fb) * visc_wall;
+          const double w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : 0.0;
+          const double vr = std::min(w0 * r0 + w1 * r1 + w2 * r2c, 0.0);
+          const double pi_ab = -alpha * (ca + cb) * h * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
+          const double lamf = mv * lam * mb * fr * inv_rsum;
+          const double gcoef = pterm + mv * mb * pi_ab;
+          a0 += lamf * w0 - gcoef * gw0;
+          a1 += lamf * w1 - gcoef * gw1;
+          a2 += lamf * w2 - gcoef * gw2;
+          const double xw = use_xs * fb * 2.0 * mb * inv_rsum * ker.W(r) * in;
+          s0 -= xw * u0;
+          s1 -= xw * u1;
+          s2 -= xw * u2;
+          cnt += in;
+        }
+        pairs += static_cast<std::uint64_t>(cnt + 0.5);
+        if (ka != Kind::Fluid) {
+          drho_out[a] = rhoa * dr;
+          acc_out[a] = Vec<D>{};
           continue;
         }
-        drho += rhoa * udotgw * Vb;
-        const bool fluid_b = kb == Kind::Fluid;
-        const double fr = F * r2 / (r2 + eta2);  // r·∇W/(r²+η²) × r² / r²: the regularised F
-        if (diffusion && fluid_b) {
-          double drh = rhoa - rhob;
-          if (fourtakas) {
-            // hydrostatic density difference: dρ = ρ g·dr / c² with the pair's mean ρ and c²
-            // (the EOS's local c, not c0: with Tait, c0 alone leaves a ~6 gH/c0² mismatch
-            // between the diffusion's equilibrium and hydrostatic balance)
-            const double cb = eos.sound_speed(rhob);
-            drh -= (rhoa + rhob) / (ca * ca + cb * cb) * dot(g, rab);
-          }
-          ddiff += drh * fr * Vb;
-        }
-        const double pb = prs[b];
-        const double pterm = sym_p ? mb * (pa_r2 + pb * inv_rhob * inv_rhob) : (pa + pb) * Vb * inv_rhoa;
-        acc -= pterm * gradW;
-        if (laminar || artificial) {
-          if (fluid_b || no_slip) {
-            const Vec<D> u = fluid_b ? uab : va - wvel[b];
-            if (laminar) acc += (mb * four_nu * fr / (rhoa + rhob)) * u;
-            if (artificial) {
-              const double vr = dot(u, rab);
-              if (vr < 0.0) {
-                const double mu = h * vr / (r2 + eta2);
-                const double cb = eos.sound_speed(rhob);
-                const double pi_ab = -alpha * (ca + cb) * mu / (rhoa + rhob);
-                acc -= (mb * pi_ab) * gradW;
-              }
-            }
-          }
-        }
-        if (xs_out && fluid_b) dxs -= (mb / (0.5 * (rhoa + rhob)) * ker.W(r)) * uab;
+        drho_out[a] = rhoa * dr + fdiff * dcoef * dd;
+        Vec<D> acc, sx;
+        acc[0] = a0 + g[0];
+        acc[1] = a1 + g[1];
+        sx[0] = xsph * s0;
+        sx[1] = xsph * s1;
+        if constexpr (D == 3) { acc[2] = a2 + g[2]; sx[2] = xsph * s2; }
+        acc_out[a] = acc;
+        if (xs_out) xs_out[a] = sx;
       }
-    }
-    pairs += np;
-    drho_out[a] = drho + dcoef * ddiff;
-    if (ka == Kind::Fluid) {
-      acc_out[a] = acc + g;
-      if (xs_out) xs_out[a] = xsph * dxs;
-    } else {
-      acc_out[a] = Vec<D>{};
     }
   }
   S.pairs_last_pass = pairs;
-  if (overflow)
-    throw SimulationError(fmt::format("a particle has more than 1023 neighbours at step {}, t = {:.6g} s: particles "
-                                      "have clumped (time step too large or sound speed too small)", S.step, S.time));
 }
 
 template <int D>
@@ -222,23 +269,72 @@ double WCSPH<D>::time_step(const System<D>& S) const {
 
 template <int D>
 void WCSPH<D>::step(System<D>& S, double dt) {
+  if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
+  else two_stage_step(S, dt);
+  S.periodic.wrap(S.particles);
+  S.time += dt;
+  ++S.step;
+  if (cfg_.shepard_every > 0 && S.step % cfg_.shepard_every == 0) shepard_filter(S);
+  update_pressure(S);
+  if (cfg_.integrator == Integrator::Verlet) {
+    // the rates of the new state: the next step and its time-step estimate use them
+    S.update_neighbours();
+    rates(S);
+  }
+}
+
+template <int D>
+void WCSPH<D>::verlet_step(System<D>& S, double dt) {
+  // DualSPHysics' Verlet (Monaghan 1989 leapfrog form): one rates evaluation per step,
+  //   x^{n+1} = x^n + dt u^n + dt²/2 a^n,  u^{n+1} = u^{n-1} + 2 dt a^n,  ρ^{n+1} = ρ^{n-1} + 2 dt Dρ^n,
+  // and every verlet_steps-th step an Euler step (u^{n+1} = u^n + dt a^n, ...) that re-couples
+  // the odd and even sequences. acc/drho hold the rates of the current state on entry.
   auto& P = S.particles;
-  if (cfg_.reorder_every > 0 && S.step % cfg_.reorder_every == 0) S.reorder_by_cell();
-  // stage 1: rates at t^n
-  S.update_neighbours(true);
-  rates(S);
   const std::size_t n = P.n_owned();
-  x0_.resize(n);
-  v0_.resize(n);
-  rho0_.resize(n);
+  auto& vprev = P.vector("v_prev");
+  auto& rprev = P.scalar("rho_prev");
+  const bool dyn = S.walls->evolves_density();
+  std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector("xsph") : nullptr;
+  const bool euler = !verlet_started_ || (cfg_.verlet_steps > 0 && (S.step + 1) % cfg_.verlet_steps == 0);
+  verlet_started_ = true;
+  const double dt2 = euler ? dt : 2.0 * dt;
+  const double hdt2 = 0.5 * dt * dt;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool fluid = P.kind[i] == Kind::Fluid;
+    if (!fluid && !(P.kind[i] == Kind::Wall && dyn)) continue;
+    const double r_new = (euler ? P.rho[i] : rprev[i]) + dt2 * P.drho[i];
+    rprev[i] = P.rho[i];
+    P.rho[i] = r_new;
+    if (!fluid) continue;
+    const Vec<D> v = P.vel[i];
+    Vec<D> u = v;
+    if (xs) u += (*xs)[i];
+    P.pos[i] += dt * u + hdt2 * P.acc[i];
+    P.vel[i] = (euler ? v : vprev[i]) + dt2 * P.acc[i];
+    vprev[i] = v;
+  }
+}
+
+template <int D>
+void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
+  auto& P = S.particles;
+  // stage 1: rates at t^n
+  S.update_neighbours();
+  rates(S);
+  // start-of-step state as store fields: they follow the particles through the re-sort below
+  auto& x0 = P.vector("x0");
+  auto& v0 = P.vector("v0");
+  auto& rho0 = P.scalar("rho0");
+  const std::size_t n = P.n_owned();
   const bool dyn = S.walls->evolves_density();
   std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector("xsph") : nullptr;
   const double hdt = 0.5 * dt;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    x0_[i] = P.pos[i];
-    v0_[i] = P.vel[i];
-    rho0_[i] = P.rho[i];
+    x0[i] = P.pos[i];
+    v0[i] = P.vel[i];
+    rho0[i] = P.rho[i];
     if (P.kind[i] == Kind::Fluid) {
       Vec<D> u = P.vel[i];
       if (xs) u += (*xs)[i];
@@ -251,7 +347,7 @@ void WCSPH<D>::step(System<D>& S, double dt) {
   }
   update_pressure(S);
   // stage 2: rates at t^{n+1/2}
-  S.update_neighbours(false);
+  S.update_neighbours();
   rates(S);
   const bool symplectic = cfg_.integrator == Integrator::Symplectic;
 #pragma omp parallel for schedule(static)
@@ -260,32 +356,27 @@ void WCSPH<D>::step(System<D>& S, double dt) {
     if (!fluid && !(P.kind[i] == Kind::Wall && dyn)) continue;
     if (symplectic) {
       const double eps = -P.drho[i] / P.rho[i] * dt;
-      P.rho[i] = rho0_[i] * (2.0 - eps) / (2.0 + eps);
+      P.rho[i] = rho0[i] * (2.0 - eps) / (2.0 + eps);
     } else {
-      P.rho[i] = rho0_[i] + dt * P.drho[i];
+      P.rho[i] = rho0[i] + dt * P.drho[i];
     }
     if (!fluid) continue;
     Vec<D> xcorr{};
     if (xs) xcorr = (*xs)[i];
     if (symplectic) {
-      P.vel[i] = v0_[i] + dt * P.acc[i];
-      P.pos[i] = x0_[i] + dt * (0.5 * (P.vel[i] + v0_[i]) + xcorr);
+      P.vel[i] = v0[i] + dt * P.acc[i];
+      P.pos[i] = x0[i] + dt * (0.5 * (P.vel[i] + v0[i]) + xcorr);
     } else {  // Monaghan predictor-corrector: corrected mid-step, then extrapolate
-      const Vec<D> vc = v0_[i] + hdt * P.acc[i];
-      P.pos[i] = x0_[i] + dt * (vc + xcorr);
-      P.vel[i] = v0_[i] + dt * P.acc[i];
+      const Vec<D> vc = v0[i] + hdt * P.acc[i];
+      P.pos[i] = x0[i] + dt * (vc + xcorr);
+      P.vel[i] = v0[i] + dt * P.acc[i];
     }
   }
-  S.periodic.wrap(P);
-  S.time += dt;
-  ++S.step;
-  if (cfg_.shepard_every > 0 && S.step % cfg_.shepard_every == 0) shepard_filter(S);
-  update_pressure(S);
 }
 
 template <int D>
 void WCSPH<D>::shepard_filter(System<D>& S) const {
-  S.update_neighbours(true);
+  S.update_neighbours();
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   std::vector<double> out(n);
@@ -304,12 +395,17 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
       if (den > 0.0) out[a] = num / den;
     }
   });
+  // Verlet keeps the previous density too: shift it by the same correction
+  if (P.has_scalar("rho_prev")) {
+    auto& rp = P.scalar("rho_prev");
+    for (std::size_t a = 0; a < n; ++a) rp[a] += out[a] - P.rho[a];
+  }
   for (std::size_t a = 0; a < n; ++a) P.rho[a] = out[a];
 }
 
 template <int D>
 std::size_t WCSPH<D>::bytes() const {
-  return x0_.capacity() * sizeof(Vec<D>) + v0_.capacity() * sizeof(Vec<D>) + rho0_.capacity() * sizeof(double);
+  return 0;  // the integrator's state lives in the particle store (x0/v0/rho0 or v_prev/rho_prev)
 }
 
 template class WCSPH<2>;

@@ -9,6 +9,11 @@
 //   symplectic           position-Verlet as in DualSPHysics: rates at t^n and t^{n+1/2}
 //                        (two neighbour passes per step), second order;
 //   predictor_corrector  Monaghan (1989) as in SPHysics / Kazemi (two passes);
+//   verlet               DualSPHysics' Verlet: one pass per step, an Euler step every
+//                        verlet_steps steps.
+//  The pair loops are branch-free over each cell range (optional terms scaled by 0/1
+//  factors) so that the compiler vectorises them; the store is re-sorted by cell before every
+//  pass, so without images the ranges index the particle arrays directly.
 #pragma once
 #include <vector>
 
@@ -24,7 +29,7 @@ class WCSPH final : public Scheme<D> {
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
-  int passes_per_step() const override { return 2; }
+  int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet ? 1 : 2; }
   std::size_t bytes() const override;
 
   /// One rates pass: fills acc and drho of owned particles (exposed for tests).
@@ -33,13 +38,16 @@ class WCSPH final : public Scheme<D> {
  private:
   template <class K>
   void pair_loop(System<D>& S, const K& kernel);
+  template <class K, bool FastEos>
+  void sweep(System<D>& S, const K& kernel);
+  void verlet_step(System<D>& S, double dt);
+  void two_stage_step(System<D>& S, double dt);
   void update_pressure(System<D>& S) const;
   void shepard_filter(System<D>& S) const;
   void check_finite(const System<D>& S) const;
 
   SchemeConfig cfg_;
-  std::vector<Vec<D>> x0_, v0_;
-  std::vector<double> rho0_;
+  bool verlet_started_ = false;
   double max_acc_ = 0.0;
 };
 

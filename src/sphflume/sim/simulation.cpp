@@ -134,7 +134,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
 
   auto output = [&] {
     if (!o.write_output) return;
-    S.update_neighbours(true);
+    S.update_neighbours();
     snaps.write(S.particles, S.time, S.step);
     gauges->sample(S);
   };
