@@ -125,6 +125,8 @@ def main():
     ap.add_argument("--mode", choices=MODES, default="coarse")
     ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="extra case overrides passed to sphflume (e.g. scheme.integrator=verlet)")
     ap.add_argument("--reuse", action="store_true", help="reuse finished runs in --out with the same dx and end time")
     a = ap.parse_args()
     m = MODES[a.mode]
@@ -141,7 +143,7 @@ def main():
     for res in m["res"]:
         dx = RES[res]
         out = os.path.join(a.out, f"dx{dx:g}")
-        s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": dx, "time.end": END}, a.threads, a.reuse)
+        s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": dx, "time.end": END, **dict(kv.split("=", 1) for kv in a.set)}, a.threads, a.reuse)
         walls[res] = wall
         if s is None:
             print(f"[FAIL] run {res} exit code = {rc}   (threshold: 0)")

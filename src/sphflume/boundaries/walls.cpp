@@ -40,7 +40,7 @@ class DummyWalls final : public WallModel<D> {
       const double support2 = K.support2;
 #pragma omp parallel
       {
-        ScratchColumns B(NCOL);
+        ScratchColumns<double> B(NCOL);
         CellStencil<D> st;
 #pragma omp for schedule(dynamic, 16)
         for (std::size_t cell = 0; cell < ncell; ++cell) {

@@ -65,18 +65,20 @@ struct WendlandC2 {
     support = support_factor * h;
     support2 = support * support;
   }
-  double W(double r) const {
-    const double q = r * inv_h;
-    const double t = std::max(1.0 - 0.5 * q, 0.0);
-    const double t2 = t * t;
-    return sigma * t2 * t2 * (2.0 * q + 1.0);
+  // W and F = W'(r)/r are templates on the scalar type (double, or float in the vectorised
+  // pair loops) and branch-free: t = 0 at and beyond the support
+  template <class T>
+  T W(T r) const {
+    const T q = r * T(inv_h);
+    const T t = std::max(T(1) - T(0.5) * q, T(0));
+    const T t2 = t * t;
+    return T(sigma) * t2 * t2 * (T(2) * q + T(1));
   }
-  /// W'(r)/r
-  double F(double r) const {
-    // branch-free (vectorises in the pair loops): t = 0 at and beyond the support
-    const double t = std::max(1.0 - 0.5 * r * inv_h, 0.0);
-    // dW/dq = sigma * (-5 q) (1 - q/2)^3 ; divide by r = q h and multiply by dq/dr = 1/h
-    return -5.0 * sigma * t * t * t * inv_h * inv_h;
+  /// W'(r)/r: dW/dq = sigma (-5 q) (1 - q/2)^3; divide by r = q h, multiply by dq/dr = 1/h
+  template <class T>
+  T F(T r) const {
+    const T t = std::max(T(1) - T(0.5) * r * T(inv_h), T(0));
+    return T(-5.0 * sigma * inv_h * inv_h) * t * t * t;
   }
 };
 
@@ -89,18 +91,20 @@ struct CubicSpline {
     support = support_factor * h;
     support2 = support * support;
   }
-  double W(double r) const {
-    const double q = r * inv_h;
-    const double t = std::max(2.0 - q, 0.0);
-    return q < 1.0 ? sigma * (1.0 - 1.5 * q * q + 0.75 * q * q * q) : sigma * 0.25 * t * t * t;
+  template <class T>
+  T W(T r) const {
+    const T q = r * T(inv_h);
+    const T t = std::max(T(2) - q, T(0));
+    return q < T(1) ? T(sigma) * (T(1) - T(1.5) * q * q + T(0.75) * q * q * q) : T(0.25 * sigma) * t * t * t;
   }
-  double F(double r) const {
-    // branch-free: inner piece sigma (-3 + 9q/4) (the 1/q cancels), outer -3/4 sigma (2-q)^2 / q
-    const double q = r * inv_h;
-    const double t = std::max(2.0 - q, 0.0);
-    const double inner = sigma * (-3.0 + 2.25 * q);
-    const double outer = -0.75 * sigma * t * t / std::max(q, 1.0);
-    return (q < 1.0 ? inner : outer) * inv_h * inv_h;
+  /// branch-free: inner piece sigma (-3 + 9q/4) (the 1/q cancels), outer -3/4 sigma (2-q)^2 / q
+  template <class T>
+  T F(T r) const {
+    const T q = r * T(inv_h);
+    const T t = std::max(T(2) - q, T(0));
+    const T inner = T(sigma) * (T(-3) + T(2.25) * q);
+    const T outer = T(-0.75 * sigma) * t * t / std::max(q, T(1));
+    return (q < T(1) ? inner : outer) * T(inv_h * inv_h);
   }
 };
 
@@ -113,19 +117,21 @@ struct QuinticSpline {
     support = support_factor * h;
     support2 = support * support;
   }
-  static double p5(double t) { return t * t * t * t * t; }
-  static double p4(double t) { return t * t * t * t; }
-  double W(double r) const {
-    const double q = r * inv_h;
-    const double t3 = std::max(3.0 - q, 0.0), t2 = std::max(2.0 - q, 0.0), t1 = std::max(1.0 - q, 0.0);
-    return sigma * (p5(t3) - 6.0 * p5(t2) + 15.0 * p5(t1));
+  template <class T> static T p5(T t) { return t * t * t * t * t; }
+  template <class T> static T p4(T t) { return t * t * t * t; }
+  template <class T>
+  T W(T r) const {
+    const T q = r * T(inv_h);
+    const T t3 = std::max(T(3) - q, T(0)), t2 = std::max(T(2) - q, T(0)), t1 = std::max(T(1) - q, T(0));
+    return T(sigma) * (p5(t3) - T(6) * p5(t2) + T(15) * p5(t1));
   }
-  double F(double r) const {
-    // branch-free: dW/dq vanishes at q = 0 exactly (-405 + 480 - 75), so d / max(q, tiny) is 0 there
-    const double q = r * inv_h;
-    const double t3 = std::max(3.0 - q, 0.0), t2 = std::max(2.0 - q, 0.0), t1 = std::max(1.0 - q, 0.0);
-    const double d = -5.0 * p4(t3) + 30.0 * p4(t2) - 75.0 * p4(t1);
-    return sigma * d / std::max(q, 1e-12) * inv_h * inv_h;
+  /// branch-free: dW/dq vanishes at q = 0 exactly (-405 + 480 - 75), so d / max(q, tiny) is 0 there
+  template <class T>
+  T F(T r) const {
+    const T q = r * T(inv_h);
+    const T t3 = std::max(T(3) - q, T(0)), t2 = std::max(T(2) - q, T(0)), t1 = std::max(T(1) - q, T(0));
+    const T d = T(-5) * p4(t3) + T(30) * p4(t2) - T(75) * p4(t1);
+    return T(sigma) * d / std::max(q, T(1e-12)) * T(inv_h * inv_h);
   }
 };
 

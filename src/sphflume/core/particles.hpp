@@ -113,6 +113,16 @@ class ParticleStore {
     cycle(pos); cycle(vel); cycle(rho); cycle(p); cycle(mass); cycle(kind); cycle(id); cycle(acc); cycle(drho);
     for (auto& [n, f] : scalar_fields_) cycle(f);
     for (auto& [n, f] : vector_fields_) cycle(f);
+    // the first sort moves nearly every particle, later ones few: do not keep the big list
+    if (cycles_.capacity() > n_owned_ / 16) { cycles_ = {}; cycle_len_ = {}; }
+  }
+
+  /// Release spare capacity (after the particles are created one by one).
+  void shrink_to_fit() {
+    pos.shrink_to_fit(); vel.shrink_to_fit(); rho.shrink_to_fit(); p.shrink_to_fit(); mass.shrink_to_fit();
+    kind.shrink_to_fit(); id.shrink_to_fit(); acc.shrink_to_fit(); drho.shrink_to_fit();
+    for (auto& [k, f] : scalar_fields_) f.shrink_to_fit();
+    for (auto& [k, f] : vector_fields_) f.shrink_to_fit();
   }
 
   /// Remove owned particles whose flag is set (requires no images). Returns how many.
@@ -130,7 +140,7 @@ class ParticleStore {
   std::size_t bytes() const {
     std::size_t b = cap_bytes(pos) + cap_bytes(vel) + cap_bytes(rho) + cap_bytes(p) + cap_bytes(mass) +
                     cap_bytes(kind) + cap_bytes(id) + cap_bytes(acc) + cap_bytes(drho) + cap_bytes(image_source) +
-                    cap_bytes(image_shift_) + cap_bytes(scratch_) + cap_bytes(cycles_) + cap_bytes(cycle_len_);
+                    cap_bytes(image_shift_) + scratch_.capacity() / 8 + cap_bytes(cycles_) + cap_bytes(cycle_len_);
     for (auto& [n, f] : scalar_fields_) b += cap_bytes(f);
     for (auto& [n, f] : vector_fields_) b += cap_bytes(f);
     return b;
@@ -147,7 +157,7 @@ class ParticleStore {
   std::map<std::string, std::vector<double>> scalar_fields_;
   std::map<std::string, std::vector<V>> vector_fields_;
   std::vector<V> image_shift_;
-  std::vector<unsigned char> scratch_;
+  std::vector<bool> scratch_;  // visited marks (1 bit per particle)
   std::vector<std::uint32_t> cycles_, cycle_len_;
 
   template <class T>
@@ -173,13 +183,13 @@ class ParticleStore {
   void apply(std::vector<T>& v, const std::vector<std::uint32_t>& perm) {
     const std::size_t n = perm.size();
     if (n == v.size()) {
-      scratch_.assign(n, 0);
+      scratch_.assign(n, false);
       for (std::size_t start = 0; start < n; ++start) {
-        if (scratch_[start] || perm[start] == start) { scratch_[start] = 1; continue; }
+        if (scratch_[start] || perm[start] == start) { scratch_[start] = true; continue; }
         T first = v[start];
         std::size_t i = start;
         while (true) {
-          scratch_[i] = 1;
+          scratch_[i] = true;
           const std::size_t src = perm[i];
           if (src == start) { v[i] = first; break; }
           v[i] = v[src];
@@ -203,12 +213,12 @@ class ParticleStore {
     cycles_.clear();
     cycle_len_.clear();
     const std::size_t n = perm.size();
-    scratch_.assign(n, 0);
+    scratch_.assign(n, false);
     for (std::size_t start = 0; start < n; ++start) {
       if (scratch_[start] || perm[start] == start) continue;
       std::uint32_t len = 0;
       for (std::size_t i = start; !scratch_[i]; i = perm[i]) {
-        scratch_[i] = 1;
+        scratch_[i] = true;
         cycles_.push_back(static_cast<std::uint32_t>(i));
         ++len;
       }

@@ -185,6 +185,7 @@ BuildReport build_system(const Case& c, System<D>& S) {
                                      S.periodic.period(ax), S.support));
     }
   }
+  S.particles.shrink_to_fit();  // particles were appended one by one: drop the growth slack
   return rep;
 }
 

@@ -37,21 +37,18 @@ void WCSPH<D>::update_pressure(System<D>& S) const {
 template <int D>
 template <class K>
 void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
-  // the common EOS (Tait with gamma = 7, or linear) evaluates c(rho) inline
-  const bool fast_eos = S.eos.type == EosType::Linear || S.eos.gamma == 7.0;
-  if (fast_eos) sweep<K, true>(S, ker);
+  // XSPH's smoothed velocity needs W(r) in every pair: compiled in only when it is on
+  if (cfg_.xsph > 0.0) sweep<K, true>(S, ker);
   else sweep<K, false>(S, ker);
 }
 
 template <int D>
-template <class K, bool FastEos>
+template <class K, bool Xsph>
 void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const bool dyn = S.walls->evolves_density();
   const double h = S.h, eta2 = cfg_.eta2 * h * h, c0 = S.eos.c0, rho0 = S.eos.rho0;
   const double tiny = 1e-12 * h * h;  // keeps the masked self pair finite when eta2 = 0
-  const double inv_rho0 = 1.0 / rho0;
-  const double tait = S.eos.type == EosType::Tait ? 1.0 : 0.0;
   // every optional term is on the same code path, scaled by a 0/1 (or coefficient) factor:
   // the inner loop has no branches and vectorises
   const double lam = (cfg_.viscosity == ViscosityModel::Laminar) ? 4.0 * S.nu : 0.0;
@@ -63,20 +60,13 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const double dcoef = 2.0 * cfg_.delta * h * c0;
   const double xsph = cfg_.xsph;
   std::vector<Vec<D>>* xs = xsph > 0.0 ? &P.vector("xsph") : nullptr;
-  const double use_xs = xs ? 1.0 : 0.0;
   double g[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
   const double support2 = ker.support2;
   const Eos eos = S.eos;
   auto sound = [&](double rh) {  // c(rho)
-    if constexpr (FastEos) {
-      const double r = rh * inv_rho0;
-      return c0 * (tait * (r * r * r - 1.0) + 1.0);
-    } else {
-      return eos.sound_speed(rh);
-    }
+    return eos.sound_speed(rh);
   };
-  const double far = 1.0e6;  // padding entries sit this far away (m): outside every support
 
   const Vec<D>* __restrict pos = P.pos.data();
   const Vec<D>* __restrict vel = P.vel.data();
@@ -94,12 +84,22 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const std::size_t n_owned = P.n_owned();
   std::uint64_t pairs = 0;
 
-  // columns of the candidate buffer
-  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, NCOL };
+  // The pair loop runs in single precision (16 lanes of AVX-512, fast division and square
+  // root), as DualSPHysics does on GPUs: positions are stored relative to the cell's first
+  // particle (|r| < 3 supports, so float keeps ~1e-7 relative accuracy in r), the pair sums
+  // are converted back to double per particle. Particle state and time integration stay in
+  // double precision.
+  using F32 = float;
+  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, NCOL };
+  const F32 fh = F32(h), feta2 = F32(eta2 + tiny), fsupport2 = F32(support2);
+  const F32 flam = F32(lam), falpha = F32(alpha), ffour = F32(four);
+  const F32 fsym = F32(sym), fvisc_wall = F32(visc_wall);
+  const F32 fg0 = F32(g[0]), fg1 = F32(g[1]), fg2 = F32(g[2]);
+  const F32 ffar = F32(1.0e3);  // padding entries: 1 km away, outside every support
 
 #pragma omp parallel reduction(+ : pairs)
   {
-    ScratchColumns B(NCOL);
+    ScratchColumns<F32> B(NCOL);
     CellStencil<D> st;
 #pragma omp for schedule(dynamic, 16)
     for (std::size_t cell = 0; cell < ncell; ++cell) {
@@ -114,101 +114,127 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
       }
       if (!any) continue;
       st.set(cells, cell);
-      const std::size_t npad = st.padded;
+      const std::size_t npad = (st.count + 15) / 16 * 16;  // 16 float lanes
+      st.padded = npad;
       B.reserve(npad);
-      for (int d = 0; d < D; ++d) {
-        st.fill(B[X0 + d], far, [&](std::uint32_t b) { return pos[b][d]; });
-        st.fill(B[U0 + d], 0.0, [&](std::uint32_t b) { return vel[b][d]; });
-        // ghost correction of the viscous velocity: 0 for fluid neighbours
-        st.fill(B[W0 + d], 0.0, [&](std::uint32_t b) { return kind[b] == Kind::Fluid ? 0.0 : vel[b][d] - wvel[b][d]; });
+      const Vec<D> origin = pos[sorted[c0k]];
+      {
+        F32* __restrict cx[D]; F32* __restrict cu[D]; F32* __restrict cw[D];
+        for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cu[d] = B[U0 + d]; cw[d] = B[W0 + d]; }
+        F32* __restrict crho = B[RHO];
+        F32* __restrict cp = B[PRS];
+        F32* __restrict cm = B[MASS];
+        F32* __restrict cf = B[FLUID];
+        F32* __restrict ccs = B[CS];
+        st.for_each([&](std::size_t m, std::uint32_t b) {
+          const bool fl = kind[b] == Kind::Fluid;
+          for (int d = 0; d < D; ++d) {
+            cx[d][m] = F32(pos[b][d] - origin[d]);
+            cu[d][m] = F32(vel[b][d]);
+            cw[d][m] = fl ? F32(0) : F32(vel[b][d] - wvel[b][d]);  // ghost correction of the viscous velocity
+          }
+          crho[m] = F32(rho[b] - rho0);  // deviations: neighbour differences keep full float precision
+          cp[m] = F32(prs[b]);
+          cm[m] = F32(mass[b]);
+          cf[m] = fl ? F32(1) : F32(0);
+          ccs[m] = F32(sound(rho[b]));  // sound speed c(rho_b) (any EOS)
+        });
+        for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, massless
+          for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cw[d][m] = 0; }
+          crho[m] = 0; cp[m] = 0; cm[m] = 0; cf[m] = 0; ccs[m] = F32(c0);
+        }
       }
-      st.fill(B[RHO], rho0, [&](std::uint32_t b) { return rho[b]; });
-      st.fill(B[PRS], 0.0, [&](std::uint32_t b) { return prs[b]; });
-      st.fill(B[MASS], 0.0, [&](std::uint32_t b) { return mass[b]; });
-      st.fill(B[FLUID], 0.0, [&](std::uint32_t b) { return kind[b] == Kind::Fluid ? 1.0 : 0.0; });
-      const double* __restrict bx0 = B[X0];
-      const double* __restrict bx1 = B[X1];
-      const double* __restrict bx2 = B[X0 + D - 1];
-      const double* __restrict bu0 = B[U0];
-      const double* __restrict bu1 = B[U1];
-      const double* __restrict bu2 = B[U0 + D - 1];
-      const double* __restrict bw0 = B[W0];
-      const double* __restrict bw1 = B[W1];
-      const double* __restrict bw2 = B[W0 + D - 1];
-      const double* __restrict brho = B[RHO];
-      const double* __restrict bp = B[PRS];
-      const double* __restrict bm = B[MASS];
-      const double* __restrict bf = B[FLUID];
+      const F32* __restrict bx0 = B[X0];
+      const F32* __restrict bx1 = B[X1];
+      const F32* __restrict bx2 = B[X0 + D - 1];
+      const F32* __restrict bu0 = B[U0];
+      const F32* __restrict bu1 = B[U1];
+      const F32* __restrict bu2 = B[U0 + D - 1];
+      const F32* __restrict bw0 = B[W0];
+      const F32* __restrict bw1 = B[W1];
+      const F32* __restrict bw2 = B[W0 + D - 1];
+      const F32* __restrict brho = B[RHO];
+      const F32* __restrict bp = B[PRS];
+      const F32* __restrict bm = B[MASS];
+      const F32* __restrict bf = B[FLUID];
+      const F32* __restrict bcs = B[CS];
 
       for (std::uint32_t ka_k = c0k; ka_k < c1k; ++ka_k) {
         const std::uint32_t a = sorted[ka_k];
         if (a >= n_owned) continue;
         const Kind ka = kind[a];
         if (ka == Kind::Wall && !dyn) continue;
-        const double xa0 = pos[a][0], xa1 = pos[a][1], xa2 = pos[a][D - 1];
-        const double va0 = vel[a][0], va1 = vel[a][1], va2 = vel[a][D - 1];
-        const double rhoa = rho[a], pa = prs[a];
-        const double ca = sound(rhoa), ca2 = ca * ca;
-        const double pa_r2 = pa / (rhoa * rhoa);
-        const double inv_rhoa = 1.0 / rhoa;
-        const double wa = ka == Kind::Fluid ? 1.0 : 0.0;  // a dynamic wall: continuity from fluid only
-        double a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
+        const F32 xa0 = F32(pos[a][0] - origin[0]), xa1 = F32(pos[a][1] - origin[1]);
+        const F32 xa2 = F32(pos[a][D - 1] - origin[D - 1]);
+        const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
+        const double rhoa_d = rho[a];
+        const F32 frho0 = F32(rho0), deva = F32(rhoa_d - rho0);
+        const F32 rhoa = F32(rhoa_d), pa = F32(prs[a]);
+        const F32 ca = F32(sound(rhoa_d)), ca2 = ca * ca;
+        const F32 pa_r2 = F32(prs[a] / (rhoa_d * rhoa_d));
+        const F32 inv_rhoa = F32(1.0 / rhoa_d);
+        const F32 wa = ka == Kind::Fluid ? F32(1) : F32(0);  // a dynamic wall: continuity from fluid only
+        F32 a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
 #pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt)
         for (std::size_t k = 0; k < npad; ++k) {
-          const double r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : 0.0;
-          const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-          const double fb = bf[k];
+          const F32 r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : F32(0);
+          const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+          const F32 fb = bf[k];
           // in: a neighbour within the support (not a itself); a wall a only sees fluid
-          const double in = ((r2 < support2) & (r2 > 0.0)) ? (wa + (1.0 - wa) * fb) : 0.0;
-          const double r = std::sqrt(r2);
-          const double F = ker.F(r) * in;
-          const double gw0 = F * r0, gw1 = F * r1, gw2 = F * r2c;
-          const double rhob = brho[k], mb = bm[k], pb = bp[k], cb = sound(rhob);
-          const double u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : 0.0;
+          const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? (wa + (F32(1) - wa) * fb) : F32(0);
+          const F32 r = std::sqrt(r2);
+          const F32 Fk = ker.F(r) * in;
+          const F32 gw0 = Fk * r0, gw1 = Fk * r1, gw2 = Fk * r2c;
+          const F32 devb = brho[k], rhob = frho0 + devb, mb = bm[k], pb = bp[k];
+          const F32 cb = bcs[k];
+          const F32 u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : F32(0);
           // one division for the four reciprocals this pair needs
-          const double cb2 = cb * cb;
-          const double r2e = r2 + eta2 + tiny, rsum = rhoa + rhob, csum = ca2 + cb2;
-          const double inv = 1.0 / (rhob * r2e * rsum * csum);
-          const double inv_rhob = inv * r2e * rsum * csum;
-          const double inv_r2e = inv * rhob * rsum * csum;
-          const double inv_rsum = inv * rhob * r2e * csum;
-          const double inv_csum = inv * rhob * r2e * rsum;
-          const double Vb = mb * inv_rhob;
+          const F32 cb2 = cb * cb;
+          const F32 r2e = r2 + feta2, rsum = rhoa + rhob, csum = ca2 + cb2;
+          const F32 p1 = rhob * r2e, p2 = rsum * csum;
+          const F32 inv = F32(1) / (p1 * p2);
+          const F32 inv_rhob = inv * r2e * p2;
+          const F32 inv_r2e = inv * rhob * p2;
+          const F32 inv_rsum = inv * p1 * csum;
+          const F32 inv_csum = inv * p1 * rsum;
+          const F32 Vb = mb * inv_rhob;
           dr += (u0 * gw0 + u1 * gw1 + u2 * gw2) * Vb;
-          const double fr = F * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
+          const F32 fr = Fk * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
           // δ-SPH: Fourtakas removes the hydrostatic density difference ρ g·r / c² (pair means)
-          const double gr = g[0] * r0 + g[1] * r1 + g[2] * r2c;
-          dd += fb * (rhoa - rhob - four * rsum * inv_csum * gr) * fr * Vb;
-          const double pterm = sym * mb * (pa_r2 + pb * inv_rhob * inv_rhob) + (1.0 - sym) * (pa + pb) * Vb * inv_rhoa;
+          const F32 gr = fg0 * r0 + fg1 * r1 + fg2 * r2c;
+          dd += fb * (deva - devb - ffour * rsum * inv_csum * gr) * fr * Vb;
+          const F32 pterm = fsym * mb * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - fsym) * (pa + pb) * Vb * inv_rhoa;
           // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
-          const double mv = fb + (1.0 - fb) * visc_wall;
-          const double w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : 0.0;
-          const double vr = std::min(w0 * r0 + w1 * r1 + w2 * r2c, 0.0);
-          const double pi_ab = -alpha * (ca + cb) * h * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
-          const double lamf = mv * lam * mb * fr * inv_rsum;
-          const double gcoef = pterm + mv * mb * pi_ab;
+          const F32 mv = fb + (F32(1) - fb) * fvisc_wall;
+          const F32 w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : F32(0);
+          const F32 vr = std::min(w0 * r0 + w1 * r1 + w2 * r2c, F32(0));
+          const F32 pi_ab = -falpha * (ca + cb) * fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
+          const F32 lamf = mv * flam * mb * fr * inv_rsum;
+          const F32 gcoef = pterm + mv * mb * pi_ab;
           a0 += lamf * w0 - gcoef * gw0;
           a1 += lamf * w1 - gcoef * gw1;
           a2 += lamf * w2 - gcoef * gw2;
-          const double xw = use_xs * fb * 2.0 * mb * inv_rsum * ker.W(r) * in;
-          s0 -= xw * u0;
-          s1 -= xw * u1;
-          s2 -= xw * u2;
+          if constexpr (Xsph) {
+            const F32 xw = fb * F32(2) * mb * inv_rsum * ker.W(r) * in;
+            s0 -= xw * u0;
+            s1 -= xw * u1;
+            s2 -= xw * u2;
+          }
           cnt += in;
         }
-        pairs += static_cast<std::uint64_t>(cnt + 0.5);
+        pairs += static_cast<std::uint64_t>(cnt + F32(0.5));
         if (ka != Kind::Fluid) {
-          drho_out[a] = rhoa * dr;
+          drho_out[a] = rhoa_d * double(dr);
           acc_out[a] = Vec<D>{};
           continue;
         }
-        drho_out[a] = rhoa * dr + fdiff * dcoef * dd;
+        drho_out[a] = rhoa_d * double(dr) + fdiff * dcoef * double(dd);
         Vec<D> acc, sx;
-        acc[0] = a0 + g[0];
-        acc[1] = a1 + g[1];
-        sx[0] = xsph * s0;
-        sx[1] = xsph * s1;
-        if constexpr (D == 3) { acc[2] = a2 + g[2]; sx[2] = xsph * s2; }
+        acc[0] = double(a0) + g[0];
+        acc[1] = double(a1) + g[1];
+        sx[0] = xsph * double(s0);
+        sx[1] = xsph * double(s1);
+        if constexpr (D == 3) { acc[2] = double(a2) + g[2]; sx[2] = xsph * double(s2); }
         acc_out[a] = acc;
         if (xs_out) xs_out[a] = sx;
       }

@@ -38,7 +38,7 @@ class WCSPH final : public Scheme<D> {
  private:
   template <class K>
   void pair_loop(System<D>& S, const K& kernel);
-  template <class K, bool FastEos>
+  template <class K, bool Xsph>
   void sweep(System<D>& S, const K& kernel);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);
