@@ -20,17 +20,16 @@ Usage: /usr/bin/python3 validation/dambreak_3d/check.py [--mode coarse|fine] [--
 """
 import argparse
 import csv
-import json
 import math
 import os
-import shutil
-import subprocess
 import sys
-import time
 
 import h5py
 import numpy as np
 import yaml
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from common import add_set_option, parse_sets, run_case  # noqa: E402
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -62,36 +61,6 @@ MODES = {"coarse": {"dx": 0.0146, "end": END}, "fine": {"dx": 0.0073, "end": END
 MASS_TOL = 1e-12
 
 
-def run_case(sphflume, case, out, sets, threads, reuse):
-    """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc)."""
-    summary_path = os.path.join(out, "summary.json")
-    if reuse and os.path.exists(summary_path):
-        with open(summary_path) as f:
-            s = json.load(f)
-        if s.get("exit_code") == 0 and math.isclose(s.get("dx", -1), sets["particles.dx"], rel_tol=1e-9) \
-                and math.isclose(s.get("end_time", -1), sets["time.end"], rel_tol=1e-9):
-            print(f"reusing {out} (dx = {s['dx']}, end = {s['end_time']})")
-            return s, float(s.get("wall_seconds", float("nan"))), 0
-    if os.path.isdir(out):
-        shutil.rmtree(out)
-    cmd = [sphflume, "run", case, "--output", out, "-q", "--threads", str(threads)]
-    for k, v in sets.items():
-        cmd += ["--set", f"{k}={v}"]
-    print("running:", " ".join(cmd), flush=True)
-    t0 = time.time()
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.time() - t0
-    if r.returncode != 0:
-        print(f"RUN FAILED (exit code {r.returncode}) after {wall:.1f} s")
-        print(r.stdout[-2000:], r.stderr[-2000:], sep="\n")
-        return None, wall, r.returncode
-    with open(summary_path) as f:
-        s = json.load(f)
-    print(f"  done in {wall:.1f} s wall: {s['steps']} steps, {s['particles']['total']} particles, "
-          f"simulated {s['simulated_time']:.4g} s", flush=True)
-    return s, wall, 0
-
-
 def read_csv(path):
     with open(path) as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
@@ -104,6 +73,7 @@ def main():
     ap.add_argument("--mode", choices=MODES, default="coarse")
     ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
     ap.add_argument("--threads", type=int, default=2)
+    add_set_option(ap)
     ap.add_argument("--reuse", action="store_true", help="reuse a finished run in --out with the same dx and end time")
     a = ap.parse_args()
     m = MODES[a.mode]
@@ -117,7 +87,7 @@ def main():
         if not ok:
             failed.append(name)
 
-    s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": m["dx"], "time.end": m["end"]}, a.threads, a.reuse)
+    s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": m["dx"], "time.end": m["end"], **parse_sets(a.set)}, a.threads, a.reuse)
     print(f"\n== {NAME} ({a.mode}: dx = {m['dx']} m, t_end = {m['end']} s; run wall time {wall:.1f} s)")
     metric("exit code", rc, rc == 0, "0", "issue")
     if s is None:

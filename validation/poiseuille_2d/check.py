@@ -18,16 +18,15 @@ Usage: /usr/bin/python3 validation/poiseuille_2d/check.py [--mode coarse|fine] [
 """
 import argparse
 import csv
-import json
 import math
 import os
-import shutil
-import subprocess
 import sys
-import time
 
 import h5py
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from common import add_set_option, parse_sets, run_case  # noqa: E402
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -43,36 +42,6 @@ RES = {20: 5.0e-5, 40: 2.5e-5, 80: 1.25e-5}  # H/dx -> dx
 MODES = {"coarse": {"end": 0.5}, "fine": {"end": 1.0}}
 E_TOL = 0.02  # at H/dx = 40
 ORDER_MIN = 1.0
-
-
-def run_case(sphflume, case, out, sets, threads, reuse):
-    """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc)."""
-    summary_path = os.path.join(out, "summary.json")
-    if reuse and os.path.exists(summary_path):
-        with open(summary_path) as f:
-            s = json.load(f)
-        if s.get("exit_code") == 0 and math.isclose(s.get("dx", -1), sets["particles.dx"], rel_tol=1e-9) \
-                and math.isclose(s.get("end_time", -1), sets["time.end"], rel_tol=1e-9):
-            print(f"reusing {out} (dx = {s['dx']}, end = {s['end_time']})")
-            return s, float(s.get("wall_seconds", float("nan"))), 0
-    if os.path.isdir(out):
-        shutil.rmtree(out)
-    cmd = [sphflume, "run", case, "--output", out, "-q", "--threads", str(threads)]
-    for k, v in sets.items():
-        cmd += ["--set", f"{k}={v}"]
-    print("running:", " ".join(cmd), flush=True)
-    t0 = time.time()
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.time() - t0
-    if r.returncode != 0:
-        print(f"RUN FAILED (exit code {r.returncode}) after {wall:.1f} s")
-        print(r.stdout[-2000:], r.stderr[-2000:], sep="\n")
-        return None, wall, r.returncode
-    with open(summary_path) as f:
-        s = json.load(f)
-    print(f"  done in {wall:.1f} s wall: {s['steps']} steps, {s['particles']['total']} particles, "
-          f"simulated {s['simulated_time']:.4g} s", flush=True)
-    return s, wall, 0
 
 
 def read_csv(path):
@@ -165,6 +134,7 @@ def main():
     ap.add_argument("--mode", choices=MODES, default="coarse")
     ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
     ap.add_argument("--threads", type=int, default=2)
+    add_set_option(ap)
     ap.add_argument("--reuse", action="store_true", help="reuse finished runs in --out with the same dx and end time")
     a = ap.parse_args()
     m = MODES[a.mode]
@@ -179,7 +149,7 @@ def main():
     res, walls = {}, {}
     for n, dx in RES.items():
         out = os.path.join(a.out, f"dx{dx:g}")
-        s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": dx, "time.end": m["end"]}, a.threads, a.reuse)
+        s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": dx, "time.end": m["end"], **parse_sets(a.set)}, a.threads, a.reuse)
         walls[n] = wall
         if s is None:
             print(f"[FAIL] run H/dx = {n} exit code = {rc}   (threshold: 0)")

@@ -1,0 +1,53 @@
+"""Shared helpers of the validation scripts (validation/*/check.py)."""
+import json
+import math
+import os
+import shutil
+import subprocess
+import time
+
+
+def parse_sets(pairs):
+    """["a.b=1", ...] from --set options -> {"a.b": "1", ...}."""
+    out = {}
+    for kv in pairs:
+        if "=" not in kv:
+            raise SystemExit(f"--set {kv}: expected KEY=VALUE")
+        k, v = kv.split("=", 1)
+        out[k] = v
+    return out
+
+
+def add_set_option(ap):
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="extra case overrides passed to sphflume (e.g. scheme.integrator=verlet)")
+
+
+def run_case(sphflume, case, out, sets, threads, reuse):
+    """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc)."""
+    summary_path = os.path.join(out, "summary.json")
+    if reuse and os.path.exists(summary_path):
+        with open(summary_path) as f:
+            s = json.load(f)
+        if s.get("exit_code") == 0 and math.isclose(s.get("dx", -1), sets["particles.dx"], rel_tol=1e-9) \
+                and math.isclose(s.get("end_time", -1), sets["time.end"], rel_tol=1e-9):
+            print(f"reusing {out} (dx = {s['dx']}, end = {s['end_time']})")
+            return s, float(s.get("wall_seconds", float("nan"))), 0
+    if os.path.isdir(out):
+        shutil.rmtree(out)
+    cmd = [sphflume, "run", case, "--output", out, "-q", "--threads", str(threads)]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
+    print("running:", " ".join(cmd), flush=True)
+    t0 = time.time()
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.time() - t0
+    if r.returncode != 0:
+        print(f"RUN FAILED (exit code {r.returncode}) after {wall:.1f} s")
+        print(r.stdout[-2000:], r.stderr[-2000:], sep="\n")
+        return None, wall, r.returncode
+    with open(summary_path) as f:
+        s = json.load(f)
+    print(f"  done in {wall:.1f} s wall: {s['steps']} steps, {s['particles']['total']} particles, "
+          f"simulated {s['simulated_time']:.4g} s", flush=True)
+    return s, wall, 0
