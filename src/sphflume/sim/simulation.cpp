@@ -225,6 +225,10 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   std::string json = "{\n";
   json += fmt::format("  \"version\": \"{}\",\n  \"case\": \"{}\",\n  \"case_file\": \"{}\",\n", o.version, json_escape(c.name), json_escape(c.file));
   json += fmt::format("  \"dimension\": {},\n  \"scheme\": \"{}\",\n  \"kernel\": \"{}\",\n", D, scheme->name(), kernel_name(c.kernel));
+  json += fmt::format("  \"integrator\": \"{}\",\n  \"passes_per_step\": {},\n",
+                      c.scheme.integrator == Integrator::Verlet ? "verlet"
+                      : c.scheme.integrator == Integrator::Symplectic ? "symplectic" : "predictor_corrector",
+                      scheme->passes_per_step());
   json += fmt::format("  \"dx\": {:.9g},\n  \"h\": {:.9g},\n  \"sound_speed\": {:.9g},\n", S.dx, S.h, S.eos.c0);
   json += fmt::format("  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"inflow\": {}, \"outflow\": {}, \"total\": {}, \"initial_fluid\": {}}},\n",
                       S.particles.count(Kind::Fluid), S.particles.count(Kind::Wall), S.particles.count(Kind::Inflow),
