@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fresh machine -> a dam break you can open in ParaView: install dependencies, build, run the
-# default case (cases/dambreak_2d.yaml, coarse so it takes about a minute on 2 cores).
+# default case (cases/dambreak_2d.yaml, coarse: a few seconds on 2 cores once built).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
