@@ -58,16 +58,28 @@ class DummyWalls final : public WallModel<D> {
             walls_here = true;
           }
           if (!walls_here) continue;
-          st.set(cells, cell);
+          st.set(cells, cell, 8);  // 8 double lanes (AVX-512)
           const std::size_t npad = st.padded;
           B.reserve(npad);
-          for (int d = 0; d < D; ++d) {
-            st.fill(B[X0 + d], 1.0e6, [&](std::uint32_t j) { return pos[j][d]; });
-            st.fill(B[V0 + d], 0.0, [&](std::uint32_t j) { return vel[j][d]; });
+          {
+            double* __restrict cx[D]; double* __restrict cv[D];
+            for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cv[d] = B[V0 + d]; }
+            double* __restrict cp = B[PRS];
+            double* __restrict cr = B[RHO];
+            double* __restrict cf = B[FLUID];
+            // only fluid entries are read: other threads are writing wall pressures meanwhile
+            st.for_each([&](std::size_t m, std::uint32_t j) {
+              const bool fl = kind[j] == Kind::Fluid;
+              for (int d = 0; d < D; ++d) { cx[d][m] = pos[j][d]; cv[d][m] = fl ? vel[j][d] : 0.0; }
+              cp[m] = fl ? prs[j] : 0.0;
+              cr[m] = fl ? rho[j] : 0.0;
+              cf[m] = fl ? 1.0 : 0.0;
+            });
+            for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, no fluid
+              for (int d = 0; d < D; ++d) { cx[d][m] = 1.0e6; cv[d][m] = 0.0; }
+              cp[m] = 0.0; cr[m] = 0.0; cf[m] = 0.0;
+            }
           }
-          st.fill(B[PRS], 0.0, [&](std::uint32_t j) { return prs[j]; });
-          st.fill(B[RHO], 0.0, [&](std::uint32_t j) { return rho[j]; });
-          st.fill(B[FLUID], 0.0, [&](std::uint32_t j) { return kind[j] == Kind::Fluid ? 1.0 : 0.0; });
           const double* __restrict bx0 = B[X0];
           const double* __restrict bx1 = B[X1];
           const double* __restrict bx2 = B[X0 + D - 1];

@@ -80,7 +80,7 @@ class CellList {
 
   /// Max number of ranges returned by ranges().
   static constexpr int kMaxRanges = D == 2 ? 2 * kReach + 1 : (2 * kReach + 1) * (2 * kReach + 1);
-  /// Index ranges [begin, end) into sorted() that cover the stencil around x (at most 5^(D-1)
+  /// Index ranges [begin, end) into sorted() that cover the stencil around x (at most 3^(D-1)
   /// ranges: cells adjacent along x are contiguous). Returns the number of ranges. For hot
   /// loops that want plain code instead of a callback.
   int ranges(const V& x, std::uint32_t (*out)[2]) const {
@@ -206,31 +206,32 @@ class CellList {
 };
 
 /// The candidate neighbours shared by all particles of one cell, for vectorised pair loops:
-/// each per-particle field the loop needs is copied into a unit-stride array (fill), padded
-/// to a multiple of kLanes with entries the loop masks out, so the loop over them has no
+/// the loop copies each field it needs into a unit-stride column (for_each), padded to a
+/// multiple of the vector width with entries it masks out, so the loop over them has no
 /// remainder and no indirection; the copy is paid once per cell, not per particle.
 template <int D>
 struct CellStencil {
-  static constexpr std::size_t kLanes = 8;
   std::uint32_t rg[CellList<D>::kMaxRanges][2];
   int nr = 0;
   std::size_t count = 0, padded = 0;
   const std::uint32_t* sorted = nullptr;
   bool identity = false;
 
-  void set(const CellList<D>& cells, std::size_t cell) {
+  /// The stencil of `cell`; `padded` = count rounded up to a multiple of `lanes`.
+  void set(const CellList<D>& cells, std::size_t cell, std::size_t lanes) {
     nr = cells.cell_ranges(cell, rg);
     count = 0;
     for (int r = 0; r < nr; ++r) count += rg[r][1] - rg[r][0];
-    padded = (count + kLanes - 1) / kLanes * kLanes;
+    padded = (count + lanes - 1) / lanes * lanes;
     sorted = cells.sorted().data();
     identity = cells.identity();
   }
-  /// fn(m, j) for the m-th candidate j (m = 0 .. count-1): fill several columns in one pass.
+  /// fn(m, j) for the m-th candidate j (m = 0 .. count-1): fill all columns in one pass
+  /// (the caller pads m = count .. padded-1).
   template <class Fn>
   void for_each(Fn&& fn) const {
     std::size_t m = 0;
-    if (identity) {
+    if (identity) {  // the cell-ordered store: each range is contiguous
       for (int r = 0; r < nr; ++r)
         for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) fn(m++, k);
     } else {
@@ -238,22 +239,9 @@ struct CellStencil {
         for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) fn(m++, sorted[k]);
     }
   }
-  /// dst[m] = get(j) for the m-th candidate j, then `pad` up to `padded`.
-  template <class T, class Get>
-  void fill(T* __restrict dst, T pad, Get&& get) const {
-    std::size_t m = 0;
-    if (identity) {  // the cell-ordered store: each range is contiguous (the copy vectorises)
-      for (int r = 0; r < nr; ++r)
-        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) dst[m++] = static_cast<T>(get(k));
-    } else {
-      for (int r = 0; r < nr; ++r)
-        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) dst[m++] = static_cast<T>(get(sorted[k]));
-    }
-    for (; m < padded; ++m) dst[m] = pad;
-  }
 };
 
-/// Growable per-thread scratch arrays for CellStencil::fill.
+/// Growable per-thread scratch columns for the CellStencil copies.
 template <class T = double>
 struct ScratchColumns {
   std::vector<std::vector<T>> col;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <numeric>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -107,7 +108,8 @@ class ParticleStore {
   /// The permutation's cycles are found once and applied to every field in place, touching
   /// only the particles that move (after the first sort, few change cell between steps).
   void permute(const std::vector<std::uint32_t>& perm) {
-    if (perm.size() != n_owned_) { permute_fields(perm); return; }
+    if (perm.size() != n_owned_ || size() != n_owned_)
+      throw std::logic_error("ParticleStore::permute: needs a full permutation of the owned particles and no images");
     find_cycles(perm);
     if (cycles_.empty()) return;
     cycle(pos); cycle(vel); cycle(rho); cycle(p); cycle(mass); cycle(kind); cycle(id); cycle(acc); cycle(drho);
@@ -177,35 +179,18 @@ class ParticleStore {
     for (auto& [k, f] : vector_fields_) f[d] = f[s];
   }
 
-  /// In-place gather v[i] <- v[perm[i]] by following cycles: no copy of the array is held.
-  /// perm may be shorter than v (particles dropped): those past perm.size() are discarded.
+  /// Removal: v[i] <- v[keep[i]] with keep increasing, so a forward compaction is safe.
   template <class T>
-  void apply(std::vector<T>& v, const std::vector<std::uint32_t>& perm) {
-    const std::size_t n = perm.size();
-    if (n == v.size()) {
-      scratch_.assign(n, false);
-      for (std::size_t start = 0; start < n; ++start) {
-        if (scratch_[start] || perm[start] == start) { scratch_[start] = true; continue; }
-        T first = v[start];
-        std::size_t i = start;
-        while (true) {
-          scratch_[i] = true;
-          const std::size_t src = perm[i];
-          if (src == start) { v[i] = first; break; }
-          v[i] = v[src];
-          i = src;
-        }
-      }
-    } else {  // removal: perm is increasing, so a forward compaction is safe
-      for (std::size_t i = 0; i < n; ++i) v[i] = v[perm[i]];
-      v.resize(n);
-    }
+  void compact(std::vector<T>& v, const std::vector<std::uint32_t>& keep) {
+    const std::size_t n = keep.size();
+    for (std::size_t i = 0; i < n; ++i) v[i] = v[keep[i]];
+    v.resize(n);
   }
-  void permute_fields(const std::vector<std::uint32_t>& perm) {
-    apply(pos, perm); apply(vel, perm); apply(rho, perm); apply(p, perm); apply(mass, perm);
-    apply(kind, perm); apply(id, perm); apply(acc, perm); apply(drho, perm);
-    for (auto& [n, f] : scalar_fields_) apply(f, perm);
-    for (auto& [n, f] : vector_fields_) apply(f, perm);
+  void compact_fields(const std::vector<std::uint32_t>& keep) {
+    compact(pos, keep); compact(vel, keep); compact(rho, keep); compact(p, keep); compact(mass, keep);
+    compact(kind, keep); compact(id, keep); compact(acc, keep); compact(drho, keep);
+    for (auto& [n, f] : scalar_fields_) compact(f, keep);
+    for (auto& [n, f] : vector_fields_) compact(f, keep);
   }
   /// cycles_ holds every non-trivial cycle (i0, perm[i0], perm[perm[i0]], ...) back to back;
   /// cycle_len_ their lengths.
@@ -236,7 +221,7 @@ class ParticleStore {
     }
   }
   void permute_partial(const std::vector<std::uint32_t>& keep) {
-    permute_fields(keep);
+    compact_fields(keep);
     n_owned_ = keep.size();
   }
 };

@@ -113,9 +113,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         any = true;
       }
       if (!any) continue;
-      st.set(cells, cell);
-      const std::size_t npad = (st.count + 15) / 16 * 16;  // 16 float lanes
-      st.padded = npad;
+      st.set(cells, cell, 16);  // 16 float lanes (AVX-512)
+      const std::size_t npad = st.padded;
       B.reserve(npad);
       const Vec<D> origin = pos[sorted[c0k]];
       {
