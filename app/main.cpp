@@ -1,5 +1,7 @@
-// sphflume: the command-line front end. Exit codes: 0 done, 2 bad input, 3 simulation failed.
+// sphflume: the command-line front end. Exit codes: 0 done, 2 bad input, 3 simulation failed,
+// 128 + N stopped by signal N (SIGINT 130, SIGTERM 143) after writing a checkpoint.
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -16,7 +18,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("sphflume ") + SPHFLUME_VERSION);
   app.require_subcommand(1);
 
-  std::string case_file, output = "output";
+  std::string case_file, output, restart;
+  double checkpoint_every = 1800.0;
   int threads = 0;
   std::vector<std::string> sets;
   bool quiet = false;
@@ -25,13 +28,20 @@ int main(int argc, char** argv) {
 
   auto* run = app.add_subcommand("run", "run a case and write snapshots, gauges and summary.json");
   run->add_option("case", case_file, "case file (YAML)")->required();
-  run->add_option("-o,--output", output, "output folder (created if missing)")->capture_default_str();
+  run->add_option("-o,--output", output,
+                  "output folder (created if missing); default 'output', or with --restart the run folder of the restart file");
   run->add_option("-t,--threads", threads, "OpenMP threads (0 = all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--set", sets, "override a case value by its dotted path, e.g. --set particles.dx=0.005")
       ->allow_extra_args(false);
   run->add_flag("-q,--quiet", quiet, "no progress line");
   run->add_option("--max-steps", max_steps, "stop after N steps (benchmarks)")->check(CLI::NonNegativeNumber);
   run->add_flag("--no-output", no_output, "write no snapshots or gauges, only summary.json (benchmarks)");
+  run->add_option("--restart", restart,
+                  "resume from a restart point: any snapshot (OUTPUT/snapshots/snap_NNNNNN.h5) or OUTPUT/checkpoint.h5; "
+                  "same case and --set options (time.end may grow)");
+  run->add_option("--checkpoint-every", checkpoint_every,
+                  "wall seconds between OUTPUT/checkpoint.h5 writes (0 = never; SIGINT/SIGTERM always write one)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
 
   auto* check = app.add_subcommand("check", "read a case, report particle counts and the time step; run nothing");
   check->add_option("case", case_file, "case file (YAML)")->required();
@@ -51,7 +61,16 @@ int main(int argc, char** argv) {
       return 0;
     }
     sph::RunOptions o;
+    if (output.empty()) {  // a restart continues in its own run folder
+      output = "output";
+      if (!restart.empty()) {
+        const std::filesystem::path dir = std::filesystem::absolute(restart).parent_path();
+        output = (dir.filename() == "snapshots" ? dir.parent_path() : dir).string();
+      }
+    }
     o.output = output;
+    o.restart = restart;
+    o.checkpoint_every = checkpoint_every;
     o.threads = threads;
     o.progress = !quiet;
     o.version = SPHFLUME_VERSION;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 
@@ -13,13 +14,29 @@
 namespace sph {
 
 template <int D>
-GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top)
+GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
+                      double resume_after)
     : cfg_(gauges), level_top_(level_top) {
   if (gauges.empty()) return;
   std::filesystem::create_directories(dir + "/gauges");
   const char* ax = D == 2 ? "xz" : "xyz";
   for (const auto& g : gauges) {
     const std::string path = dir + "/gauges/" + g.name + ".csv";
+    if (std::isfinite(resume_after)) {  // restart: keep the header and the rows up to the restart time (rows are printed to 9 digits)
+      std::ifstream in(path);
+      if (!in) throw IoError(fmt::format("restart: gauge file '{}' is missing (restart into the run's own output folder)", path));
+      std::string kept, line;
+      bool header = true;
+      while (std::getline(in, line)) {
+        if (header || std::strtod(line.c_str(), nullptr) <= resume_after * (1.0 + 1e-8)) kept += line + "\n";
+        header = false;
+      }
+      write_file_atomically(path, kept);
+      auto f = std::make_unique<std::ofstream>(path, std::ios::app);
+      if (!*f) throw IoError(fmt::format("cannot write gauge file '{}'", path));
+      files_.push_back(std::move(f));
+      continue;
+    }
     auto f = std::make_unique<std::ofstream>(path, std::ios::trunc);
     if (!*f) throw IoError(fmt::format("cannot write gauge file '{}'", path));
     *f << "time";

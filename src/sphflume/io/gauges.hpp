@@ -11,6 +11,7 @@
 //                    -Σ m g·x relative to the origin
 #pragma once
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,8 +24,10 @@ namespace sph {
 template <int D>
 class GaugeSet {
  public:
-  /// Open the CSV files (truncating) and write their headers.
-  GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top);
+  /// Open the CSV files (truncating) and write their headers. After a restart (resume_after a
+  /// time), keep the rows up to that time and append after them instead.
+  GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
+           double resume_after = std::numeric_limits<double>::quiet_NaN());
   /// Append one row per gauge; S must have an up-to-date cell list.
   void sample(const System<D>& S);
   /// Evaluate one gauge (also used by tests).

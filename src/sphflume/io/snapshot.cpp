@@ -9,6 +9,9 @@
 #include <fmt/format.h>
 #include <hdf5.h>
 
+#include "sphflume/io/h5util.hpp"
+#include "sphflume/io/restart.hpp"
+
 namespace sph {
 namespace fs = std::filesystem;
 
@@ -28,88 +31,99 @@ void write_file_atomically(const std::string& path, const std::string& text) {
 
 namespace {
 
-struct H5File {
-  hid_t id;
-  ~H5File() { if (id >= 0) H5Fclose(id); }
-};
-
-void check(herr_t st, const std::string& what, const std::string& path) {
-  if (st < 0) throw IoError(fmt::format("HDF5: cannot write {} to '{}' (disk full or no permission?)", what, path));
+/// Write one particle file (fields, attributes, optional /restart group) to `tmp`.
+template <int D>
+void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs) {
+  const std::size_t n = P.n_owned();
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves
+  h5::File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT)};
+  if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' (folder missing, no permission or disk full)", tmp));
+  std::vector<double> buf(n * 3, 0.0);
+  auto vec3 = [&](const std::vector<Vec<D>>& v) {
+    for (std::size_t i = 0; i < n; ++i) {
+      buf[3 * i] = v[i][0];
+      buf[3 * i + 1] = D == 3 ? v[i][1] : 0.0;
+      buf[3 * i + 2] = v[i][D - 1];
+    }
+    return buf.data();
+  };
+  h5::write_dataset(f.id, "position", H5T_NATIVE_DOUBLE, vec3(P.pos), n, 3, tmp);
+  h5::write_dataset(f.id, "velocity", H5T_NATIVE_DOUBLE, vec3(P.vel), n, 3, tmp);
+  h5::write_dataset(f.id, "pressure", H5T_NATIVE_DOUBLE, P.p.data(), n, 1, tmp);
+  h5::write_dataset(f.id, "density", H5T_NATIVE_DOUBLE, P.rho.data(), n, 1, tmp);
+  h5::write_dataset(f.id, "mass", H5T_NATIVE_DOUBLE, P.mass.data(), n, 1, tmp);
+  std::vector<std::int32_t> kind(n);
+  for (std::size_t i = 0; i < n; ++i) kind[i] = static_cast<std::int32_t>(P.kind[i]);
+  h5::write_dataset(f.id, "kind", H5T_NATIVE_INT32, kind.data(), n, 1, tmp);
+  h5::write_dataset(f.id, "id", H5T_NATIVE_UINT32, P.id.data(), n, 1, tmp);
+  // explicit Polyvertex connectivity: VTK's XDMF3 reader makes no cells without it
+  std::vector<std::int32_t> conn(n);
+  for (std::size_t i = 0; i < n; ++i) conn[i] = static_cast<std::int32_t>(i);
+  h5::write_dataset(f.id, "connectivity", H5T_NATIVE_INT32, conn.data(), n, 1, tmp);
+  for (const auto& [fname, field] : P.scalar_fields())
+    h5::write_dataset(f.id, fname, H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp);
+  h5::write_attr(f.id, "time", H5T_NATIVE_DOUBLE, &t, tmp);
+  h5::write_attr(f.id, "step", H5T_NATIVE_LONG, &step, tmp);
+  const int dim = D;
+  h5::write_attr(f.id, "dimension", H5T_NATIVE_INT, &dim, tmp);
+  if (rs) write_restart_group<D>(f.id, P, *rs, tmp);
+  if (H5Fflush(f.id, H5F_SCOPE_LOCAL) < 0) throw IoError(fmt::format("HDF5: flushing '{}' failed (disk full?)", tmp));
 }
 
-void write_dataset(hid_t f, const char* name, hid_t type, const void* data, hsize_t n, hsize_t cols,
-                   const std::string& path) {
-  hsize_t dims[2] = {n, cols};
-  const hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, nullptr);
-  const hid_t ds = H5Dcreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  if (ds < 0) { H5Sclose(space); throw IoError(fmt::format("HDF5: cannot create dataset {} in '{}'", name, path)); }
-  const herr_t st = n > 0 ? H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
-  H5Dclose(ds);
-  H5Sclose(space);
-  check(st, name, path);
-}
-
-void write_attr(hid_t f, const char* name, hid_t type, const void* v, const std::string& path) {
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  const herr_t st = H5Awrite(a, type, v);
-  H5Aclose(a);
-  H5Sclose(space);
-  check(st, name, path);
+void rename_into_place(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw IoError(fmt::format("cannot rename '{}' to '{}': {}", tmp, path, ec.message()));
 }
 
 }  // namespace
 
 template <int D>
-std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long step) {
+std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long step, const RunState* rs) {
   const std::string name = fmt::format("snap_{:06d}.h5", entries_.size());
   const std::string rel = "snapshots/" + name;
   const std::string path = dir_ + "/" + rel, tmp = path + ".tmp";
   fs::create_directories(dir_ + "/snapshots");
-  const std::size_t n = P.n_owned();
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves
-  {
-    H5File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT)};
-    if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' (folder missing, no permission or disk full)", tmp));
-    std::vector<double> buf(n * 3, 0.0);
-    auto vec3 = [&](const std::vector<Vec<D>>& v) {
-      for (std::size_t i = 0; i < n; ++i) {
-        buf[3 * i] = v[i][0];
-        buf[3 * i + 1] = D == 3 ? v[i][1] : 0.0;
-        buf[3 * i + 2] = v[i][D - 1];
-      }
-      return buf.data();
-    };
-    write_dataset(f.id, "position", H5T_NATIVE_DOUBLE, vec3(P.pos), n, 3, tmp);
-    write_dataset(f.id, "velocity", H5T_NATIVE_DOUBLE, vec3(P.vel), n, 3, tmp);
-    write_dataset(f.id, "pressure", H5T_NATIVE_DOUBLE, P.p.data(), n, 1, tmp);
-    write_dataset(f.id, "density", H5T_NATIVE_DOUBLE, P.rho.data(), n, 1, tmp);
-    write_dataset(f.id, "mass", H5T_NATIVE_DOUBLE, P.mass.data(), n, 1, tmp);
-    std::vector<std::int32_t> kind(n);
-    for (std::size_t i = 0; i < n; ++i) kind[i] = static_cast<std::int32_t>(P.kind[i]);
-    write_dataset(f.id, "kind", H5T_NATIVE_INT32, kind.data(), n, 1, tmp);
-    write_dataset(f.id, "id", H5T_NATIVE_UINT32, P.id.data(), n, 1, tmp);
-    // explicit Polyvertex connectivity: VTK's XDMF3 reader makes no cells without it
-    std::vector<std::int32_t> conn(n);
-    for (std::size_t i = 0; i < n; ++i) conn[i] = static_cast<std::int32_t>(i);
-    write_dataset(f.id, "connectivity", H5T_NATIVE_INT32, conn.data(), n, 1, tmp);
-    Entry e{rel, t, n, {}};
-    for (const auto& [fname, field] : P.scalar_fields()) {
-      write_dataset(f.id, fname.c_str(), H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp);
-      e.scalars.push_back(fname);
-    }
-    write_attr(f.id, "time", H5T_NATIVE_DOUBLE, &t, tmp);
-    write_attr(f.id, "step", H5T_NATIVE_LONG, &step, tmp);
-    const int dim = D;
-    write_attr(f.id, "dimension", H5T_NATIVE_INT, &dim, tmp);
-    if (H5Fflush(f.id, H5F_SCOPE_LOCAL) < 0) throw IoError(fmt::format("HDF5: flushing '{}' failed (disk full?)", tmp));
-    entries_.push_back(e);
+  SnapshotEntry e{rel, t, P.n_owned(), {}};
+  for (const auto& [fname, field] : P.scalar_fields()) e.scalars.push_back(fname);
+  if (rs) {  // the series in the file includes this snapshot
+    RunState r = *rs;
+    r.snapshots = entries_;
+    r.snapshots.push_back(e);
+    write_particles<D>(tmp, P, t, step, &r);
+  } else {
+    write_particles<D>(tmp, P, t, step, nullptr);
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw IoError(fmt::format("cannot rename '{}' to '{}': {}", tmp, path, ec.message()));
+  rename_into_place(tmp, path);
+  entries_.push_back(e);
   write_xdmf();
   return path;
+}
+
+template <int D>
+void SnapshotWriter<D>::write_checkpoint(const std::string& path, const ParticleStore<D>& P, const RunState& rs) {
+  const std::string tmp = path + ".tmp";
+  write_particles<D>(tmp, P, rs.time, rs.step, &rs);
+  rename_into_place(tmp, path);
+}
+
+template <int D>
+void SnapshotWriter<D>::resume(const std::vector<SnapshotEntry>& entries) {
+  entries_ = entries;
+  std::error_code ec;
+  if (fs::exists(dir_ + "/snapshots"))
+    for (const auto& e : fs::directory_iterator(dir_ + "/snapshots", ec)) {
+      const std::string name = e.path().filename().string();
+      bool keep = false;
+      for (const auto& k : entries_) keep |= (k.file == "snapshots/" + name);
+      if (!keep && (e.path().extension() == ".h5" || e.path().extension() == ".tmp")) fs::remove(e.path(), ec);
+    }
+  write_xdmf();
+}
+
+template <int D>
+std::string SnapshotWriter<D>::last_path() const {
+  return entries_.empty() ? std::string() : dir_ + "/" + entries_.back().file;
 }
 
 template <int D>

@@ -4,7 +4,8 @@
 // truncated file that looks valid.
 // HDF5 layout (h5py: f["position"][:]): position, velocity (N x 3, 2D has y = 0), pressure,
 // density, mass (N), kind (N, int32: 0 fluid, 1 wall, 2 inflow, 3 outflow), id (N, uint32),
-// plus any extra per-particle scalar fields; attributes time, step, dimension.
+// plus any extra per-particle scalar fields; attributes time, step, dimension; and the group
+// /restart (io/restart.hpp) that makes every snapshot a restart point.
 #pragma once
 #include <stdexcept>
 #include <string>
@@ -13,6 +14,9 @@
 #include "sphflume/core/particles.hpp"
 
 namespace sph {
+
+struct RunState;
+struct SnapshotEntry;
 
 class IoError : public std::runtime_error {
  public:
@@ -23,16 +27,23 @@ template <int D>
 class SnapshotWriter {
  public:
   explicit SnapshotWriter(std::string dir) : dir_(std::move(dir)) {}
-  /// Write the owned particles at time t; returns the snapshot's path.
-  std::string write(const ParticleStore<D>& P, double t, long step);
+  /// Write the owned particles at time t as the next snapshot of the series; returns its path.
+  /// With rs, the snapshot is a restart point (rs.snapshots is the series so far).
+  std::string write(const ParticleStore<D>& P, double t, long step, const RunState* rs = nullptr);
+  /// Write a restart point outside the series (e.g. OUTPUT/checkpoint.h5), atomically.
+  static void write_checkpoint(const std::string& path, const ParticleStore<D>& P, const RunState& rs);
+  /// Continue a series after a restart: keep these entries, delete later snapshot files.
+  void resume(const std::vector<SnapshotEntry>& entries);
   const std::string& dir() const { return dir_; }
   std::size_t count() const { return entries_.size(); }
+  const std::vector<SnapshotEntry>& entries() const { return entries_; }
+  /// Path of the last snapshot written or kept (empty before the first).
+  std::string last_path() const;
 
  private:
-  struct Entry { std::string file; double time; std::size_t n; std::vector<std::string> scalars; };
   void write_xdmf() const;
   std::string dir_;
-  std::vector<Entry> entries_;
+  std::vector<SnapshotEntry> entries_;
 };
 
 /// Write text to path atomically (temporary file + rename).

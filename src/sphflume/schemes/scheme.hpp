@@ -1,6 +1,7 @@
 // A scheme advances the shared System by one time step. WCSPH now; ISPH (projection + PPE)
 // plugs in the same way, reusing particles, neighbour search, walls, force terms and I/O.
 #pragma once
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -31,6 +32,10 @@ class Scheme {
   virtual int passes_per_step() const = 0;
   /// Bytes per owned particle held by the scheme itself (integrator state).
   virtual std::size_t bytes() const = 0;
+  /// The scheme's own state beyond the particle store, by name: restart points save it and
+  /// restore() puts it back, so that a restarted run goes on bit for bit.
+  virtual std::map<std::string, double> state() const { return {}; }
+  virtual void restore(const std::map<std::string, double>&) {}
 };
 
 template <int D>

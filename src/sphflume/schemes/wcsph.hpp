@@ -31,6 +31,13 @@ class WCSPH final : public Scheme<D> {
   void step(System<D>& S, double dt) override;
   int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet ? 1 : 2; }
   std::size_t bytes() const override;
+  std::map<std::string, double> state() const override {
+    return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}};
+  }
+  void restore(const std::map<std::string, double>& s) override {
+    if (auto it = s.find("max_acc"); it != s.end()) max_acc_ = it->second;
+    if (auto it = s.find("verlet_started"); it != s.end()) verlet_started_ = it->second != 0.0;
+  }
 
   /// One rates pass: fills acc and drho of owned particles (exposed for tests).
   void rates(System<D>& S);

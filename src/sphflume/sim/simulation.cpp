@@ -1,6 +1,10 @@
 #include "sphflume/sim/simulation.hpp"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <limits>
 
 #include <chrono>
 #include <cmath>
@@ -17,9 +21,11 @@
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/gauges.hpp"
 #include "sphflume/io/geometry.hpp"
+#include "sphflume/io/restart.hpp"
 #include "sphflume/io/snapshot.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/schemes/scheme.hpp"
+#include "sphflume/sim/health.hpp"
 
 namespace sph {
 namespace fs = std::filesystem;
@@ -92,12 +98,213 @@ void domain_box(const Case& c, const System<D>& S, Vec<D>& lo, Vec<D>& hi) {
   }
 }
 
+// SIGINT / SIGTERM: the loop finishes its step, writes a checkpoint and stops.
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_signal(int sig) { g_signal = sig; }
+
+class SignalGuard {
+ public:
+  SignalGuard() {
+    g_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~SignalGuard() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  int caught() const { return g_signal; }
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
+
+constexpr double kDtFloor = 1e-4;  // a time step below this fraction of the first one is a collapse
+
+/// A run's system and counters, and the deterministic step: everything a restart or a replay
+/// must reproduce bit for bit goes through advance().
 template <int D>
-RunResult run_dim(const Case& c, const RunOptions& o) {
+struct Run {
+  const Case& c;
   System<D> S;
   BuildReport rep;
   std::unique_ptr<Scheme<D>> scheme;
-  setup(c, S, rep, scheme);
+  Vec<D> lo, hi;  // particles outside are removed
+  RunState rs;
+  HealthLimits limits;
+
+  explicit Run(const Case& cs) : c(cs) {
+    setup(c, S, rep, scheme);
+    domain_box(c, S, lo, hi);  // from the case's geometry, so a restart gets the same box
+    rs.case_text = case_fingerprint(c.raw);
+  }
+
+  void start_fresh() {
+    scheme->initialise(S);
+    rs.dt_first = scheme->time_step(S);
+    rs.initial_mass = S.total_mass(Kind::Fluid);
+    rs.next_output = c.output_interval;
+  }
+
+  void load(const std::string& path) {
+    RunState saved;
+    read_restart<D>(path, S.particles, saved);
+    if (saved.case_text != rs.case_text)
+      throw InputError(fmt::format("--restart {}: the case differs from the one that wrote this restart point (only "
+                                   "time.end may change): use the same case file and --set options", path));
+    saved.case_text = rs.case_text;
+    rs = std::move(saved);
+    S.time = rs.time;
+    S.step = rs.step;
+    scheme->restore(rs.scheme);
+  }
+
+  RunState state() const {
+    RunState r = rs;
+    r.time = S.time;
+    r.step = S.step;
+    r.scheme = scheme->state();
+    return r;
+  }
+
+  /// One time step, the removal of particles that left the domain, and the health check.
+  /// Returns true when an output is due (next_output has then moved past it).
+  bool advance(double& dt) {
+    dt = scheme->time_step(S);
+    if (!(dt > kDtFloor * rs.dt_first)) {
+      const std::size_t i = fastest_accelerating(S);
+      throw SimulationError(fmt::format(
+          "at step {}, t = {:.9g} s: the time step collapsed to {:.3g} s (it started at {:.3g} s; the floor is {} x "
+          "that); {} has the largest acceleration, |a| = {:.3g} m/s2; likely cause: particles accelerated violently, "
+          "by penetrating a wall or colliding (raise fluid.sound_speed, lower scheme.cfl, check the walls)",
+          S.step, S.time, dt, rs.dt_first, kDtFloor, describe_particle(S, i), norm(S.particles.acc[i])));
+    }
+    const double to_out = std::min(rs.next_output, c.t_end) - S.time;
+    if (dt > to_out && to_out > 1e-12 * dt) dt = to_out;
+    try {
+      scheme->step(S, dt);
+    } catch (const SimulationError&) {
+      throw;
+    } catch (const std::runtime_error& e) {  // e.g. the cell list meets a non-finite position
+      S.particles.clear_images();
+      const auto h = check_health(S, limits);
+      throw SimulationError(h ? *h : fmt::format("at step {}, t = {:.9g} s: {}", S.step, S.time, e.what()));
+    }
+    remove_escaped();
+    if (const auto h = check_health(S, limits)) throw SimulationError(*h);
+    const bool last = S.time >= c.t_end * (1.0 - 1e-12);
+    if (!(S.time >= rs.next_output * (1.0 - 1e-9) || last)) return false;
+    while (rs.next_output <= S.time * (1.0 + 1e-9)) rs.next_output += c.output_interval;
+    return true;
+  }
+
+  /// Fluid particles outside the domain box are removed and counted per face.
+  void remove_escaped() {
+    auto& P = S.particles;
+    std::vector<char> flag;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      for (int d = 0; d < D; ++d) {
+        if (S.periodic.axis[d]) continue;
+        if (P.pos[i][d] < lo[d] || P.pos[i][d] > hi[d]) {
+          if (flag.empty()) flag.assign(P.n_owned(), 0);
+          flag[i] = 1;
+          rs.removed_mass += P.mass[i];
+          ++rs.removed_by_face[fmt::format("{}{}", "xyz"[D == 2 && d == 1 ? 2 : d], P.pos[i][d] < lo[d] ? "-" : "+")];
+          break;
+        }
+      }
+    }
+    if (flag.empty()) return;
+    P.clear_images();
+    P.remove_if_flagged(flag);
+    // re-sort now: the order the next step starts from must not depend on whether an output
+    // (which sorts) came in between, or restarts would not be bitwise
+    S.update_neighbours();
+  }
+};
+
+/// After a failure at step good_step + 1: write the state of step good_step as the last
+/// snapshot. Runs are deterministic, so it is recomputed from the last restart point (or the
+/// start) rather than kept in memory at every step. Returns its path ("" when impossible).
+template <int D>
+std::string write_last_good(const Case& c, SnapshotWriter<D>& snaps, const std::string& restart_point, long good_step,
+                            long last_snapshot_step) {
+  if (last_snapshot_step == good_step) return snaps.last_path();
+  try {
+    fmt::print(stderr, "recomputing step {} from {} to write the last good state\n", good_step,
+               restart_point.empty() ? std::string("the initial state") : restart_point);
+    Run<D> R(c);
+    if (restart_point.empty()) R.start_fresh();
+    else R.load(restart_point);
+    double dt = 0.0;
+    while (R.S.step < good_step) R.advance(dt);
+    R.S.update_neighbours();
+    const RunState st = R.state();
+    return snaps.write(R.S.particles, R.S.time, R.S.step, &st);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "could not write the last good state: {}\n", e.what());
+    return snaps.last_path();
+  }
+}
+
+struct Summary {
+  std::string status, message, last_good, restarted_from;
+  double last_dt = 0.0;
+  std::size_t snapshots = 0;
+  double wall = 0.0;
+};
+
+template <int D>
+void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Summary& sm, const RunResult& res) {
+  const System<D>& S = R.S;
+  const RunState& rs = R.rs;
+  std::string faces;
+  for (const auto& [f, n] : rs.removed_by_face) faces += fmt::format("{}\"{}\": {}", faces.empty() ? "" : ", ", f, n);
+  long removed = 0;
+  for (const auto& [f, n] : rs.removed_by_face) removed += n;
+  std::string json = "{\n";
+  json += fmt::format("  \"version\": \"{}\",\n  \"case\": \"{}\",\n  \"case_file\": \"{}\",\n", o.version, json_escape(c.name), json_escape(c.file));
+  json += fmt::format("  \"dimension\": {},\n  \"scheme\": \"{}\",\n  \"kernel\": \"{}\",\n", D, R.scheme->name(), kernel_name(c.kernel));
+  json += fmt::format("  \"integrator\": \"{}\",\n  \"passes_per_step\": {},\n",
+                      c.scheme.integrator == Integrator::Verlet ? "verlet"
+                      : c.scheme.integrator == Integrator::Symplectic ? "symplectic" : "predictor_corrector",
+                      R.scheme->passes_per_step());
+  json += fmt::format("  \"dx\": {:.9g},\n  \"h\": {:.9g},\n  \"sound_speed\": {:.9g},\n", S.dx, S.h, S.eos.c0);
+  json += fmt::format("  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"inflow\": {}, \"outflow\": {}, \"total\": {}, \"initial_fluid\": {}}},\n",
+                      S.particles.count(Kind::Fluid), S.particles.count(Kind::Wall), S.particles.count(Kind::Inflow),
+                      S.particles.count(Kind::Outflow), res.total, R.rep.fluid);
+  json += fmt::format("  \"steps\": {},\n  \"total_steps\": {},\n  \"simulated_time\": {:.9g},\n  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.6g},\n  \"threads\": {},\n",
+                      res.steps, S.step, S.time, c.t_end, sm.wall, thread_count());
+  json += fmt::format("  \"particle_steps_per_second\": {:.6g},\n  \"fluid_particle_steps_per_second\": {:.6g},\n",
+                      res.particle_steps_per_second, res.fluid_particle_steps_per_second);
+  json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
+                      res.pair_interactions_per_second, res.bytes_per_particle);
+  json += fmt::format("  \"last_dt\": {:.6g},\n  \"snapshots\": {},\n", sm.last_dt, sm.snapshots);
+  json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": 0, \"outflow\": 0, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
+                      rs.initial_mass, rs.removed_mass, S.total_mass(Kind::Fluid), res.mass_error);
+  json += fmt::format("  \"removed_particles\": {{{}}},\n  \"removed_particles_total\": {},\n", faces, removed);
+  json += fmt::format("  \"restarted_from\": \"{}\",\n  \"last_good_snapshot\": \"{}\",\n", json_escape(sm.restarted_from),
+                      json_escape(sm.last_good));
+  json += fmt::format("  \"exit_status\": \"{}\",\n  \"exit_code\": {},\n  \"message\": \"{}\"\n}}\n", sm.status, res.exit_code,
+                      json_escape(sm.message));
+  write_file_atomically(o.output + "/summary.json", json);
+}
+
+template <int D>
+RunResult run_dim(const Case& c, const RunOptions& o) {
+  Run<D> R(c);
+  System<D>& S = R.S;
+  const bool restart = !o.restart.empty();
+  if (restart) {
+    R.load(o.restart);
+    if (S.time >= c.t_end * (1.0 - 1e-12))
+      throw InputError(fmt::format("--restart {}: it is at t = {:.9g} s, at or past time.end = {} s: raise the end time "
+                                   "(--set time.end=...)", o.restart, S.time, c.t_end));
+  }
 #ifdef _OPENMP
   if (o.threads > 0) omp_set_num_threads(o.threads);
 #endif
@@ -110,84 +317,78 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (ec || !t) throw InputError(fmt::format("output folder '{}' is not writable: {} (choose another with --output)", o.output, ec ? ec.message() : "cannot create files there"));
   }
   fs::remove(probe, ec);
-  // a re-run into the same folder must not leave snapshots of an earlier, longer run behind
-  if (o.write_output && fs::exists(o.output + "/snapshots"))
-    for (const auto& e : fs::directory_iterator(o.output + "/snapshots", ec))
-      if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
-
-  Vec<D> lo, hi;
-  domain_box(c, S, lo, hi);
-  const double m0 = S.total_mass(Kind::Fluid);
-  double removed_mass = 0.0;
-  std::map<std::string, long> removed_by_face;
 
   SnapshotWriter<D> snaps(o.output);
   std::unique_ptr<GaugeSet<D>> gauges;
-  if (o.write_output) gauges = std::make_unique<GaugeSet<D>>(c.gauges, o.output, hi[D - 1]);
+  if (o.write_output) {
+    if (restart) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
+    else if (fs::exists(o.output + "/snapshots"))  // a re-run must not leave an earlier run's snapshots behind
+      for (const auto& e : fs::directory_iterator(o.output + "/snapshots", ec))
+        if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
+    gauges = std::make_unique<GaugeSet<D>>(c.gauges, o.output, R.hi[D - 1],
+                                           restart ? S.time : std::numeric_limits<double>::quiet_NaN());
+  }
+  if (!restart) {
+    R.start_fresh();
+    if (const auto h = check_health(S, R.limits))
+      throw InputError(fmt::format("{}: the initial state is not sane, {}", c.file, *h));
+  }
 
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   RunResult res;
   std::uint64_t pairs_total = 0;
-  std::string status = "done";
-  std::string failure;
+  std::string status = "done", failure, last_good;
+  long last_snapshot_step = -1;
+  std::string restart_point = restart ? o.restart : std::string();
+  const std::string checkpoint = o.output + "/checkpoint.h5";
 
   auto output = [&] {
     if (!o.write_output) return;
     S.update_neighbours();
-    snaps.write(S.particles, S.time, S.step);
+    const RunState st = R.state();
+    snaps.write(S.particles, S.time, S.step, &st);
     gauges->sample(S);
+    last_snapshot_step = S.step;
+    restart_point = snaps.last_path();
   };
 
   const bool tty = isatty(fileno(stderr));
-  double last_progress = 0.0;
-  double dt = 0.0, dt_first = 0.0;
-  long steps_done = 0;
+  double last_progress = 0.0, last_checkpoint = 0.0;
+  double dt = 0.0;
+  long steps_done = 0, good_step = S.step;
   double particle_steps = 0.0, fluid_particle_steps = 0.0;
+  SignalGuard signals;
   try {
-    scheme->initialise(S);
-    output();
-    double next_out = c.output_interval;
-    dt_first = scheme->time_step(S);
+    if (!restart) output();
     while (S.time < c.t_end * (1.0 - 1e-12) && (o.max_steps == 0 || steps_done < o.max_steps)) {
-      dt = scheme->time_step(S);
-      if (!(dt > 1e-4 * dt_first))
-        throw SimulationError(fmt::format("time step collapsed to {:.3g} s (started at {:.3g} s) at step {}, t = {:.6g} s: "
-                                          "particles are being accelerated violently (check walls and the sound speed)",
-                                          dt, dt_first, S.step, S.time));
-      const double to_out = std::min(next_out, c.t_end) - S.time;
-      if (dt > to_out && to_out > 1e-12 * dt) dt = to_out;
-      scheme->step(S, dt);
+      const std::size_t n_before = S.particles.n_owned();
+      const bool out = R.advance(dt);
       ++steps_done;
-      pairs_total += S.pairs_last_pass * static_cast<std::uint64_t>(scheme->passes_per_step());
-      const std::size_t n_owned = S.particles.n_owned();
-      particle_steps += static_cast<double>(n_owned);
-      // particles that left the domain are removed and counted per face
-      {
-        auto& P = S.particles;
-        std::vector<char> flag;
-        for (std::size_t i = 0; i < P.n_owned(); ++i) {
-          if (P.kind[i] != Kind::Fluid) continue;
-          for (int d = 0; d < D; ++d) {
-            if (S.periodic.axis[d]) continue;
-            if (P.pos[i][d] < lo[d] || P.pos[i][d] > hi[d]) {
-              if (flag.empty()) flag.assign(P.n_owned(), 0);
-              flag[i] = 1;
-              removed_mass += P.mass[i];
-              ++removed_by_face[fmt::format("{}{}", "xyz"[D == 2 && d == 1 ? 2 : d], P.pos[i][d] < lo[d] ? "-" : "+")];
-              break;
-            }
-          }
-        }
-        if (!flag.empty()) { P.clear_images(); P.remove_if_flagged(flag); }
-      }
+      good_step = S.step;
+      pairs_total += S.pairs_last_pass * static_cast<std::uint64_t>(R.scheme->passes_per_step());
+      particle_steps += static_cast<double>(n_before);
       fluid_particle_steps += static_cast<double>(S.particles.count(Kind::Fluid));
-      const bool last = S.time >= c.t_end * (1.0 - 1e-12);
-      if (S.time >= next_out * (1.0 - 1e-9) || last) {
-        output();
-        while (next_out <= S.time * (1.0 + 1e-9)) next_out += c.output_interval;
-      }
+      if (out) output();
       const double w = elapsed();
+      auto write_checkpoint = [&] {
+        RunState st = R.state();
+        st.snapshots = snaps.entries();
+        SnapshotWriter<D>::write_checkpoint(checkpoint, S.particles, st);
+      };
+      if (const int sig = signals.caught()) {
+        write_checkpoint();
+        status = "interrupted";
+        failure = fmt::format("stopped by signal {} at step {}, t = {:.9g} s; checkpoint written: resume with "
+                              "sphflume run {} --restart {}", sig, S.step, S.time, c.file, checkpoint);
+        res.exit_code = 128 + sig;
+        break;
+      }
+      if (o.checkpoint_every > 0 && w - last_checkpoint >= o.checkpoint_every) {
+        last_checkpoint = w;
+        write_checkpoint();
+        restart_point = checkpoint;
+      }
       if (o.progress && w - last_progress >= (tty ? 0.5 : 15.0)) {
         last_progress = w;
         const double frac = S.time / c.t_end;
@@ -201,13 +402,15 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     status = "failed";
     failure = e.what();
     res.exit_code = 3;
-    S.particles.clear_images();
-    if (o.write_output) try { snaps.write(S.particles, S.time, S.step); } catch (const std::exception&) {}
+    if (o.write_output) last_good = write_last_good<D>(c, snaps, restart_point, good_step, last_snapshot_step);
+  } catch (const IoError& e) {  // a write failed (full disk, ...): the files already written are whole
+    status = "failed";
+    failure = e.what();
+    res.exit_code = 3;
   }
   if (o.progress && tty) fmt::print(stderr, "\n");
   const double wall = elapsed();
   S.particles.clear_images();
-  const double m1 = S.total_mass(Kind::Fluid);
 
   res.steps = steps_done;
   res.wall_seconds = wall;
@@ -216,45 +419,33 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   res.particle_steps_per_second = wall > 0 ? particle_steps / wall : 0.0;
   res.fluid_particle_steps_per_second = wall > 0 ? fluid_particle_steps / wall : 0.0;
   res.pair_interactions_per_second = wall > 0 ? static_cast<double>(pairs_total) / wall : 0.0;
-  res.bytes_per_particle = static_cast<double>(S.particles.bytes() + S.cells.bytes() + scheme->bytes()) /
+  res.bytes_per_particle = static_cast<double>(S.particles.bytes() + S.cells.bytes() + R.scheme->bytes()) /
                            static_cast<double>(std::max<std::size_t>(1, res.total));
-  res.mass_error = m0 > 0 ? (m0 - removed_mass - m1) / m0 : 0.0;
+  const double m0 = R.rs.initial_mass, m1 = S.total_mass(Kind::Fluid);
+  res.mass_error = m0 > 0 ? (m0 - R.rs.removed_mass - m1) / m0 : 0.0;
+
+  Summary sm{status, failure, last_good, restart ? o.restart : std::string(), dt, snaps.count(), wall};
+  try {
+    write_summary<D>(o, c, R, sm, res);
+  } catch (const IoError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    if (res.exit_code == 0) res.exit_code = 3;
+  }
 
   std::string faces;
-  for (const auto& [f, n] : removed_by_face) faces += fmt::format("{}\"{}\": {}", faces.empty() ? "" : ", ", f, n);
-  std::string json = "{\n";
-  json += fmt::format("  \"version\": \"{}\",\n  \"case\": \"{}\",\n  \"case_file\": \"{}\",\n", o.version, json_escape(c.name), json_escape(c.file));
-  json += fmt::format("  \"dimension\": {},\n  \"scheme\": \"{}\",\n  \"kernel\": \"{}\",\n", D, scheme->name(), kernel_name(c.kernel));
-  json += fmt::format("  \"integrator\": \"{}\",\n  \"passes_per_step\": {},\n",
-                      c.scheme.integrator == Integrator::Verlet ? "verlet"
-                      : c.scheme.integrator == Integrator::Symplectic ? "symplectic" : "predictor_corrector",
-                      scheme->passes_per_step());
-  json += fmt::format("  \"dx\": {:.9g},\n  \"h\": {:.9g},\n  \"sound_speed\": {:.9g},\n", S.dx, S.h, S.eos.c0);
-  json += fmt::format("  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"inflow\": {}, \"outflow\": {}, \"total\": {}, \"initial_fluid\": {}}},\n",
-                      S.particles.count(Kind::Fluid), S.particles.count(Kind::Wall), S.particles.count(Kind::Inflow),
-                      S.particles.count(Kind::Outflow), res.total, rep.fluid);
-  json += fmt::format("  \"steps\": {},\n  \"simulated_time\": {:.9g},\n  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.6g},\n  \"threads\": {},\n",
-                      res.steps, S.time, c.t_end, wall, thread_count());
-  json += fmt::format("  \"particle_steps_per_second\": {:.6g},\n  \"fluid_particle_steps_per_second\": {:.6g},\n",
-                      res.particle_steps_per_second, res.fluid_particle_steps_per_second);
-  json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
-                      res.pair_interactions_per_second, res.bytes_per_particle);
-  json += fmt::format("  \"last_dt\": {:.6g},\n  \"snapshots\": {},\n", dt, snaps.count());
-  json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": 0, \"outflow\": 0, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
-                      m0, removed_mass, m1, res.mass_error);
-  json += fmt::format("  \"removed_particles\": {{{}}},\n", faces);
-  json += fmt::format("  \"exit_status\": \"{}\",\n  \"exit_code\": {},\n  \"message\": \"{}\"\n}}\n", status, res.exit_code,
-                      json_escape(failure));
-  write_file_atomically(o.output + "/summary.json", json);
-
-  if (res.exit_code != 0) fmt::print(stderr, "error: the simulation failed: {}\nlast state written to {}/\n", failure, o.output);
+  for (const auto& [f, n] : R.rs.removed_by_face) faces += fmt::format("{}{}: {}", faces.empty() ? "" : ", ", f, n);
+  if (res.exit_code == 3)
+    fmt::print(stderr, "error: the simulation failed: {}\n{}\n", failure,
+               last_good.empty() ? "no snapshot could be written"
+                                 : fmt::format("last good state written to {}", last_good));
+  else if (res.exit_code != 0)
+    fmt::print(stderr, "{}\n", failure);
   fmt::print("{} particles ({} fluid, {} wall), {} steps, simulated {:.4g} s in {} wall ({:.2f} M particle-steps/s, "
              "{:.1f} M pair interactions/s, {:.0f} bytes/particle, {} threads)\nmass error {:.2e}{}\noutput: {}\n",
              res.total, res.fluid, S.particles.count(Kind::Wall), res.steps, S.time, hms(wall),
              res.particle_steps_per_second / 1e6, res.pair_interactions_per_second / 1e6, res.bytes_per_particle,
              thread_count(), res.mass_error,
-             removed_by_face.empty() ? "" : fmt::format(" ({} particles left the domain and were removed: {})",
-                                                         rep.fluid - res.fluid, faces),
+             faces.empty() ? "" : fmt::format(" (particles left the domain and were removed: {})", faces),
              fs::absolute(o.output).string());
   return res;
 }

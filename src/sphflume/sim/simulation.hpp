@@ -14,10 +14,12 @@ struct RunOptions {
   std::string version;
   long max_steps = 0;     // stop after this many steps (benchmarks); 0 = run to time.end
   bool write_output = true;  // snapshots and gauges (benchmarks switch them off)
+  std::string restart;       // restart point to resume from (a snapshot or checkpoint.h5); empty = fresh
+  double checkpoint_every = 1800.0;  // wall seconds between OUTPUT/checkpoint.h5 writes; 0 = never
 };
 
 struct RunResult {
-  int exit_code = 0;
+  int exit_code = 0;  // 0 done, 3 failed (last good state written), 128 + signal when interrupted
   long steps = 0;
   double wall_seconds = 0.0;
   std::size_t fluid = 0, total = 0;
@@ -26,8 +28,9 @@ struct RunResult {
   double mass_error = 0.0;
 };
 
-/// Run the case. Throws InputError (before computing) for bad input; returns exit code 3
-/// after writing the last state when the simulation fails.
+/// Run the case (or resume it from o.restart). Throws InputError (before computing) for bad
+/// input; returns exit code 3 after writing the last good state when the simulation fails,
+/// 128 + the signal after writing OUTPUT/checkpoint.h5 on SIGINT/SIGTERM.
 RunResult run_case(const Case& c, const RunOptions& o);
 
 /// Text report of what a run would do: particle counts, h, c0, estimated dt and steps.
