@@ -3,6 +3,8 @@
 #pragma once
 #include <hdf5.h>
 
+#include <cerrno>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -19,7 +21,9 @@ struct File {
 };
 
 inline void check(herr_t st, const std::string& what, const std::string& path) {
-  if (st < 0) throw IoError(fmt::format("HDF5: cannot write {} to '{}' (disk full or no permission?)", what, path));
+  if (st < 0)
+    throw IoError(fmt::format("HDF5: cannot write {} to '{}' (disk full or no permission?): {}", what, path,
+                              std::strerror(errno)));
 }
 
 inline void write_dataset(hid_t f, const std::string& name, hid_t type, const void* data, hsize_t n, hsize_t cols,

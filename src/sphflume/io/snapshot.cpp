@@ -22,7 +22,13 @@ void write_file_atomically(const std::string& path, const std::string& text) {
     if (!out) throw IoError(fmt::format("cannot write '{}': {}", tmp, std::strerror(errno)));
     out << text;
     out.flush();
-    if (!out) throw IoError(fmt::format("writing '{}' failed (disk full?): {}", tmp, std::strerror(errno)));
+    if (!out) {
+      const std::string why = std::strerror(errno);
+      out.close();
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw IoError(fmt::format("writing '{}' failed (disk full?): {}", path, why));
+    }
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
@@ -32,12 +38,18 @@ void write_file_atomically(const std::string& path, const std::string& text) {
 namespace {
 
 /// Write one particle file (fields, attributes, optional /restart group) to `tmp`.
+/// HDF5 builds the file in memory (core driver, no backing store) and we write the image
+/// ourselves: a full disk is then an ordinary failed write, which HDF5 1.10 does not survive
+/// cleanly when it meets it itself (the library crashed at exit on a file whose close failed).
 template <int D>
 void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs) {
   const std::size_t n = P.n_owned();
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves
-  h5::File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT)};
-  if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' (folder missing, no permission or disk full)", tmp));
+  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fapl_core(fapl, 1 << 20, 0);
+  h5::File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl)};
+  H5Pclose(fapl);
+  if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' in memory", tmp));
   std::vector<double> buf(n * 3, 0.0);
   auto vec3 = [&](const std::vector<Vec<D>>& v) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -67,7 +79,30 @@ void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t
   const int dim = D;
   h5::write_attr(f.id, "dimension", H5T_NATIVE_INT, &dim, tmp);
   if (rs) write_restart_group<D>(f.id, P, *rs, tmp);
-  if (H5Fflush(f.id, H5F_SCOPE_LOCAL) < 0) throw IoError(fmt::format("HDF5: flushing '{}' failed (disk full?)", tmp));
+  if (H5Fflush(f.id, H5F_SCOPE_GLOBAL) < 0) throw IoError(fmt::format("HDF5: cannot finish '{}' in memory", tmp));
+  const ssize_t size = H5Fget_file_image(f.id, nullptr, 0);
+  if (size <= 0) throw IoError(fmt::format("HDF5: cannot get the image of '{}'", tmp));
+  std::vector<char> image(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(f.id, image.data(), image.size()) != size) throw IoError(fmt::format("HDF5: cannot get the image of '{}'", tmp));
+  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+  if (!out) throw IoError(fmt::format("cannot create '{}': {} (folder missing, no permission?)", tmp, std::strerror(errno)));
+  out.write(image.data(), static_cast<std::streamsize>(image.size()));
+  out.flush();
+  if (!out) throw IoError(fmt::format("writing '{}' failed (disk full?): {}", tmp, std::strerror(errno)));
+  out.close();
+  if (!out) throw IoError(fmt::format("closing '{}' failed (disk full?): {}", tmp, std::strerror(errno)));
+}
+
+/// Run a writer on `tmp`; on failure remove the partial file, so that nothing half-written stays.
+template <class Fn>
+void write_or_clean(const std::string& tmp, Fn&& fn) {
+  try {
+    fn();
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
 }
 
 void rename_into_place(const std::string& tmp, const std::string& path) {
@@ -90,9 +125,9 @@ std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long s
     RunState r = *rs;
     r.snapshots = entries_;
     r.snapshots.push_back(e);
-    write_particles<D>(tmp, P, t, step, &r);
+    write_or_clean(tmp, [&] { write_particles<D>(tmp, P, t, step, &r); });
   } else {
-    write_particles<D>(tmp, P, t, step, nullptr);
+    write_or_clean(tmp, [&] { write_particles<D>(tmp, P, t, step, nullptr); });
   }
   rename_into_place(tmp, path);
   entries_.push_back(e);
@@ -103,7 +138,7 @@ std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long s
 template <int D>
 void SnapshotWriter<D>::write_checkpoint(const std::string& path, const ParticleStore<D>& P, const RunState& rs) {
   const std::string tmp = path + ".tmp";
-  write_particles<D>(tmp, P, rs.time, rs.step, &rs);
+  write_or_clean(tmp, [&] { write_particles<D>(tmp, P, rs.time, rs.step, &rs); });
   rename_into_place(tmp, path);
 }
 
