@@ -16,6 +16,8 @@ import subprocess
 import sys
 import time
 
+import h5py
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import ROOT, check, finish, run, same_run, snapshots  # noqa: E402
 
@@ -86,7 +88,14 @@ with open(trunc, "wb") as f:
     f.write(data[: len(data) // 2])
 rc, log = run(binary, args + ["--restart", trunc, "-o", os.path.join(work, "x3")])
 check(rc == 2 and "truncated.h5" in log, f"restart from a truncated file: exit 2 naming the file (got {rc}: {log.strip()[-160:]})")
-rc, log = run(binary, args + ["--set", "time.end=1.0", "--restart", mid, "-o", os.path.join(work, "x4")])
-check(rc == 0, f"restart with a later time.end runs on (got {rc})")
+branch = os.path.join(work, "x4")
+rc, log = run(binary, args + ["--set", "time.end=0.6", "--restart", mid, "-o", branch])
+with h5py.File(mid, "r") as h:
+    t_mid = float(h.attrs["time"])
+first = snapshots(branch)[0] if snapshots(branch) else None
+t_first = float(h5py.File(first, "r").attrs["time"]) if first else None
+check(rc == 0 and t_first == t_mid,
+      f"restart with a later time.end into another folder runs on there, its series starting at the restart time "
+      f"(got {rc}, first snapshot at t = {t_first}, restart at {t_mid})")
 
 finish("check_restart")

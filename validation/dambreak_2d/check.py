@@ -127,6 +127,10 @@ def main():
               f"run wall time {wall:.1f} s; simulated {s['simulated_time']:.4g} s, T up to {t[-1] * T_SCALE:.3f})")
         print(f"  front at t = 0: Z = {x[0] / A:.4f} (the outermost particle centre, a - dx/2); NaN rows: {n_nan}; "
               f"fluid {s['particles']['fluid']}/{s['particles']['initial_fluid']}, mass removed {s['mass']['removed']}")
+        metric(f"{res} fluid mass (initial - removed - final) / initial, particles removed",
+               f"{s['mass']['relative_error']:.1e}, {s['particles']['initial_fluid'] - s['particles']['fluid']}",
+               abs(s["mass"]["relative_error"]) <= 1e-12 and s["particles"]["fluid"] == s["particles"]["initial_fluid"],
+               "|.| <= 1e-12 (round-off), 0", "issue (mass conserved in closed cases)")
         for k in DATA:
             e = errs[res][k]
             tag = "primary" if k == PRIMARY else "secondary"

@@ -9,7 +9,8 @@ Metrics (closed-form solution p = rho g (H - z), u = 0):
      <= 2 % in coarse mode (dx = 0.02): the wall-boundary error of dummy particles is first order in dx,
      so the 1 % allowed at dx = 0.01 doubles at dx = 0.02;
   2. max |u| of the fluid particles in the last snapshot < 0.01 sqrt(g H) (both modes);
-  3. particle count constant: particles.fluid == particles.initial_fluid and mass.removed == 0 (both modes).
+  3. particle count constant: particles.fluid == particles.initial_fluid and mass.removed == 0, and the mass
+     balance (initial - removed - final)/initial within 1e-12 (round-off) (both modes).
 Usage: /usr/bin/python3 validation/hydrostatic/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import argparse
@@ -130,7 +131,9 @@ def main():
     ok = P["fluid"] == P["initial_fluid"] and s["mass"]["removed"] == 0
     rep.metric("fluid particles final / initial, mass removed", f"{P['fluid']} / {P['initial_fluid']}, {s['mass']['removed']}",
                ok, "equal, 0", "issue (closed tank)")
-    print(f"  (info) mass relative error {s['mass']['relative_error']}, wall {s['wall_seconds']} s, "
+    rep.metric("fluid mass (initial - removed - final) / initial", f"{s['mass']['relative_error']:.1e}",
+               abs(s["mass"]["relative_error"]) <= 1e-12, "|.| <= 1e-12 (round-off)", "issue (mass conserved in closed cases)")
+    print(f"  (info) wall {s['wall_seconds']} s, "
           f"{s['particle_steps_per_second']:.3g} particle-steps/s")
 
     # plot

@@ -318,15 +318,23 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   }
   fs::remove(probe, ec);
 
+  // a restart into its own run folder continues the series there; into another folder it
+  // starts a new series (snapshot 0 = the restart state, gauges from the restart time on)
+  bool resume = false;
+  if (restart) {
+    fs::path dir = fs::absolute(o.restart).parent_path();
+    if (dir.filename() == "snapshots") dir = dir.parent_path();
+    resume = fs::equivalent(dir, o.output, ec);
+  }
   SnapshotWriter<D> snaps(o.output);
   std::unique_ptr<GaugeSet<D>> gauges;
   if (o.write_output) {
-    if (restart) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
+    if (resume) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
     else if (fs::exists(o.output + "/snapshots"))  // a re-run must not leave an earlier run's snapshots behind
       for (const auto& e : fs::directory_iterator(o.output + "/snapshots", ec))
         if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
     gauges = std::make_unique<GaugeSet<D>>(c.gauges, o.output, R.hi[D - 1],
-                                           restart ? S.time : std::numeric_limits<double>::quiet_NaN());
+                                           resume ? S.time : std::numeric_limits<double>::quiet_NaN());
   }
   if (!restart) {
     R.start_fresh();
@@ -360,7 +368,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   double particle_steps = 0.0, fluid_particle_steps = 0.0;
   SignalGuard signals;
   try {
-    if (!restart) output();
+    if (!resume) output();
     while (S.time < c.t_end * (1.0 - 1e-12) && (o.max_steps == 0 || steps_done < o.max_steps)) {
       const std::size_t n_before = S.particles.n_owned();
       const bool out = R.advance(dt);
