@@ -7,6 +7,7 @@ PKGS=(
   libeigen3-dev libyaml-cpp-dev libhdf5-dev libcli11-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib python3-h5py
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${PKGS[@]}"; do

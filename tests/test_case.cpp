@@ -62,7 +62,7 @@ TEST(Case, BadValuesNameLineAndExpectation) {
 TEST(Case, YamlSyntaxErrorHasLine) {
   const std::string e = error_of("particles:\n  dx: [0.1\nfluid: {}\n");
   EXPECT_NE(e.find("YAML syntax error"), std::string::npos) << e;
-  EXPECT_NE(e.find("line"), std::string::npos) << e;
+  EXPECT_NE(e.find("case.yaml: line 3, column 6"), std::string::npos) << e;  // where the list should have closed
 }
 
 TEST(Case, MissingSectionIsReported) {

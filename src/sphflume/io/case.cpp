@@ -52,6 +52,7 @@ class Reader {
   }
   template <class T>
   T required(const std::string& k, const std::string& expected) {
+    if (!has(k)) misspelt(k);
     if (!has(k))
       throw InputError(fmt::format("{}: {}: missing required key '{}': expected {}", file_, where(node_), key_path(k),
                                    expected));
@@ -60,7 +61,11 @@ class Reader {
   template <class T>
   T as(const YAML::Node& n, const std::string& k) {
     try {
-      return n.as<T>();
+      if (!n.IsScalar()) throw YAML::Exception(n.Mark(), "not a scalar");
+      const T v = n.as<T>();
+      if constexpr (std::is_same_v<T, double>)
+        if (!std::isfinite(v)) fail_at(n, key_path(k), fmt::format("a finite number (got {})", n.Scalar()));
+      return v;
     } catch (const YAML::Exception&) {
       if constexpr (std::is_same_v<T, double>) fail_at(n, key_path(k), "a number");
       else if constexpr (std::is_same_v<T, int>) fail_at(n, key_path(k), "an integer");
@@ -76,6 +81,7 @@ class Reader {
     std::vector<double> out;
     for (const auto& e : v) {
       try { out.push_back(e.as<double>()); } catch (const YAML::Exception&) { fail_at(e, key_path(k), what); }
+      if (!std::isfinite(out.back())) fail_at(e, key_path(k), fmt::format("finite numbers (got {})", e.Scalar()));
     }
     return out;
   }
@@ -102,7 +108,8 @@ class Reader {
   /// Report keys that were never read, with the closest known key.
   void finish() {
     for (const auto& kv : node_) {
-      const std::string k = kv.first.as<std::string>();
+      if (!kv.first.IsScalar()) fail_at(kv.first, path_.empty() ? "the document" : path_, "keys that are plain names (found a list or mapping used as a key)");
+      const std::string k = kv.first.Scalar();
       if (seen_.count(k)) continue;
       std::string best;
       std::size_t bd = 1000;
@@ -110,18 +117,39 @@ class Reader {
         const std::size_t d = edit_distance(k, s);
         if (d < bd) { bd = d; best = s; }
       }
-      std::string hint = (bd <= std::max<std::size_t>(2, k.size() / 3)) ? fmt::format(" (did you mean '{}'?)", key_path(best)) : "";
-      std::string known;
-      for (const auto& s : seen_) known += (known.empty() ? "" : ", ") + s;
-      throw InputError(fmt::format("{}: {}: unknown key '{}'{}; known keys here: {}", file_, where(kv.first),
-                                   key_path(k), hint, known));
+      unknown(kv.first, k, close(bd, k) ? best : "", false);
+    }
+  }
+  /// All keys valid here, read or not (so that misspelt() does not take a valid key that is
+  /// read later for a misspelling).
+  void valid(std::initializer_list<const char*> keys) { for (const char* k : keys) valid_.insert(k); }
+  /// Before reporting `k` as missing: a key that is neither read nor valid here and is close
+  /// to `k` is a misspelling of it; report that instead ("did you mean").
+  void misspelt(const std::string& k) {
+    for (const auto& kv : node_) {
+      if (!kv.first.IsScalar()) continue;
+      const std::string u = kv.first.Scalar();
+      if (u == k || seen_.count(u) || valid_.count(u)) continue;
+      if (close(edit_distance(u, k), u)) unknown(kv.first, u, k, true);
     }
   }
 
  private:
+  static bool close(std::size_t distance, const std::string& k) { return distance <= std::max<std::size_t>(2, k.size() / 3); }
+  /// `with_valid`: list the valid keys not read yet too (before the reading is done).
+  [[noreturn]] void unknown(const YAML::Node& key, const std::string& k, const std::string& suggestion, bool with_valid) const {
+    std::set<std::string> all = seen_;
+    if (with_valid) all.insert(valid_.begin(), valid_.end());
+    std::string known;
+    for (const auto& s : all) known += (known.empty() ? "" : ", ") + s;
+    throw InputError(fmt::format("{}: {}: unknown key '{}'{}; known keys here: {}", file_, where(key), key_path(k),
+                                 suggestion.empty() ? "" : fmt::format(" (did you mean '{}'?)", key_path(suggestion)),
+                                 known));
+  }
+
   YAML::Node node_;
   std::string file_, path_;
-  std::set<std::string> seen_;
+  std::set<std::string> seen_, valid_;
 };
 
 void apply_override(YAML::Node root, const std::string& spec) {
@@ -175,6 +203,7 @@ int axis_index(const std::string& a, int dim) {
 
 ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
+  r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity"});
   ShapeConfig s;
   s.line = n.Mark().line + 1;
   (void)r.required<std::string>("type", "a shape type: box, tank, polygon or plane");
@@ -184,6 +213,8 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
   if (s.type == "box" || s.type == "tank") {
     s.min = r.vec("min", d);
     s.max = r.vec("max", d);
+    if (s.min.empty()) r.misspelt("min");
+    if (s.max.empty()) r.misspelt("max");
     if (s.min.empty() || s.max.empty()) r.fail_at(n, path, "'min' and 'max' corners");
     for (std::size_t i = 0; i < d; ++i)
       if (!(s.max[i] > s.min[i])) r.fail_at(r.get("max"), r.key_path("max"), "max > min in every coordinate");
@@ -193,6 +224,7 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
     }
   } else if (s.type == "polygon") {
     if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
+    if (!r.has("vertices")) r.misspelt("vertices");
     const YAML::Node v = r.get("vertices");
     if (!v.IsSequence() || v.size() < 3) r.fail_at(v.IsDefined() ? v : n, r.key_path("vertices"), "a list of at least 3 [x, z] points");
     for (const auto& p : v) {
@@ -200,17 +232,21 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
       try { s.vertices.push_back({p[0].as<double>(), p[1].as<double>()}); } catch (const YAML::Exception&) {
         r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of numbers");
       }
+      if (!std::isfinite(s.vertices.back()[0]) || !std::isfinite(s.vertices.back()[1]))
+        r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of finite numbers");
     }
   } else if (s.type == "plane") {
     s.point = r.vec("point", d);
     s.normal = r.vec("normal", d);
     s.min = r.vec("min", d);
     s.max = r.vec("max", d);
+    for (const char* k : {"point", "normal", "min", "max"})
+      if (!r.has(k)) r.misspelt(k);
     if (s.point.empty() || s.normal.empty() || s.min.empty() || s.max.empty())
       r.fail_at(n, path, "'point', 'normal' (pointing into the fluid), and the extent 'min'/'max'");
-    double nn = 0;
-    for (double c : s.normal) nn += c * c;
-    if (nn <= 0) r.fail_at(r.get("normal"), r.key_path("normal"), "a non-zero normal");
+    double nmax = 0;
+    for (double c : s.normal) nmax = std::max(nmax, std::abs(c));
+    if (!(nmax > 0)) r.fail_at(r.get("normal"), r.key_path("normal"), "a non-zero normal");
     for (std::size_t i = 0; i < d; ++i)
       if (!(s.max[i] > s.min[i])) r.fail_at(r.get("max"), r.key_path("max"), "max > min in every coordinate");
     s.thickness = r.scalar<double>("thickness", 0.0);
@@ -223,6 +259,7 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
 
 GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
+  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction"});
   GaugeConfig g;
   g.line = n.Mark().line + 1;
   g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
@@ -241,10 +278,13 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
     }
   } else if (g.type == "pressure") {
     g.point = r.vec("point", d);
+    if (g.point.empty()) r.misspelt("point");
     if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
   } else if (g.type == "velocity_profile") {
     g.start = r.vec("start", d);
     g.end = r.vec("end", d);
+    for (const char* k : {"start", "end"})
+      if (!r.has(k)) r.misspelt(k);
     if (g.start.empty() || g.end.empty()) r.fail_at(n, path, "'start' and 'end' points of the line");
     g.points = r.scalar<int>("points", 20);
     if (g.points < 2 || g.points > 10000) r.fail_at(r.get("points"), r.key_path("points"), "an integer in [2, 10000]");
@@ -258,11 +298,32 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
   return g;
 }
 
+/// Every scalar under `n` that reads as a number must be finite (.nan, .inf are refused).
+void reject_non_finite(const Reader& r, const YAML::Node& n, const std::string& path, int depth = 0) {
+  if (depth > 32) return;
+  if (n.IsScalar()) {
+    double v = 0.0;
+    if (YAML::convert<double>::decode(n, v) && !std::isfinite(v))
+      r.fail_at(n, path, fmt::format("a finite number (got {})", n.Scalar()));
+  } else if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i) reject_non_finite(r, n[i], fmt::format("{}.{}", path, i), depth + 1);
+  } else if (n.IsMap()) {
+    for (const auto& kv : n)
+      reject_non_finite(r, kv.second, kv.first.IsScalar() ? path + "." + kv.first.Scalar() : path, depth + 1);
+  }
+}
+
+constexpr double kMaxOutputs = 1e7;  // snapshots/gauge rows: more is a typo, not a plan
+
 Case build_case(YAML::Node root, const std::string& file) {
   Case c;
   c.file = file;
   c.raw = root;
   Reader top(root, file, "");
+  top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
+             "gauges", "forces"});
+  for (const char* k : {"particles", "fluid", "geometry", "time"})
+    if (!top.has(k)) top.misspelt(k);
   c.name = top.scalar<std::string>("name", "case");
   c.dimension = top.scalar<int>("dimension", 2);
   if (c.dimension != 2 && c.dimension != 3) top.fail_at(top.get("dimension"), "dimension", "2 or 3");
@@ -292,7 +353,7 @@ Case build_case(YAML::Node root, const std::string& file) {
       const YAML::Node p = r.get("periodic");
       if (!p.IsSequence()) r.fail_at(p, "domain.periodic", "a list of axes, e.g. [x]");
       for (const auto& a : p) {
-        const int ax = axis_index(a.as<std::string>(), c.dimension);
+        const int ax = a.IsScalar() ? axis_index(a.Scalar(), c.dimension) : -1;
         if (ax < 0) r.fail_at(a, "domain.periodic", c.dimension == 2 ? "axes among x, z" : "axes among x, y, z");
         c.periodic.push_back(ax);
       }
@@ -355,7 +416,10 @@ Case build_case(YAML::Node root, const std::string& file) {
   {
     const YAML::Node geo = top.get("geometry");
     if (!geo.IsDefined() || geo.IsNull()) throw InputError(fmt::format("{}: missing required section 'geometry' (a list of shapes filled with fluid or wall)", file));
-    if (!geo.IsSequence()) top.fail_at(geo, "geometry", "a list of shapes, each starting with '- type: box'");
+    if (!geo.IsSequence() || geo.size() == 0) top.fail_at(geo, "geometry", "a list of shapes, each starting with '- type: box'");
+    c.geometry_line = geo.Mark().line + 1;
+    for (const auto& kv : root)  // the line of the key itself, not of the first shape
+      if (kv.first.IsScalar() && kv.first.Scalar() == "geometry") c.geometry_line = kv.first.Mark().line + 1;
     for (std::size_t i = 0; i < geo.size(); ++i)
       c.shapes.push_back(read_shape(geo[i], file, fmt::format("geometry.{}", i), c.dimension));
   }
@@ -364,6 +428,10 @@ Case build_case(YAML::Node root, const std::string& file) {
     Reader r(top.get("time"), file, "time");
     c.t_end = r.positive("end", 0.0, true);
     c.output_interval = r.positive("output_interval", c.t_end / 20.0);
+    if (c.t_end / c.output_interval > kMaxOutputs)
+      r.fail_at(r.get("output_interval"), "time.output_interval",
+                fmt::format("at most {:.0e} output times up to time.end = {} s (got {:.3g}): use output_interval >= {:.3g} s",
+                            kMaxOutputs, c.t_end, c.t_end / c.output_interval, c.t_end / kMaxOutputs));
     r.finish();
   }
   if (top.has("gauges")) {
@@ -379,6 +447,8 @@ Case build_case(YAML::Node root, const std::string& file) {
   if (top.has("forces")) {
     c.forces = top.get("forces");
     if (!c.forces.IsSequence()) top.fail_at(c.forces, "forces", "a list of force terms, each {type: NAME, ...}");
+    // the terms read their own keys when the run is set up; non-finite numbers are refused here
+    for (std::size_t i = 0; i < c.forces.size(); ++i) reject_non_finite(top, c.forces[i], fmt::format("forces.{}", i));
   }
   top.finish();
   return c;
@@ -390,12 +460,16 @@ Case parse_case(const std::string& text, const std::string& name, const std::vec
   YAML::Node root;
   try {
     root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
+  } catch (const YAML::Exception& e) {
     throw InputError(fmt::format("{}: line {}, column {}: YAML syntax error: {}", name, e.mark.line + 1,
                                  e.mark.column + 1, e.msg));
   }
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping of sections (particles, fluid, geometry, time, ...)", name));
-  for (const auto& o : overrides) apply_override(root, o);
+  try {
+    for (const auto& o : overrides) apply_override(root, o);
+  } catch (const YAML::Exception& e) {
+    throw InputError(fmt::format("--set: {}", e.msg));
+  }
   try {
     return build_case(root, name);
   } catch (const YAML::Exception& e) {

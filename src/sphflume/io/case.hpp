@@ -97,6 +97,7 @@ struct Case {
   SchemeConfig scheme;
   WallConfig walls;
   std::vector<ShapeConfig> shapes;
+  int geometry_line = 0;  // line of the 'geometry' key (for messages about the shapes as a whole)
   double t_end = 0.0, output_interval = 0.0;
   std::vector<GaugeConfig> gauges;
   YAML::Node forces;  // list of registered force terms, each {type: NAME, ...}

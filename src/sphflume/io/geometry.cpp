@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -16,11 +17,19 @@ Vec<D> to_vec(const std::vector<double>& v) {
   return out;
 }
 
+const char* axis_name(int d, int dim) { return d == dim - 1 ? "z" : d == 0 ? "x" : "y"; }
+
+/// Lattice points min + (i + 1/2) dx inside [lo, hi) along one axis (as a double: no overflow).
+double lattice_count(double lo, double hi, double dx) {
+  const double n = std::floor((hi - lo) / dx + 1e-9);
+  return n > 0 ? n : 0.0;  // NaN -> 0; callers check the extent first
+}
+
 /// Calls f(x) for every lattice point min + (i + 1/2) dx inside [lo, hi).
 template <int D, class Fn>
 void lattice(const Vec<D>& lo, const Vec<D>& hi, double dx, Fn&& f) {
   long n[D];
-  for (int d = 0; d < D; ++d) n[d] = std::max(0L, std::lround(std::floor((hi[d] - lo[d]) / dx + 1e-9)));
+  for (int d = 0; d < D; ++d) n[d] = static_cast<long>(lattice_count(lo[d], hi[d], dx));
   if constexpr (D == 2) {
     for (long k = 0; k < n[1]; ++k)
       for (long i = 0; i < n[0]; ++i) f(Vec<2>{{lo[0] + (i + 0.5) * dx, lo[1] + (k + 0.5) * dx}});
@@ -29,6 +38,35 @@ void lattice(const Vec<D>& lo, const Vec<D>& hi, double dx, Fn&& f) {
       for (long j = 0; j < n[1]; ++j)
         for (long i = 0; i < n[0]; ++i)
           f(Vec<3>{{lo[0] + (i + 0.5) * dx, lo[1] + (j + 0.5) * dx, lo[2] + (k + 0.5) * dx}});
+  }
+}
+
+/// The points of lattice(olo, ohi) that are not strictly inside (lo, hi), in the same order,
+/// without visiting the inside (a tank's walls; the inside may hold millions of points).
+template <int D, class Fn>
+void lattice_shell(const Vec<D>& olo, const Vec<D>& ohi, const Vec<D>& lo, const Vec<D>& hi, double dx, Fn&& f) {
+  long n[D];
+  for (int d = 0; d < D; ++d) n[d] = static_cast<long>(lattice_count(olo[d], ohi[d], dx));
+  auto row = [&](Vec<D> x) {  // x has every coordinate but x[0] set
+    bool inner = true;
+    for (int d = 1; d < D; ++d) inner &= x[d] > lo[d] && x[d] < hi[d];
+    auto at = [&](long i) { x[0] = olo[0] + (i + 0.5) * dx; return x; };
+    long a = 0, b = n[0];
+    if (inner) {
+      while (a < n[0] && !(at(a)[0] > lo[0])) ++a;  // left wall: x <= lo
+      while (b > a && !(at(b - 1)[0] < hi[0])) --b;  // right wall: x >= hi
+    } else {
+      a = b = n[0];
+    }
+    for (long i = 0; i < a; ++i) f(at(i));
+    for (long i = b; i < n[0]; ++i) f(at(i));
+  };
+  Vec<D> x{};
+  if constexpr (D == 2) {
+    for (long k = 0; k < n[1]; ++k) { x[1] = olo[1] + (k + 0.5) * dx; row(x); }
+  } else {
+    for (long k = 0; k < n[2]; ++k)
+      for (long j = 0; j < n[1]; ++j) { x[1] = olo[1] + (j + 0.5) * dx; x[2] = olo[2] + (k + 0.5) * dx; row(x); }
   }
 }
 
@@ -41,6 +79,175 @@ bool inside_polygon(const std::vector<std::array<double, 2>>& v, double x, doubl
   return in;
 }
 
+/// The box whose lattice a shape visits (a tank: with its walls; a polygon: its bounding box
+/// anchored on the global dx grid so polygons line up with boxes at 0).
+template <int D>
+void shape_box(const ShapeConfig& s, double dx, int layers, Vec<D>& lo, Vec<D>& hi) {
+  if (s.type == "polygon") {
+    for (int d = 0; d < D; ++d) { lo[d] = 1e300; hi[d] = -1e300; }
+    if constexpr (D == 2)
+      for (const auto& p : s.vertices)
+        for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], p[d]); hi[d] = std::max(hi[d], p[d]); }
+    for (int d = 0; d < D; ++d) { lo[d] = std::floor(lo[d] / dx) * dx; hi[d] = std::ceil(hi[d] / dx) * dx; }
+    return;
+  }
+  lo = to_vec<D>(s.min);
+  hi = to_vec<D>(s.max);
+  if (s.type == "tank") {
+    for (int d = 0; d < D; ++d) { lo[d] -= layers * dx; hi[d] += layers * dx; }
+    if (s.open_top) hi[D - 1] = s.max[D - 1];
+  }
+}
+
+/// Upper bound of the particles a shape makes (exact for boxes and tanks).
+template <int D>
+double shape_count(const ShapeConfig& s, double dx, const Vec<D>& lo, const Vec<D>& hi) {
+  double n = 1.0;
+  for (int d = 0; d < D; ++d) n *= lattice_count(lo[d], hi[d], dx);
+  if (s.type == "tank") {
+    double inner = 1.0;
+    for (int d = 0; d < D; ++d) inner *= lattice_count(s.min[d], s.max[d], dx);
+    n = std::max(n - inner, 0.0);
+  }
+  return n;
+}
+
+/// Wall particles binned in cells of side dx (sorted keys, no dense grid: walls may be far
+/// apart); answers "is there a wall particle closer than r (< dx) to x".
+template <int D>
+class WallBins {
+ public:
+  using Key = std::array<long, D>;
+  WallBins(const std::vector<Vec<D>>& x, double dx) : dx_(dx) {
+    for (int d = 0; d < D; ++d) lo_[d] = 1e300;
+    for (const auto& p : x)
+      for (int d = 0; d < D; ++d) lo_[d] = std::min(lo_[d], p[d]);
+    e_.reserve(x.size());
+    for (const auto& p : x) e_.push_back({key(p), p});
+    std::sort(e_.begin(), e_.end(), [](const Entry& a, const Entry& b) { return a.k < b.k; });
+  }
+  bool any_within(const Vec<D>& x, double r) const {
+    Key k0 = key(x);
+    Key k = k0;
+    for (int o = 0; o < (D == 2 ? 9 : 27); ++o) {
+      for (int d = 0, q = o; d < D; ++d, q /= 3) k[d] = k0[d] + q % 3 - 1;
+      auto it = std::lower_bound(e_.begin(), e_.end(), k, [](const Entry& a, const Key& b) { return a.k < b; });
+      for (; it != e_.end() && it->k == k; ++it) {
+        const Vec<D> dv = it->x - x;
+        if (dot(dv, dv) < r * r) return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  struct Entry { Key k; Vec<D> x; };
+  Key key(const Vec<D>& x) const {  // coordinates are bounded (check_extent) before this is used
+    Key k;
+    for (int d = 0; d < D; ++d) k[d] = static_cast<long>(std::floor((x[d] - lo_[d]) / dx_)) ;
+    return k;
+  }
+  double dx_;
+  Vec<D> lo_;
+  std::vector<Entry> e_;
+};
+
+/// Particles all shapes make at spacing dx (an upper bound; exact for boxes and tanks).
+template <int D>
+double total_count(const Case& c, double dx, int layers, std::size_t* largest_i = nullptr) {
+  double total = 0.0, largest = -1.0;
+  for (std::size_t i = 0; i < c.shapes.size(); ++i) {
+    Vec<D> lo, hi;
+    shape_box<D>(c.shapes[i], dx, layers, lo, hi);
+    const double n = shape_count<D>(c.shapes[i], dx, lo, hi);
+    total += n;
+    if (largest_i && !(n <= largest)) { largest = n; *largest_i = i; }
+  }
+  return total;
+}
+
+std::string shape_where(const Case& c, std::size_t i) {
+  return fmt::format("{}: line {}: 'geometry.{}'", c.file, c.shapes[i].line, i);
+}
+
+/// Refuse, before anything is allocated: fluid outside the domain, absurd particle counts,
+/// shapes spread over absurdly many neighbour-search cells or too far out for dx.
+template <int D>
+void check_geometry(const Case& c, const BuildLimits& limits, double support, int layers) {
+  const double dx = c.dx;
+  const double tol = 1e-6 * dx;
+  if (!c.domain_min.empty())
+    for (std::size_t i = 0; i < c.shapes.size(); ++i) {
+      const auto& s = c.shapes[i];
+      if (s.fill != "fluid") continue;
+      Vec<D> lo, hi;
+      shape_box<D>(s, dx, layers, lo, hi);
+      if constexpr (D == 2)
+        if (s.type == "polygon")  // its own extent, not the dx-anchored lattice box
+          for (int d = 0; d < D; ++d) {
+            lo[d] = 1e300; hi[d] = -1e300;
+            for (const auto& p : s.vertices) { lo[d] = std::min(lo[d], p[d]); hi[d] = std::max(hi[d], p[d]); }
+          }
+      for (int d = 0; d < D; ++d)
+        if (lo[d] < c.domain_min[d] - tol || hi[d] > c.domain_max[d] + tol)
+          throw InputError(fmt::format(
+              "{}: the fluid shape extends outside the domain along {} ({:.6g} .. {:.6g} m, domain.min/max {:.6g} .. "
+              "{:.6g} m): expected fluid shapes inside the domain (fluid outside it would be removed on the first step)",
+              shape_where(c, i), axis_name(d, D), lo[d], hi[d], c.domain_min[d], c.domain_max[d]));
+    }
+
+  // particle count, and the box the run's neighbour search will cover
+  Vec<D> blo, bhi;
+  for (int d = 0; d < D; ++d) { blo[d] = 1e300; bhi[d] = -1e300; }
+  double coord_max = 0.0;
+  for (std::size_t i = 0; i < c.shapes.size(); ++i) {
+    Vec<D> lo, hi;
+    shape_box<D>(c.shapes[i], dx, layers, lo, hi);
+    for (int d = 0; d < D; ++d) {
+      blo[d] = std::min(blo[d], lo[d]);
+      bhi[d] = std::max(bhi[d], hi[d]);
+      coord_max = std::max({coord_max, std::abs(lo[d]), std::abs(hi[d])});
+    }
+  }
+  if (!(coord_max / dx <= 1e12))
+    throw InputError(fmt::format("{}: line {}: 'geometry': coordinates as large as {:.3g} m cannot be resolved at "
+                                 "particles.dx = {} m: expected coordinates within 1e12 dx of the origin (in m)",
+                                 c.file, c.geometry_line, coord_max, dx));
+  std::size_t largest_i = 0;
+  const double total = total_count<D>(c, dx, layers, &largest_i);
+  if (!(total <= limits.max_particles)) {
+    double dx_fit = dx * std::pow(total / limits.max_particles, 1.0 / D);  // exact for fluid boxes
+    for (int k = 0; k < 400 && !(total_count<D>(c, dx_fit, layers) <= limits.max_particles); ++k) dx_fit *= 1.02;
+    throw InputError(fmt::format("{}: line {}: 'geometry': the shapes would make about {:.3g} particles at particles.dx "
+                                 "= {} m (most in geometry.{}, line {}): expected at most {:.3g}: use dx >= {:.3g} m or "
+                                 "check the shapes' coordinates (in m)",
+                                 c.file, c.geometry_line, total, dx, largest_i, c.shapes[largest_i].line,
+                                 limits.max_particles, dx_fit));
+  }
+  if (!c.domain_min.empty()) {
+    for (int d = 0; d < D; ++d) { blo[d] = std::min(blo[d], c.domain_min[d]); bhi[d] = std::max(bhi[d], c.domain_max[d]); }
+  } else {  // as the run's default domain: 10 % + dx around, 100 % + dx above
+    for (int d = 0; d < D; ++d) {
+      const double span = bhi[d] - blo[d];
+      blo[d] -= 0.1 * span + dx;
+      bhi[d] += (d == D - 1 ? 1.0 : 0.1) * span + dx;
+    }
+  }
+  double cells = 1.0;
+  std::string extent;
+  for (int d = 0; d < D; ++d) {
+    const double n = (bhi[d] - blo[d]) / support + 1.0;
+    cells *= n;
+    extent += fmt::format("{}{:.4g}", d ? " x " : "", bhi[d] - blo[d]);
+    if (!(n <= 4.0e6)) cells = std::numeric_limits<double>::infinity();
+  }
+  if (!(cells <= limits.max_cells))
+    throw InputError(fmt::format("{}: line {}: 'geometry': the run's box ({} m with its margins) holds {:.3g} "
+                                 "neighbour-search cells of the kernel support ({:.4g} m): expected at most {:.3g} (and "
+                                 "4e6 along an axis): shapes far apart, or a coordinate typo? (coordinates are in m)",
+                                 c.file, c.geometry_line, extent, cells, support, limits.max_cells));
+}
+
 }  // namespace
 
 int wall_layers_for(const Case& c) {
@@ -50,7 +257,7 @@ int wall_layers_for(const Case& c) {
 }
 
 template <int D>
-BuildReport build_system(const Case& c, System<D>& S) {
+BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits) {
   BuildReport rep;
   S.kernel = c.kernel;
   S.dx = c.dx;
@@ -64,59 +271,72 @@ BuildReport build_system(const Case& c, System<D>& S) {
   const double vol = std::pow(dx, D);
   const double m = c.fluid.density * vol;
   constexpr int vz = D - 1;
+  if (!std::isnormal(m) || !std::isnormal(S.h * S.h) || !std::isnormal(1.0 / (S.support * S.support)))
+    throw InputError(fmt::format("{}: 'particles.dx' = {} m with 'fluid.density' = {} kg/m3 gives a particle mass of {:.3g} "
+                                 "kg and h = {:.3g} m: expected sizes a double can square and invert (SI units: m, kg/m3)",
+                                 c.file, dx, c.fluid.density, m, S.h));
+  check_geometry<D>(c, limits, S.support, layers);
 
   std::vector<Vec<D>> fluid_x, fluid_v, wall_x;
-  for (const auto& s : c.shapes) {
+  std::vector<std::uint32_t> fluid_shape;  // which shape made each fluid point
+  for (std::size_t si = 0; si < c.shapes.size(); ++si) {
+    const auto& s = c.shapes[si];
     const Vec<D> v0 = to_vec<D>(s.velocity);
     auto emit = [&](const Vec<D>& x) {
-      if (s.fill == "fluid") { fluid_x.push_back(x); fluid_v.push_back(v0); }
+      if (s.fill == "fluid") { fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si)); }
       else wall_x.push_back(x);
     };
+    Vec<D> lo, hi;
+    shape_box<D>(s, dx, layers, lo, hi);
     if (s.type == "box") {
-      lattice<D>(to_vec<D>(s.min), to_vec<D>(s.max), dx, emit);
+      lattice<D>(lo, hi, dx, emit);
     } else if (s.type == "tank") {
-      const Vec<D> lo = to_vec<D>(s.min), hi = to_vec<D>(s.max);
-      Vec<D> olo = lo, ohi = hi;
-      for (int d = 0; d < D; ++d) { olo[d] -= layers * dx; ohi[d] += layers * dx; }
-      if (s.open_top) ohi[vz] = hi[vz];
-      lattice<D>(olo, ohi, dx, [&](const Vec<D>& x) {
-        bool inner = true;
-        for (int d = 0; d < D; ++d) inner &= x[d] > lo[d] && x[d] < hi[d];
-        if (!inner) emit(x);
-      });
+      lattice_shell<D>(lo, hi, to_vec<D>(s.min), to_vec<D>(s.max), dx, emit);
     } else if (s.type == "polygon") {
-      if constexpr (D == 2) {
-        Vec<2> lo{{1e300, 1e300}}, hi{{-1e300, -1e300}};
-        for (const auto& p : s.vertices)
-          for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], p[d]); hi[d] = std::max(hi[d], p[d]); }
-        // anchor the lattice on the global dx grid so polygons line up with boxes at 0
-        for (int d = 0; d < 2; ++d) { lo[d] = std::floor(lo[d] / dx) * dx; hi[d] = std::ceil(hi[d] / dx) * dx; }
+      if constexpr (D == 2)
         lattice<2>(lo, hi, dx, [&](const Vec<2>& x) { if (inside_polygon(s.vertices, x[0], x[1])) emit(x); });
-      }
     } else if (s.type == "plane") {
       Vec<D> nrm = to_vec<D>(s.normal);
+      double nmax = 0.0;
+      for (int d = 0; d < D; ++d) nmax = std::max(nmax, std::abs(nrm[d]));
+      nrm *= 1.0 / nmax;  // first to O(1): a tiny or huge normal must not underflow or overflow
       nrm *= 1.0 / norm(nrm);
       const Vec<D> p0 = to_vec<D>(s.point);
       const double thick = s.thickness > 0 ? s.thickness : layers * dx;
-      lattice<D>(to_vec<D>(s.min), to_vec<D>(s.max), dx, [&](const Vec<D>& x) {
+      lattice<D>(lo, hi, dx, [&](const Vec<D>& x) {
         const double sd = dot(x - p0, nrm);
         if (sd <= 0.0 && sd > -thick) emit(x);
       });
     }
   }
-  if (fluid_x.empty())
-    throw InputError(fmt::format("{}: the geometry makes no fluid particles (add a shape with 'fill: fluid' at least "
-                                 "dx = {} wide)", c.file, dx));
 
   // Drop fluid lattice points that fall inside the walls (closer than dx/2 to a wall particle),
   // e.g. a fluid box drawn over a sloping bed.
   std::vector<char> drop(fluid_x.size(), 0);
   if (!wall_x.empty()) {
-    CellList<D> wl;
-    wl.build(wall_x, wall_x.size(), dx);
-    for (std::size_t i = 0; i < fluid_x.size(); ++i)
-      wl.for_neighbours(wall_x, fluid_x[i], 0.5 * dx * 0.999, [&](std::uint32_t, const Vec<D>&, double) { drop[i] = 1; });
+    const WallBins<D> bins(wall_x, dx);
+    for (std::size_t i = 0; i < fluid_x.size(); ++i) drop[i] = bins.any_within(fluid_x[i], 0.5 * dx * 0.999);
   }
+  // Per fluid shape: it must make particles, and at most half of them may fall inside walls.
+  {
+    std::vector<std::size_t> made(c.shapes.size(), 0), dropped(c.shapes.size(), 0);
+    for (std::size_t i = 0; i < fluid_x.size(); ++i) { ++made[fluid_shape[i]]; dropped[fluid_shape[i]] += drop[i] ? 1 : 0; }
+    for (std::size_t si = 0; si < c.shapes.size(); ++si) {
+      if (c.shapes[si].fill != "fluid") continue;
+      if (made[si] == 0)
+        throw InputError(fmt::format("{}: the fluid shape makes no particles: expected a shape at least particles.dx = {} m "
+                                     "wide in every direction (lattice points sit at min + (i + 1/2) dx)",
+                                     shape_where(c, si), dx));
+      if (2 * dropped[si] > made[si])
+        throw InputError(fmt::format("{}: {} of the fluid shape's {} lattice points ({:.0f} %) lie inside walls (closer "
+                                     "than dx/2 to a wall particle): expected a fluid shape at most half inside walls "
+                                     "(move it off the walls, or check its coordinates)",
+                                     shape_where(c, si), dropped[si], made[si], 100.0 * dropped[si] / made[si]));
+    }
+  }
+  if (fluid_x.empty())
+    throw InputError(fmt::format("{}: line {}: 'geometry': the geometry makes no fluid particles: expected a shape with "
+                                 "'fill: fluid' at least dx = {} m wide", c.file, c.geometry_line, dx));
 
   if (std::count(drop.begin(), drop.end(), 0) == 0)
     throw InputError(fmt::format("{}: every fluid particle lies inside a wall: move the fluid shapes off the walls", c.file));
@@ -139,6 +359,11 @@ BuildReport build_system(const Case& c, System<D>& S) {
                                    "fluid.reference_velocity (c0 = 10 x it)", c.file));
     c0 = 10.0 * U;
   }
+  if (!std::isnormal(c0 * c0) || !std::isnormal(S.eos.B()))
+    throw InputError(fmt::format("{}: the sound speed c0 = {:.4g} m/s (fluid.sound_speed, or 10 x fluid.reference_velocity "
+                                 "or 10 sqrt(2 |g| H)) gives B = c0^2 rho0 / gamma = {:.4g} Pa: expected values of "
+                                 "ordinary size (check gravity, fluid.sound_speed and fluid.gamma)",
+                                 c.file, c0, c0 * c0 * c.fluid.density / c.fluid.gamma));
   S.eos.c0 = c0;
 
   // Hydrostatic initial density: surface = top of the fluid in each lattice column.
@@ -157,6 +382,7 @@ BuildReport build_system(const Case& c, System<D>& S) {
     }
 
   auto& P = S.particles;
+  const double rho_wall = S.eos.density(S.eos.background);
   for (std::size_t i = 0; i < fluid_x.size(); ++i) {
     if (drop[i]) { ++rep.fluid_dropped_in_walls; continue; }
     double rho = c.fluid.density;
@@ -164,13 +390,18 @@ BuildReport build_system(const Case& c, System<D>& S) {
       const double zs = top[column(fluid_x[i])] + 0.5 * dx;
       rho = S.eos.density(S.eos.background + c.fluid.density * gz * (zs - fluid_x[i][vz]));
     } else if (S.eos.background != 0.0) {
-      rho = S.eos.density(S.eos.background);
+      rho = rho_wall;
     }
+    if (!std::isnormal(rho) || rho < 0 || !std::isnormal(rho * m))
+      throw InputError(fmt::format("{}: the initial density of the fluid at {} comes out as {:.4g} kg/m3 (hydrostatic "
+                                   "pressure from gravity, fluid.gamma, fluid.background_pressure): expected a positive "
+                                   "finite density (check those values, or set fluid.hydrostatic_init: false)",
+                                   shape_where(c, fluid_shape[i]), fluid_x[i][0], rho));
     P.add(fluid_x[i], fluid_v[i], rho, m, Kind::Fluid);
     ++rep.fluid;
   }
   for (const auto& x : wall_x) {
-    P.add(x, Vec<D>{}, S.eos.density(S.eos.background), m, Kind::Wall);
+    P.add(x, Vec<D>{}, rho_wall, m, Kind::Wall);
     ++rep.wall;
   }
 
@@ -189,7 +420,7 @@ BuildReport build_system(const Case& c, System<D>& S) {
   return rep;
 }
 
-template BuildReport build_system<2>(const Case&, System<2>&);
-template BuildReport build_system<3>(const Case&, System<3>&);
+template BuildReport build_system<2>(const Case&, System<2>&, const BuildLimits&);
+template BuildReport build_system<3>(const Case&, System<3>&, const BuildLimits&);
 
 }  // namespace sph

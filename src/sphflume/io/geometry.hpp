@@ -15,11 +15,22 @@ struct BuildReport {
   double fluid_height = 0.0;  // vertical extent of the fluid
 };
 
+/// What build_system refuses before allocating anything (InputError): a geometry that would
+/// make more particles, or span more neighbour-search cells (side = the kernel support) over
+/// the run's box, than this. The defaults only stop absurd cases (a dx typo); the fuzzer and
+/// tests pass smaller limits.
+struct BuildLimits {
+  double max_particles = 5e8;
+  double max_cells = 268435456.0;  // 2^28: 1 GiB of cell starts
+};
+
 /// Number of wall layers that covers the kernel support.
 int wall_layers_for(const Case& c);
 
 /// Fill S.particles from the case geometry and set kernel, h, EOS, gravity, periodicity.
+/// Checks the geometry first (docs/case-file.md, "Errors"): fluid shapes inside the domain,
+/// not mostly inside walls, a sane particle count; throws InputError before computing.
 template <int D>
-BuildReport build_system(const Case& c, System<D>& S);
+BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits = {});
 
 }  // namespace sph

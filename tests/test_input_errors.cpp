@@ -1,0 +1,264 @@
+// Bad input: every problem is an InputError whose message names the file, the line and the
+// dotted key and says what was expected (docs/case-file.md, "Errors"). Parse-time checks
+// (case.cpp) and build-time checks (geometry.cpp's build_system, before anything is computed).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "sphflume/boundaries/walls.hpp"
+#include "sphflume/io/case.hpp"
+#include "sphflume/io/geometry.hpp"
+#include "sphflume/physics/force_terms.hpp"
+
+using namespace sph;
+
+namespace {
+
+// line numbers:   1            2            3             4          5       6
+const char* kCase = R"(name: t
+dimension: 2
+particles:
+  dx: 0.01
+fluid:
+  density: 1000.0
+geometry:
+  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.3]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}
+time:
+  end: 1.0
+  output_interval: 0.1
+)";
+// line 7: geometry, 8: geometry.0 (tank), 9: geometry.1 (fluid box), 10: time, 11: end, 12: output_interval
+
+std::string replaced(std::string t, const std::string& from, const std::string& to) {
+  const auto at = t.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) t.replace(at, from.size(), to);
+  return t;
+}
+
+/// The message of the InputError that parsing and building `text` raises ("" if none).
+std::string error_of(const std::string& text, const BuildLimits& limits = {}) {
+  try {
+    const Case c = parse_case(text, "case.yaml");
+    if (c.dimension == 2) {
+      System<2> S;
+      build_system<2>(c, S, limits);
+    } else {
+      System<3> S;
+      build_system<3>(c, S, limits);
+    }
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+#define EXPECT_HAS(msg, part) EXPECT_NE((msg).find(part), std::string::npos) << "message: " << (msg) << "\nlacks: " << (part)
+
+}  // namespace
+
+TEST(InputErrors, BaseCaseIsValid) { EXPECT_EQ(error_of(kCase), ""); }
+
+TEST(InputErrors, YamlSyntaxHasLineAndColumn) {
+  const std::string e = error_of(replaced(kCase, "max: [0.1, 0.1]}", "max: [0.1, 0.1}"));
+  EXPECT_HAS(e, "case.yaml: line 9, column");
+  EXPECT_HAS(e, "YAML syntax error");
+  const std::string e2 = error_of("particles:\n  dx: 0.1\n   kernel: x\n");
+  EXPECT_HAS(e2, "case.yaml: line 3, column");
+  EXPECT_HAS(e2, "YAML syntax error");
+}
+
+TEST(InputErrors, UnknownKeysSuggestTheClosest) {
+  std::string e = error_of(replaced(kCase, "time:", "tme:"));
+  EXPECT_HAS(e, "case.yaml: line 10: unknown key 'tme' (did you mean 'time'?)");
+  e = error_of(replaced(kCase, "fill: fluid, min:", "fill: fluid, mn:"));
+  EXPECT_HAS(e, "line 9: unknown key 'geometry.1.mn' (did you mean 'geometry.1.min'?)");
+  e = error_of(replaced(kCase, "  output_interval", "  output_intervall"));
+  EXPECT_HAS(e, "line 12: unknown key 'time.output_intervall' (did you mean 'time.output_interval'?)");
+  e = error_of(replaced(kCase, "  dx: 0.01", "  dx: 0.01\n  [a, b]: 1"));
+  EXPECT_HAS(e, "line 5: 'particles': expected keys that are plain names");
+}
+
+TEST(InputErrors, MissingRequiredKeysAndSections) {
+  std::string e = error_of(replaced(kCase, "  dx: 0.01\n", "  kernel: cubic_spline\n"));
+  EXPECT_HAS(e, "case.yaml: line 4: missing required key 'particles.dx': expected a positive number");
+  e = error_of(replaced(kCase, "{type: box, fill: fluid,", "{fill: fluid,"));
+  EXPECT_HAS(e, "line 9: missing required key 'geometry.1.type': expected a shape type");
+  e = error_of(replaced(kCase, "time:\n  end: 1.0\n", "time:\n"));
+  EXPECT_HAS(e, "line 11: missing required key 'time.end': expected a positive number");  // the section's line
+  e = error_of(replaced(kCase, "fluid:\n  density: 1000.0\n", ""));
+  EXPECT_HAS(e, "case.yaml: missing required section 'fluid'");
+  e = error_of(replaced(kCase, "particles:\n  dx: 0.01\n", ""));
+  EXPECT_HAS(e, "case.yaml: missing required section 'particles' (with at least dx");
+  e = error_of(replaced(kCase, "{type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}", "{type: box, fill: fluid, min: [0.0, 0.0]}"));
+  EXPECT_HAS(e, "line 9: 'geometry.1': expected 'min' and 'max' corners");
+}
+
+TEST(InputErrors, WrongTypes) {
+  std::string e = error_of(replaced(kCase, "dx: 0.01", "dx: fine"));
+  EXPECT_HAS(e, "case.yaml: line 4: 'particles.dx': expected a number");
+  e = error_of(replaced(kCase, "dimension: 2", "dimension: 2.5"));
+  EXPECT_HAS(e, "line 2: 'dimension': expected an integer");
+  e = error_of(replaced(kCase, "  density: 1000.0", "  hydrostatic_init: maybe"));
+  EXPECT_HAS(e, "line 6: 'fluid.hydrostatic_init': expected true or false");
+  e = error_of(replaced(kCase, "max: [0.1, 0.1]", "max: [0.1, high]"));
+  EXPECT_HAS(e, "line 9: 'geometry.1.max': expected a list of 2 numbers");
+  e = error_of(replaced(kCase, "  density: 1000.0", "  density: [1000.0]"));
+  EXPECT_HAS(e, "line 6: 'fluid.density': expected a number");
+  e = error_of(replaced(kCase, "time:\n  end: 1.0\n  output_interval: 0.1\n", "time: 1.0\n"));
+  EXPECT_HAS(e, "line 10: 'time': expected a mapping");
+}
+
+TEST(InputErrors, OutOfRangeValues) {
+  std::string e = error_of(replaced(kCase, "dx: 0.01", "dx: 0"));
+  EXPECT_HAS(e, "case.yaml: line 4: 'particles.dx': expected a positive number (got 0)");
+  e = error_of(replaced(kCase, "dx: 0.01", "dx: -0.01"));
+  EXPECT_HAS(e, "line 4: 'particles.dx': expected a positive number (got -0.01)");
+  e = error_of(replaced(kCase, "density: 1000.0", "density: 0"));
+  EXPECT_HAS(e, "line 6: 'fluid.density': expected a positive number (got 0)");
+  e = error_of(replaced(kCase, "density: 1000.0", "density: -1000"));
+  EXPECT_HAS(e, "line 6: 'fluid.density': expected a positive number (got -1000)");
+  e = error_of(replaced(kCase, "  dx: 0.01", "  dx: 0.01\n  h_over_dx: 3.0"));
+  EXPECT_HAS(e, "line 5: 'particles.h_over_dx': expected a number in [1, 2.5] (got 3)");
+  e = error_of(replaced(kCase, "  dx: 0.01", "  dx: 0.01\n  kernel: quintic_spline\n  h_over_dx: 0.5"));
+  EXPECT_HAS(e, "line 6: 'particles.h_over_dx': expected a number in [0.8, 1.5] (got 0.5)");
+  e = error_of(replaced(kCase, "end: 1.0", "end: 0"));
+  EXPECT_HAS(e, "line 11: 'time.end': expected a positive number (got 0)");
+  e = error_of(replaced(kCase, "end: 1.0", "end: -2"));
+  EXPECT_HAS(e, "line 11: 'time.end': expected a positive number (got -2)");
+  e = error_of(replaced(kCase, "output_interval: 0.1", "output_interval: 0"));
+  EXPECT_HAS(e, "line 12: 'time.output_interval': expected a positive number (got 0)");
+  e = error_of(replaced(kCase, "output_interval: 0.1", "output_interval: -0.1"));
+  EXPECT_HAS(e, "line 12: 'time.output_interval': expected a positive number (got -0.1)");
+  e = error_of(replaced(kCase, "output_interval: 0.1", "output_interval: 1.0e-12"));
+  EXPECT_HAS(e, "line 12: 'time.output_interval': expected at most 1e+07 output times");
+}
+
+TEST(InputErrors, NonFiniteNumbersAnywhere) {
+  std::string e = error_of(replaced(kCase, "dx: 0.01", "dx: .nan"));
+  EXPECT_HAS(e, "case.yaml: line 4: 'particles.dx': expected a finite number (got .nan)");
+  e = error_of(replaced(kCase, "density: 1000.0", "density: .inf"));
+  EXPECT_HAS(e, "line 6: 'fluid.density': expected a finite number (got .inf)");
+  e = error_of(replaced(kCase, "end: 1.0", "end: .Inf"));
+  EXPECT_HAS(e, "line 11: 'time.end': expected a finite number (got .Inf)");
+  e = error_of(replaced(kCase, "dimension: 2", "dimension: 2\ngravity: [0.0, -.inf]"));
+  EXPECT_HAS(e, "line 3: 'gravity': expected finite numbers (got -.inf)");
+  e = error_of(replaced(kCase, "max: [0.1, 0.1]", "max: [.NaN, 0.1]"));
+  EXPECT_HAS(e, "line 9: 'geometry.1.max': expected finite numbers (got .NaN)");
+  e = error_of(replaced(kCase, "density: 1000.0", "background_pressure: .nan"));
+  EXPECT_HAS(e, "line 6: 'fluid.background_pressure': expected a finite number (got .nan)");
+  e = error_of(replaced(kCase, "{type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}",
+                        "{type: polygon, vertices: [[0.0, 0.0], [0.1, .inf], [0.0, 0.1]]}"));
+  EXPECT_HAS(e, "line 9: 'geometry.1.vertices': expected [x, z] pairs of finite numbers");
+  e = error_of(std::string(kCase) + "forces:\n  - {type: body_force, acceleration: [1.0, .nan]}\n");
+  EXPECT_HAS(e, "line 14: 'forces.0.acceleration.1': expected a finite number (got .nan)");
+}
+
+TEST(InputErrors, GeometryWithoutFluid) {
+  std::string e = error_of(replaced(kCase, "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}\n", ""));
+  EXPECT_HAS(e, "case.yaml: line 7: 'geometry': the geometry makes no fluid particles: expected a shape with 'fill: fluid'");
+  // a fluid shape thinner than dx makes no particles
+  e = error_of(replaced(kCase, "max: [0.1, 0.1]", "max: [0.1, 0.005]"));
+  EXPECT_HAS(e, "case.yaml: line 9: 'geometry.1': the fluid shape makes no particles: expected a shape at least "
+                "particles.dx = 0.01 m wide");
+  e = error_of(replaced(kCase, "geometry:\n", "geometry: []\nx:\n"));
+  EXPECT_HAS(e, "line 7: 'geometry': expected a list of shapes");
+}
+
+TEST(InputErrors, FluidOutsideTheDomain) {
+  const std::string with_domain = replaced(kCase, "fluid:\n", "domain: {min: [-0.1, -0.1], max: [0.5, 0.6]}\nfluid:\n");
+  EXPECT_EQ(error_of(with_domain), "");
+  // fluid box now on line 10
+  std::string e = error_of(replaced(with_domain, "min: [0.0, 0.0], max: [0.1, 0.1]", "min: [0.0, 0.0], max: [0.1, 0.7]"));
+  EXPECT_HAS(e, "case.yaml: line 10: 'geometry.1': the fluid shape extends outside the domain along z (0 .. 0.7 m, "
+                "domain.min/max -0.1 .. 0.6 m): expected fluid shapes inside the domain");
+  e = error_of(replaced(with_domain, "min: [0.0, 0.0], max: [0.1, 0.1]", "min: [-0.2, 0.0], max: [0.1, 0.1]"));
+  EXPECT_HAS(e, "line 10: 'geometry.1': the fluid shape extends outside the domain along x");
+  // walls may stick out (only fluid is removed at the domain's faces)
+  EXPECT_EQ(error_of(replaced(with_domain, "max: [0.5, 0.6]}", "max: [0.3, 0.2]}")), "");
+}
+
+TEST(InputErrors, FluidInsideWalls) {
+  // a fluid box drawn over a sloping bed: the few points under the bed are dropped
+  const std::string bed = replaced(kCase, "  - {type: box, fill: fluid",
+                                   "  - {type: polygon, fill: wall, vertices: [[0.2, 0.0], [0.4, 0.0], [0.4, 0.1]]}\n"
+                                   "  - {type: box, fill: fluid");
+  const std::string over_bed = replaced(bed, "max: [0.1, 0.1]", "max: [0.4, 0.2]");
+  {
+    const Case c = parse_case(over_bed, "case.yaml");
+    System<2> S;
+    const BuildReport rep = build_system<2>(c, S);
+    EXPECT_GT(rep.fluid_dropped_in_walls, 0u);
+    EXPECT_LT(rep.fluid_dropped_in_walls, rep.fluid / 4);
+  }
+  // a fluid box mostly inside a wall block: an error naming the shape
+  const std::string block = replaced(kCase, "  - {type: box, fill: fluid",
+                                     "  - {type: box, fill: wall, min: [0.0, 0.0], max: [0.4, 0.1]}\n"
+                                     "  - {type: box, fill: fluid");
+  std::string e = error_of(replaced(block, "max: [0.1, 0.1]}", "max: [0.1, 0.15]}"));
+  EXPECT_HAS(e, "case.yaml: line 10: 'geometry.2': 100 of the fluid shape's 150 lattice points (67 %) lie inside walls");
+  EXPECT_HAS(e, "expected a fluid shape at most half inside walls");
+  // entirely inside
+  e = error_of(block);
+  EXPECT_HAS(e, "line 10: 'geometry.2': 100 of the fluid shape's 100 lattice points (100 %) lie inside walls");
+  // less than half inside: dropped, no error
+  EXPECT_EQ(error_of(replaced(block, "max: [0.1, 0.1]}", "max: [0.1, 0.3]}")), "");
+}
+
+TEST(InputErrors, AbsurdParticleCountsAreRefusedBeforeAllocating) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string e = error_of(replaced(kCase, "dx: 0.01", "dx: 1.0e-7"));
+  EXPECT_HAS(e, "case.yaml: line 7: 'geometry': the shapes would make about 1e+12 particles at particles.dx = 1e-07 m "
+                "(most in geometry.1, line 9): expected at most 5e+08: use dx >= 4.56e-06 m");
+  e = error_of(replaced(kCase, "dimension: 2", "dimension: 3"));  // (coordinates now have 2 numbers)
+  EXPECT_HAS(e, "line 8: 'geometry.0.min': expected a list of 3 numbers");
+  // a typo in a coordinate: 1e3 m instead of 0.1 m
+  e = error_of(replaced(kCase, "max: [0.1, 0.1]", "max: [1e3, 1e3]"));
+  EXPECT_HAS(e, "the shapes would make about 1e+10 particles at particles.dx = 0.01 m (most in geometry.1, line 9)");
+  // shapes far apart: few particles, but a neighbour search over an absurd box
+  e = error_of(replaced(kCase, "max: [0.4, 0.3]}", "max: [0.4, 0.3]}\n  - {type: box, fill: wall, min: [1.0e5, 1.0e5], max: [1.0e5, 1.0e5]}"));
+  EXPECT_HAS(e, "line 9: 'geometry.1.max': expected max > min");  // checked first
+  e = error_of(replaced(kCase, "max: [0.4, 0.3]}", "max: [0.4, 0.3]}\n  - {type: box, fill: wall, min: [1.0e5, 1.0e5], max: [1.00001e5, 1.00001e5]}"));
+  EXPECT_HAS(e, "line 7: 'geometry': the run's box");
+  EXPECT_HAS(e, "neighbour-search cells of the kernel support (0.03 m)");
+  // coordinates too far from the origin to place particles dx apart
+  e = error_of(replaced(kCase, "max: [0.4, 0.3]}", "max: [0.4, 0.3]}\n  - {type: box, fill: wall, min: [1.0e12, 0.0], max: [1.00000000001e12, 0.01]}"));
+  EXPECT_HAS(e, "line 7: 'geometry': coordinates as large as 1e+12 m cannot be resolved at particles.dx = 0.01 m");
+  // a smaller limit (the fuzzer's) names the dx that fits
+  BuildLimits small;
+  small.max_particles = 100;
+  e = error_of(kCase, small);
+  EXPECT_HAS(e, "the shapes would make about 418 particles at particles.dx = 0.01 m (most in geometry.0, line 8): "
+                "expected at most 100: use dx >= 0.0");
+  // ... and that dx fits
+  const std::string fit = e.substr(e.find("dx >= ") + 6, e.find(" m or") - e.find("dx >= ") - 6);
+  EXPECT_EQ(error_of(replaced(kCase, "dx: 0.01", "dx: " + fit), small), "") << fit;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 2.0);  // refused up front, not after filling memory
+}
+
+TEST(InputErrors, DerivedValuesMustBeFinite) {
+  std::string e = error_of(replaced(kCase, "dimension: 2", "dimension: 2\ngravity: [0.0, -1.0e300]"));
+  EXPECT_HAS(e, "case.yaml: the sound speed c0 = ");
+  EXPECT_HAS(e, "expected values of ordinary size (check gravity, fluid.sound_speed and fluid.gamma)");
+  e = error_of(replaced(kCase, "dx: 0.01", "dx: 1.0e-200"));
+  EXPECT_HAS(e, "'particles.dx' = 1e-200 m with 'fluid.density' = 1000 kg/m3 gives a particle mass of 0 kg");
+  e = error_of(replaced(replaced(kCase, "density: 1000.0", "density: 1000.0\n  gamma: 0.01\n  sound_speed: 1"),
+                        "dimension: 2", "dimension: 2\ngravity: [0.0, -1.0e10]"));
+  EXPECT_HAS(e, "case.yaml: line 12: 'geometry.1': the initial density of the fluid at");
+  EXPECT_HAS(e, "expected a positive finite density");
+}
+
+TEST(InputErrors, PeriodicDomainAndChoices) {
+  std::string e = error_of(replaced(kCase, "fluid:\n", "domain: {min: [0.0, 0.0], max: [0.4, 0.3], periodic: [y]}\nfluid:\n"));
+  EXPECT_HAS(e, "line 5: 'domain.periodic': expected axes among x, z");
+  e = error_of(replaced(kCase, "fluid:\n", "domain: {min: [0.0, 0.0], max: [0.4, 0.3], periodic: [[x]]}\nfluid:\n"));
+  EXPECT_HAS(e, "line 5: 'domain.periodic': expected axes among x, z");
+  e = error_of(replaced(kCase, "fluid:\n", "domain: {min: [0.0, 0.0]}\nfluid:\n"));
+  EXPECT_HAS(e, "line 5: 'domain': expected both 'min' and 'max' corners (or neither)");
+  e = error_of(replaced(kCase, "density: 1000.0", "eos: Tait"));
+  EXPECT_HAS(e, "line 6: 'fluid.eos': expected one of tait, linear (got 'Tait')");
+}
