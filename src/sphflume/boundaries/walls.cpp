@@ -25,7 +25,7 @@ class DummyWalls final : public WallModel<D> {
     const bool clamp = this->cfg.clamp_negative_pressure;
     // walls with no fluid within the kernel support keep the background state: skip their
     // neighbour search (most of a tank's walls, most of the time)
-    S.cells.mark_near(near_, [&](std::size_t j) { return P.kind[j] == Kind::Fluid; });
+    S.cells.mark_near(near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
     const auto& cells = S.cells;
     const std::size_t ncell = cells.cell_count();
     const std::uint32_t* __restrict sorted = cells.sorted().data();
@@ -69,7 +69,7 @@ class DummyWalls final : public WallModel<D> {
             double* __restrict cf = B[FLUID];
             // only fluid entries are read: other threads are writing wall pressures meanwhile
             st.for_each([&](std::size_t m, std::uint32_t j) {
-              const bool fl = kind[j] == Kind::Fluid;
+              const bool fl = fluid_like(kind[j]);
               for (int d = 0; d < D; ++d) { cx[d][m] = pos[j][d]; cv[d][m] = fl ? vel[j][d] : 0.0; }
               cp[m] = fl ? prs[j] : 0.0;
               cr[m] = fl ? rho[j] : 0.0;

@@ -1,5 +1,5 @@
 // Kernel interpolation of particle fields at arbitrary points (gauges, probes, averaging
-// nodes), from fluid particles only. Requires an up-to-date cell list in S.
+// nodes), from the particles that carry water (fluid, inflow, outflow). Requires an up-to-date cell list in S.
 #pragma once
 #include <cmath>
 #include <limits>
@@ -18,7 +18,7 @@ double fluid_fraction(const System<D>& S, const Vec<D>& x) {
   return S.with_kernel([&](const auto& K) {
     double s = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-      if (P.kind[b] == Kind::Fluid) s += P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+      if (fluid_like(P.kind[b])) s += P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
     });
     return s;
   });
@@ -39,7 +39,7 @@ std::optional<double> interpolate_mls(const System<D>& S, const Vec<D>& x, Field
     double sw = 0.0, sf = 0.0;
     int n = 0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
-      if (P.kind[b] != Kind::Fluid) return;
+      if (!fluid_like(P.kind[b])) return;
       const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
       Vv q;
       q[0] = 1.0;
@@ -68,7 +68,7 @@ std::optional<double> interpolate_shepard(const System<D>& S, const Vec<D>& x, F
   return S.with_kernel([&](const auto& K) -> std::optional<double> {
     double sw = 0.0, sf = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-      if (P.kind[b] != Kind::Fluid) return;
+      if (!fluid_like(P.kind[b])) return;
       const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
       sw += w;
       sf += w * f(b);

@@ -20,6 +20,10 @@ namespace sph {
 enum class Kind : std::uint8_t { Fluid = 0, Wall = 1, Inflow = 2, Outflow = 3 };
 inline constexpr int kKindCount = 4;
 
+/// Particles that carry water: fluid, and the inflow/outflow particles of open boundaries, whose
+/// state is imposed instead of integrated. They are the sources of every fluid-side sum.
+inline bool fluid_like(Kind k) { return k == Kind::Fluid || k == Kind::Inflow || k == Kind::Outflow; }
+
 inline const char* kind_name(Kind k) {
   switch (k) {
     case Kind::Fluid: return "fluid";

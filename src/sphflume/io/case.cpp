@@ -266,8 +266,8 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, front or energy");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "front", "energy"});
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, front, energy or flux");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "front", "energy", "flux"});
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.type == "water_level") {
     g.point = r.vec("point", d);
@@ -280,7 +280,8 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
     g.point = r.vec("point", d);
     if (g.point.empty()) r.misspelt("point");
     if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
-  } else if (g.type == "velocity_profile") {
+  } else if (g.type == "velocity_profile" || g.type == "flux") {
+    if (g.type == "flux" && dim != 2) r.fail_at(n, path, "a 2D case (flux gauges are 2D in this version)");
     g.start = r.vec("start", d);
     g.end = r.vec("end", d);
     for (const char* k : {"start", "end"})
@@ -314,6 +315,54 @@ void reject_non_finite(const Reader& r, const YAML::Node& n, const std::string& 
 }
 
 constexpr double kMaxOutputs = 1e7;  // snapshots/gauge rows: more is a typo, not a plan
+
+ProfileConfig read_profile(const YAML::Node& n, const std::string& file, const std::string& path) {
+  Reader r(n, file, path);
+  ProfileConfig p;
+  p.type = r.choice("type", "uniform", {"uniform", "parabolic", "log", "table"});
+  if (p.type == "uniform") p.u = r.required<double>("u", "the velocity u in m/s");
+  if (p.type == "parabolic") p.u_surface = r.required<double>("u_surface", "the surface velocity in m/s");
+  if (p.type == "log") {
+    p.u_star = r.positive("u_star", 0.0, true);
+    p.ks = r.positive("ks", 0.0, true);
+  }
+  if (p.type == "table") {
+    const YAML::Node z = r.get("z"), u = r.get("u");
+    if (!z.IsSequence() || !u.IsSequence() || z.size() != u.size() || z.size() < 1)
+      r.fail_at(n, path, "lists 'z' and 'u' of the same length (heights above the bed and velocities)");
+    for (std::size_t i = 0; i < z.size(); ++i) {
+      p.z.push_back(r.as<double>(z[i], "z"));
+      p.values.push_back(r.as<double>(u[i], "u"));
+      if (i > 0 && !(p.z[i] > p.z[i - 1])) r.fail_at(z[i], r.key_path("z"), "increasing heights");
+    }
+  }
+  r.finish();
+  return p;
+}
+
+OpenBoundaryConfig read_open_boundary(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+  Reader r(n, file, path);
+  OpenBoundaryConfig b;
+  b.line = n.Mark().line + 1;
+  (void)r.required<std::string>("type", "inflow or outflow");
+  b.type = r.choice("type", "", {"inflow", "outflow"});
+  if (dim != 2) r.fail_at(n, path, "a 2D case (open boundaries are 2D in this version)");
+  const std::vector<double> zone = r.vec("zone", 2);
+  if (zone.empty()) r.fail_at(n, r.key_path("zone"), "the zone along x, [x_start, x_end]");
+  b.x0 = zone[0];
+  b.x1 = zone[1];
+  if (!(b.x1 > b.x0)) r.fail_at(r.get("zone"), r.key_path("zone"), "[x_start, x_end] with x_end > x_start");
+  b.bed = r.scalar<double>("bed", 0.0);
+  b.depth = r.positive("depth", 0.0, true);
+  if (b.type == "outflow") b.frozen = r.choice("velocity", "imposed", {"imposed", "frozen"}) == "frozen";
+  if (b.type == "inflow") b.initial_profile = r.scalar<bool>("initial_profile", false);
+  if (!(b.type == "outflow" && b.frozen) || r.has("profile")) {
+    if (!r.has("profile")) r.fail_at(n, r.key_path("profile"), "a velocity profile, e.g. {type: uniform, u: 0.5}");
+    b.profile = read_profile(r.get("profile"), file, r.key_path("profile"));
+  }
+  r.finish();
+  return b;
+}
 
 Case build_case(YAML::Node root, const std::string& file) {
   Case c;
@@ -442,6 +491,20 @@ Case build_case(YAML::Node root, const std::string& file) {
       c.gauges.push_back(read_gauge(gs[i], file, fmt::format("gauges.{}", i), c.dimension));
       if (!names.insert(c.gauges.back().name).second)
         top.fail_at(gs[i], fmt::format("gauges.{}.name", i), "a name not used by another gauge");
+    }
+  }
+  if (top.has("open_boundaries")) {
+    const YAML::Node ob = top.get("open_boundaries");
+    if (!ob.IsSequence()) top.fail_at(ob, "open_boundaries", "a list of inflow/outflow zones");
+    for (std::size_t i = 0; i < ob.size(); ++i)
+      c.open_boundaries.push_back(read_open_boundary(ob[i], file, fmt::format("open_boundaries.{}", i), c.dimension));
+    int nin = 0, nout = 0;
+    for (const auto& b : c.open_boundaries) (b.type == "inflow" ? nin : nout)++;
+    if (nin > 1 || nout > 1) top.fail_at(ob, "open_boundaries", "at most one inflow and one outflow zone");
+    if (nin == 1 && nout == 1) {
+      const auto& in = c.open_boundaries[c.open_boundaries[0].type == "inflow" ? 0 : 1];
+      const auto& out = c.open_boundaries[c.open_boundaries[0].type == "inflow" ? 1 : 0];
+      if (!(out.x0 > in.x1)) top.fail_at(ob, "open_boundaries", "the outflow zone downstream (+x) of the inflow zone");
     }
   }
   if (top.has("forces")) {

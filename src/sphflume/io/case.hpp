@@ -74,12 +74,34 @@ struct ShapeConfig {
 };
 
 struct GaugeConfig {
-  std::string name, type;  // water_level | pressure | velocity_profile | front | energy
+  std::string name, type;  // water_level | pressure | velocity_profile | front | energy | flux
   std::vector<double> point, start, end;
   double x = 0.0;  // water_level: vertical line at x (and y in 3D via point)
   int points = 20;
   int axis = 0;     // front: axis along which the surge runs
   double direction = 1.0;  // front: +1 or -1
+  int line = 0;
+};
+
+/// A velocity profile u(z) along the flow direction, z measured from the bed.
+struct ProfileConfig {
+  std::string type = "uniform";  // uniform | parabolic | log | table
+  double u = 0.0;                // uniform: u
+  double u_surface = 0.0;        // parabolic: u at the surface, u = u_s (2 ζ − ζ²), ζ = z / depth
+  double u_star = 0.0, ks = 0.0; // log: u = u*/κ ln(z/ks) + 8.5 u* (Nikuradse, rough), κ = 0.41
+  std::vector<double> z, values; // table: u at heights z (linear in between, constant outside)
+};
+
+/// An open boundary zone across the channel, flow along +x (Federico's in/out-flow algorithm).
+struct OpenBoundaryConfig {
+  std::string type;              // inflow | outflow
+  double x0 = 0.0, x1 = 0.0;     // the zone along x: [x0, x1)
+  double bed = 0.0;              // z of the bed (the profile's z = 0)
+  double depth = 0.0;            // inflow: imposed depth (particles fill bed <= z < bed + depth);
+                                 // outflow: the depth the profile is scaled with
+  bool frozen = false;           // outflow: keep the velocity held on entering (true) or impose the profile
+  bool initial_profile = false;  // inflow: also give the fluid downstream the profile at t = 0
+  ProfileConfig profile;
   int line = 0;
 };
 
@@ -101,6 +123,7 @@ struct Case {
   double t_end = 0.0, output_interval = 0.0;
   std::vector<GaugeConfig> gauges;
   YAML::Node forces;  // list of registered force terms, each {type: NAME, ...}
+  std::vector<OpenBoundaryConfig> open_boundaries;
   YAML::Node raw;     // the whole document after --set overrides
 
   double h() const { return h_over_dx * dx; }

@@ -14,6 +14,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "sphflume/boundaries/open_boundary.hpp"
 #include "sphflume/core/particles.hpp"
 
 namespace sph {
@@ -35,6 +36,7 @@ struct RunState {
   double initial_mass = 0.0;  // fluid mass at t = 0 (the mass balance covers the whole run)
   double removed_mass = 0.0;
   std::map<std::string, long> removed_by_face;
+  OpenFlowCounters open;                  // inflow/outflow masses, backflow count, next particle id
   std::map<std::string, double> scheme;   // the scheme's own state (Scheme::state)
   std::vector<SnapshotEntry> snapshots;   // the time series so far
   std::string case_text;                  // canonical case text (case_fingerprint)

@@ -109,7 +109,12 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
       for (std::uint32_t k = c0k; k < c1k; ++k) {
         const std::uint32_t a = sorted[k];
         if (a >= n_owned) continue;
-        if (kind[a] == Kind::Wall && !dyn) { acc_out[a] = Vec<D>{}; drho_out[a] = 0.0; continue; }
+        // imposed-state particles need no rates: walls (unless dynamic), inflow, outflow
+        if ((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Inflow || kind[a] == Kind::Outflow) {
+          acc_out[a] = Vec<D>{};
+          drho_out[a] = 0.0;
+          continue;
+        }
         any = true;
       }
       if (!any) continue;
@@ -126,7 +131,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         F32* __restrict cf = B[FLUID];
         F32* __restrict ccs = B[CS];
         st.for_each([&](std::size_t m, std::uint32_t b) {
-          const bool fl = kind[b] == Kind::Fluid;
+          const bool fl = fluid_like(kind[b]);
           for (int d = 0; d < D; ++d) {
             cx[d][m] = F32(pos[b][d] - origin[d]);
             cu[d][m] = F32(vel[b][d]);
@@ -162,7 +167,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         const std::uint32_t a = sorted[ka_k];
         if (a >= n_owned) continue;
         const Kind ka = kind[a];
-        if (ka == Kind::Wall && !dyn) continue;
+        if ((ka == Kind::Wall && !dyn) || ka == Kind::Inflow || ka == Kind::Outflow) continue;
         const F32 xa0 = F32(pos[a][0] - origin[0]), xa1 = F32(pos[a][1] - origin[1]);
         const F32 xa2 = F32(pos[a][D - 1] - origin[D - 1]);
         const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
@@ -327,6 +332,10 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const bool fluid = P.kind[i] == Kind::Fluid;
+    if (P.kind[i] == Kind::Inflow || P.kind[i] == Kind::Outflow) {
+      P.pos[i] += dt * P.vel[i];  // open-boundary particles move with their imposed velocity
+      continue;
+    }
     if (!fluid && !(P.kind[i] == Kind::Wall && dyn)) continue;
     const double r_new = (euler ? P.rho[i] : rprev[i]) + dt2 * P.drho[i];
     rprev[i] = P.rho[i];
@@ -366,6 +375,8 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
       P.pos[i] += hdt * u;
       P.vel[i] += hdt * P.acc[i];
       P.rho[i] += hdt * P.drho[i];
+    } else if (P.kind[i] == Kind::Inflow || P.kind[i] == Kind::Outflow) {
+      P.pos[i] += hdt * P.vel[i];  // open-boundary particles move with their imposed velocity
     } else if (P.kind[i] == Kind::Wall && dyn) {
       P.rho[i] += hdt * P.drho[i];
     }
@@ -378,6 +389,10 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const bool fluid = P.kind[i] == Kind::Fluid;
+    if (P.kind[i] == Kind::Inflow || P.kind[i] == Kind::Outflow) {
+      P.pos[i] = x0[i] + dt * P.vel[i];
+      continue;
+    }
     if (!fluid && !(P.kind[i] == Kind::Wall && dyn)) continue;
     if (symplectic) {
       const double eps = -P.drho[i] / P.rho[i] * dt;

@@ -18,6 +18,7 @@
 #include <omp.h>
 #endif
 
+#include "sphflume/boundaries/open_boundary.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/gauges.hpp"
 #include "sphflume/io/geometry.hpp"
@@ -135,11 +136,13 @@ struct Run {
   Vec<D> lo, hi;  // particles outside are removed
   RunState rs;
   HealthLimits limits;
+  OpenBoundaries<D> open;
 
-  explicit Run(const Case& cs) : c(cs) {
+  explicit Run(const Case& cs) : c(cs), open(cs) {
     setup(c, S, rep, scheme);
     domain_box(c, S, lo, hi);  // from the case's geometry, so a restart gets the same box
     rs.case_text = case_fingerprint(c.raw);
+    open.setup(S, rs.open);  // fluid inside the zones becomes inflow/outflow particles
   }
 
   void start_fresh() {
@@ -193,6 +196,8 @@ struct Run {
       const auto h = check_health(S, limits);
       throw SimulationError(h ? *h : fmt::format("at step {}, t = {:.9g} s: {}", S.step, S.time, e.what()));
     }
+    // open boundaries; then re-sort if particles were created or deleted (see remove_escaped)
+    if (open.any() && open.update(S, rs.open)) S.update_neighbours();
     remove_escaped();
     if (const auto h = check_health(S, limits)) throw SimulationError(*h);
     const bool last = S.time >= c.t_end * (1.0 - 1e-12);
@@ -284,8 +289,9 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
                       res.pair_interactions_per_second, res.bytes_per_particle);
   json += fmt::format("  \"last_dt\": {:.6g},\n  \"snapshots\": {},\n", sm.last_dt, sm.snapshots);
-  json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": 0, \"outflow\": 0, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
-                      rs.initial_mass, rs.removed_mass, S.total_mass(Kind::Fluid), res.mass_error);
+  json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": {:.17g}, \"outflow\": {:.17g}, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
+                      rs.initial_mass, rs.open.inflow_mass, rs.open.outflow_mass, rs.removed_mass, S.total_mass(Kind::Fluid), res.mass_error);
+  json += fmt::format("  \"backflow_max_in_inflow_zone\": {},\n", rs.open.backflow);
   json += fmt::format("  \"removed_particles\": {{{}}},\n  \"removed_particles_total\": {},\n", faces, removed);
   json += fmt::format("  \"restarted_from\": \"{}\",\n  \"last_good_snapshot\": \"{}\",\n", json_escape(sm.restarted_from),
                       json_escape(sm.last_good));
@@ -430,7 +436,8 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   res.bytes_per_particle = static_cast<double>(S.particles.bytes() + S.cells.bytes() + R.scheme->bytes()) /
                            static_cast<double>(std::max<std::size_t>(1, res.total));
   const double m0 = R.rs.initial_mass, m1 = S.total_mass(Kind::Fluid);
-  res.mass_error = m0 > 0 ? (m0 - R.rs.removed_mass - m1) / m0 : 0.0;
+  const double min = R.rs.open.inflow_mass, mout = R.rs.open.outflow_mass;
+  res.mass_error = m0 > 0 ? (m0 + min - mout - R.rs.removed_mass - m1) / m0 : 0.0;
 
   Summary sm{status, failure, last_good, restart ? o.restart : std::string(), dt, snaps.count(), wall};
   try {

@@ -1,0 +1,136 @@
+#include "sphflume/boundaries/open_boundary.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sph {
+
+double profile_velocity(const ProfileConfig& p, double z, double depth) {
+  if (p.type == "uniform") return p.u;
+  if (p.type == "parabolic") {
+    const double s = std::clamp(z / depth, 0.0, 1.0);
+    return p.u_surface * (2.0 * s - s * s);
+  }
+  if (p.type == "log") {
+    if (z <= 0.0) return 0.0;
+    return std::max(0.0, p.u_star * (std::log(z / p.ks) / 0.41 + 8.5));
+  }
+  // table
+  if (z <= p.z.front()) return p.values.front();
+  if (z >= p.z.back()) return p.values.back();
+  const auto it = std::upper_bound(p.z.begin(), p.z.end(), z);
+  const std::size_t j = static_cast<std::size_t>(it - p.z.begin());
+  const double t = (z - p.z[j - 1]) / (p.z[j] - p.z[j - 1]);
+  return p.values[j - 1] + t * (p.values[j] - p.values[j - 1]);
+}
+
+template <int D>
+OpenBoundaries<D>::OpenBoundaries(const Case& c) {
+  for (const auto& b : c.open_boundaries) (b.type == "inflow" ? in_ : out_) = &b;
+  gz_ = c.gravity.empty() ? 9.81 : std::abs(c.gravity[D - 1]);
+  rho0_ = c.fluid.density;
+  background_ = c.fluid.background_pressure;
+}
+
+template <int D>
+void OpenBoundaries<D>::impose(System<D>& S, std::size_t i, const OpenBoundaryConfig& b, bool density) const {
+  auto& P = S.particles;
+  const double z = P.pos[i][D - 1] - b.bed;
+  P.vel[i] = Vec<D>{};
+  P.vel[i][0] = profile_velocity(b.profile, z, b.depth);
+  if (density) {  // hydrostatic pressure of the imposed depth
+    P.p[i] = background_ + rho0_ * gz_ * std::max(0.0, b.depth - z);
+    P.rho[i] = S.eos.density(P.p[i]);
+  }
+}
+
+template <int D>
+void OpenBoundaries<D>::setup(System<D>& S, OpenFlowCounters& k) const {
+  auto& P = S.particles;
+  std::uint32_t maxid = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    maxid = std::max(maxid, P.id[i]);
+    if (P.kind[i] != Kind::Fluid) continue;
+    const double x = P.pos[i][0];
+    if (in_ && x >= in_->x0 && x < in_->x1) {
+      P.kind[i] = Kind::Inflow;
+      impose(S, i, *in_, true);
+    } else if (out_ && x >= out_->x0) {
+      P.kind[i] = Kind::Outflow;
+      if (!out_->frozen) impose(S, i, *out_, false);
+    } else if (in_ && in_->initial_profile && x >= in_->x1) {
+      impose(S, i, *in_, false);  // the fluid starts with the inflow's profile (its density stays)
+    }
+  }
+  k.next_id = maxid + 1;
+}
+
+template <int D>
+bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  std::vector<std::size_t> born;  // inflow particles that became fluid
+  std::vector<char> gone;
+  long inside = 0;  // fluid particles inside the inflow zone now
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = P.pos[i][0];
+    switch (P.kind[i]) {
+      case Kind::Inflow:
+        if (in_ && x >= in_->x1) {
+          P.kind[i] = Kind::Fluid;
+          k.inflow_mass += P.mass[i];
+          born.push_back(i);
+        }
+        break;
+      case Kind::Fluid:
+        if (out_ && x >= out_->x0) {
+          P.kind[i] = Kind::Outflow;
+          k.outflow_mass += P.mass[i];
+          if (!out_->frozen) impose(S, i, *out_, false);
+        } else if (in_ && x < in_->x1 && x >= in_->x0) {
+          ++inside;
+        }
+        break;
+      case Kind::Outflow:
+        if (out_ && x >= out_->x1) {
+          if (gone.empty()) gone.assign(n, 0);
+          gone[i] = 1;
+        }
+        break;
+      default:
+        break;
+    }
+  }
+  k.backflow = std::max(k.backflow, inside);
+  if (born.empty() && gone.empty()) return false;
+  P.clear_images();
+  // particles that became fluid start their integrator history from their current state; a new
+  // inflow particle replaces each, one zone length upstream
+  std::vector<Vec<D>>* vprev = P.vector_fields().count("v_prev") ? &P.vector("v_prev") : nullptr;
+  std::vector<double>* rprev = P.has_scalar("rho_prev") ? &P.scalar("rho_prev") : nullptr;
+  std::vector<Vec<D>> spawn;
+  std::vector<double> spawn_mass;
+  for (std::size_t i : born) {
+    if (vprev) (*vprev)[i] = P.vel[i];
+    if (rprev) (*rprev)[i] = P.rho[i];
+    Vec<D> x = P.pos[i];
+    x[0] -= in_->x1 - in_->x0;
+    spawn.push_back(x);
+    spawn_mass.push_back(P.mass[i]);
+  }
+  if (!gone.empty()) P.remove_if_flagged(gone);
+  for (std::size_t j = 0; j < spawn.size(); ++j) {
+    P.add(spawn[j], Vec<D>{}, rho0_, spawn_mass[j], Kind::Inflow);
+    const std::size_t i = P.n_owned() - 1;
+    P.id[i] = k.next_id++;
+    impose(S, i, *in_, true);
+    if (vprev) (*vprev)[i] = P.vel[i];
+    if (rprev) (*rprev)[i] = P.rho[i];
+  }
+  return true;
+}
+
+template class OpenBoundaries<2>;
+template class OpenBoundaries<3>;
+
+}  // namespace sph

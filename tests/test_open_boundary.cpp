@@ -1,0 +1,123 @@
+// Open boundaries (Federico's in/out-flow algorithm): profiles, and the per-step bookkeeping
+// that moves particles between the inflow, fluid and outflow sets with every mass counted.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sphflume/boundaries/open_boundary.hpp"
+#include "test_helpers.hpp"
+
+using namespace sph;
+
+TEST(OpenBoundary, ProfilesMatchTheirFormulas) {
+  ProfileConfig p;
+  p.type = "uniform";
+  p.u = 0.3;
+  EXPECT_DOUBLE_EQ(profile_velocity(p, 0.07, 0.1), 0.3);
+  p.type = "parabolic";
+  p.u_surface = 0.2;
+  EXPECT_DOUBLE_EQ(profile_velocity(p, 0.0, 0.1), 0.0);
+  EXPECT_DOUBLE_EQ(profile_velocity(p, 0.1, 0.1), 0.2);
+  EXPECT_NEAR(profile_velocity(p, 0.05, 0.1), 0.2 * 0.75, 1e-15);  // 2s - s^2 at s = 1/2
+  p.type = "log";
+  p.u_star = 0.05;
+  p.ks = 0.01;
+  EXPECT_NEAR(profile_velocity(p, 0.01, 0.1), 0.05 * 8.5, 1e-15);  // ln(1) = 0: u = 8.5 u*
+  EXPECT_NEAR(profile_velocity(p, 0.1, 0.1), 0.05 * (std::log(10.0) / 0.41 + 8.5), 1e-14);
+  p.type = "table";
+  p.z = {0.0, 0.1};
+  p.values = {0.0, 1.0};
+  EXPECT_NEAR(profile_velocity(p, 0.025, 0.1), 0.25, 1e-15);
+  EXPECT_DOUBLE_EQ(profile_velocity(p, 0.2, 0.1), 1.0);
+}
+
+namespace {
+const char* kChannel = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01}
+fluid: {density: 1000.0, viscosity: 1.0e-3}
+geometry:
+  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.45, 0.0]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.1]}
+open_boundaries:
+  - {type: inflow, zone: [0.0, 0.05], depth: 0.1, profile: {type: uniform, u: 0.2}}
+  - {type: outflow, zone: [0.35, 0.4], depth: 0.1, profile: {type: uniform, u: 0.1}}
+time: {end: 1.0}
+)";
+
+std::size_t count(const ParticleStore<2>& P, Kind k) { return P.count(k); }
+}  // namespace
+
+TEST(OpenBoundary, SetupTurnsZoneFluidIntoImposedParticles) {
+  test::Setup<2> s(kChannel);
+  OpenBoundaries<2> ob(s.c);
+  OpenFlowCounters k;
+  const std::size_t fluid0 = count(s.S.particles, Kind::Fluid);
+  ob.setup(s.S, k);
+  const auto& P = s.S.particles;
+  EXPECT_EQ(count(P, Kind::Inflow), 5u * 10u);   // 5 columns x 10 rows
+  EXPECT_EQ(count(P, Kind::Outflow), 5u * 10u);
+  EXPECT_EQ(count(P, Kind::Fluid), fluid0 - 100u);
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] == Kind::Inflow) {
+      EXPECT_DOUBLE_EQ(P.vel[i][0], 0.2);
+      // hydrostatic pressure of the imposed depth
+      EXPECT_NEAR(P.p[i], 1000.0 * 9.81 * (0.1 - P.pos[i][1]), 1e-9);
+    }
+    if (P.kind[i] == Kind::Outflow) {
+      EXPECT_DOUBLE_EQ(P.vel[i][0], 0.1);
+    }
+  }
+  EXPECT_GT(k.next_id, 0u);
+}
+
+TEST(OpenBoundary, CrossingsConvertCreateAndDeleteWithEveryMassCounted) {
+  test::Setup<2> s(kChannel);
+  OpenBoundaries<2> ob(s.c);
+  OpenFlowCounters k;
+  ob.setup(s.S, k);
+  auto& P = s.S.particles;
+  const std::uint32_t id0 = k.next_id;
+  const double m_fluid0 = s.S.total_mass(Kind::Fluid);
+  // move the last inflow column past the zone's end, the last fluid column into the outflow
+  // zone and the last outflow column past the outlet
+  std::size_t moved_in = 0, moved_f = 0, moved_out = 0;
+  double zin = -1.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] == Kind::Inflow && P.pos[i][0] > 0.04) { P.pos[i][0] += 0.01; ++moved_in; if (zin < 0) zin = P.pos[i][1]; }
+    else if (P.kind[i] == Kind::Fluid && P.pos[i][0] > 0.34) { P.pos[i][0] += 0.011; ++moved_f; }
+    else if (P.kind[i] == Kind::Outflow && P.pos[i][0] > 0.39) { P.pos[i][0] += 0.011; ++moved_out; }
+  }
+  ASSERT_EQ(moved_in, 10u);
+  ASSERT_EQ(moved_f, 10u);
+  ASSERT_EQ(moved_out, 10u);
+  const std::size_t n_before = P.n_owned();
+  EXPECT_TRUE(ob.update(s.S, k));
+  const double m = P.mass[0];
+  EXPECT_NEAR(k.inflow_mass, 10 * m, 1e-12);
+  EXPECT_NEAR(k.outflow_mass, 10 * m, 1e-12);
+  EXPECT_EQ(P.n_owned(), n_before);  // 10 created, 10 deleted
+  EXPECT_EQ(count(P, Kind::Inflow), 50u);
+  EXPECT_EQ(count(P, Kind::Outflow), 50u);
+  // mass balance of the fluid set: initial + inflow - outflow = now
+  EXPECT_NEAR(s.S.total_mass(Kind::Fluid), m_fluid0 + k.inflow_mass - k.outflow_mass, 1e-12);
+  // the new inflow particles: one zone length upstream of the converted ones, fresh ids, imposed state
+  std::size_t fresh = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.id[i] < id0) continue;
+    ++fresh;
+    EXPECT_EQ(P.kind[i], Kind::Inflow);
+    EXPECT_NEAR(P.pos[i][0], 0.045 + 0.01 - 0.05, 1e-12);
+    EXPECT_DOUBLE_EQ(P.vel[i][0], 0.2);
+  }
+  EXPECT_EQ(fresh, 10u);
+  EXPECT_EQ(k.next_id, id0 + 10u);
+  // converted outflow particles carry the imposed outflow velocity
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] == Kind::Outflow) {
+      EXPECT_DOUBLE_EQ(P.vel[i][0], 0.1);
+    }
+  }
+  EXPECT_FALSE(ob.update(s.S, k));  // nothing crossed since
+}
