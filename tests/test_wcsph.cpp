@@ -173,3 +173,37 @@ time: {end: 1.0}
   }
   EXPECT_GT(n, 20);
 }
+
+TEST(Walls, FixedGhostsMirrorAHydrostaticColumn) {
+  // Marrone et al. 2011: linear MLS reproduces the linear hydrostatic field at the mirrored
+  // interpolation point exactly (up to the initial density's round-off), and the Neumann
+  // condition adds ρ g d: every ghost under the bed gets p = ρ g (H − z_ghost); velocities are
+  // reversed (no-slip), so a fluid moving uniformly sees ghosts moving the other way.
+  test::Setup<2> s(R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01}
+fluid: {density: 1000.0, sound_speed: 30.0}
+walls: {type: fixed_ghost, slip: no_slip, clamp_negative_pressure: false}
+geometry:
+  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.6]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.5], velocity: [0.1, 0.0]}
+time: {end: 1.0}
+)");
+  s.scheme->initialise(s.S);
+  const auto& P = s.S.particles;
+  const auto& mir = s.S.particles.vector_fields().at("ghost_mirror");
+  int n = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Wall || P.pos[i][1] > 0.0 || P.pos[i][0] < 0.05 || P.pos[i][0] > 0.35) continue;
+    ++n;
+    // mirror point straight above, as far above the bed as the ghost is below it
+    EXPECT_NEAR(mir[i][0], P.pos[i][0], 1e-12);
+    EXPECT_NEAR(mir[i][1], -P.pos[i][1], 1e-12);
+    const double expected = 1000.0 * 9.81 * (0.5 - P.pos[i][1]);
+    EXPECT_NEAR(P.p[i], expected, 0.002 * 1000.0 * 9.81 * 0.5) << "ghost at z = " << P.pos[i][1];
+    EXPECT_NEAR(P.vel[i][0], -0.1, 1e-9);
+    EXPECT_NEAR(P.vel[i][1], 0.0, 1e-9);
+  }
+  EXPECT_GT(n, 60);  // every layer under the bed (the mirror points of the deepest lie in the fluid too)
+}

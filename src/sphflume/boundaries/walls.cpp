@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+
+#include "sphflume/core/interpolate.hpp"
 
 namespace sph {
 namespace {
@@ -135,6 +138,66 @@ class DummyWalls final : public WallModel<D> {
   std::vector<char> near_;
 };
 
+/// Fixed ghost particles (Marrone et al. 2011, Federico §5.2.6): each wall particle is a ghost
+/// with an interpolation point mirrored across the wall surface into the fluid
+/// (store field "ghost_mirror", made with the geometry). Before each rates pass the fluid's
+/// pressure and velocity are interpolated there with first-order MLS; the ghost takes
+///   p_g = p_I + ρ_I g·(x_g − x_I)    (Neumann condition ∂p/∂n = ρ g·n),
+///   u_g = −u_I (no-slip)  or  u_I − 2 (u_I·n) n (free-slip: normal component reversed).
+template <int D>
+class FixedGhostWalls final : public WallModel<D> {
+ public:
+  using WallModel<D>::WallModel;
+  const char* name() const override { return "fixed_ghost"; }
+  bool evolves_density() const override { return false; }
+
+  void prepare(System<D>& S) override {
+    auto& P = S.particles;
+    if (!P.vector_fields().count("ghost_mirror"))
+      throw std::logic_error("fixed_ghost walls: the geometry made no mirror points (ghost_mirror)");
+    const auto& mir = P.vector("ghost_mirror");
+    const std::size_t n = P.n_owned();
+    const bool no_slip = this->cfg.no_slip, clamp = this->cfg.clamp_negative_pressure;
+    const double rho_bg = S.eos.density(S.eos.background);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (P.kind[i] != Kind::Wall) continue;
+      const Vec<D> xi = mir[i];
+      const auto v = interpolate_mls_n<D, D + 1>(S, xi, [&](std::uint32_t b) {
+        std::array<double, D + 1> f;
+        f[0] = P.p[b];
+        for (int d = 0; d < D; ++d) f[d + 1] = P.vel[b][d];
+        return f;
+      });
+      if (!v) {  // no fluid near the interpolation point: the background state
+        P.p[i] = S.eos.background;
+        P.rho[i] = rho_bg;
+        P.vel[i] = Vec<D>{};
+        continue;
+      }
+      const Vec<D> dxg = P.pos[i] - xi;  // from the interpolation point to the ghost
+      const double rho_i = S.eos.density((*v)[0]);
+      double pg = (*v)[0] + rho_i * dot(S.gravity, dxg);
+      if (clamp) pg = std::max(pg, S.eos.background);
+      Vec<D> u;
+      for (int d = 0; d < D; ++d) u[d] = (*v)[d + 1];
+      if (no_slip) {
+        u *= -1.0;
+      } else {
+        const double len = norm(dxg);
+        if (len > 0.0) {
+          const Vec<D> nrm = (1.0 / len) * dxg;
+          u -= (2.0 * dot(u, nrm)) * nrm;
+        }
+      }
+      P.p[i] = pg;
+      P.rho[i] = S.eos.density(pg);
+      P.vel[i] = u;
+    }
+    P.refresh_images();
+  }
+};
+
 template <int D>
 class DynamicWalls final : public WallModel<D> {
  public:
@@ -152,6 +215,7 @@ Registry<WallModel<D>, const WallConfig&>& wall_registry() {
     Registry<WallModel<D>, const WallConfig&> reg;
     reg.add("dummy", [](const WallConfig& c) { return std::make_unique<DummyWalls<D>>(c); });
     reg.add("dynamic", [](const WallConfig& c) { return std::make_unique<DynamicWalls<D>>(c); });
+    reg.add("fixed_ghost", [](const WallConfig& c) { return std::make_unique<FixedGhostWalls<D>>(c); });
     return reg;
   }();
   return r;

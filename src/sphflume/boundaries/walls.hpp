@@ -4,6 +4,9 @@
 //             force), density from the inverse EOS, ghost velocity 2 v_w - v~ for no-slip.
 //  - dynamic: SPHysics "dynamic boundary particles" (Kazemi's walls): density evolves by the
 //             continuity equation, pressure from the EOS, not moved.
+//  - fixed_ghost: Marrone et al. (2011) fixed ghost particles (Federico §5.2.6): MLS
+//             interpolation at points mirrored across the wall surface, Neumann pressure,
+//             reversed velocity (no-slip) or reversed normal velocity (free-slip).
 // New models: derive from WallModel and add one line to wall_registry().
 #pragma once
 #include <memory>

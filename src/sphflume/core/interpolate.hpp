@@ -1,6 +1,7 @@
 // Kernel interpolation of particle fields at arbitrary points (gauges, probes, averaging
 // nodes), from the particles that carry water (fluid, inflow, outflow). Requires an up-to-date cell list in S.
 #pragma once
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -24,19 +25,21 @@ double fluid_fraction(const System<D>& S, const Vec<D>& x) {
   });
 }
 
-/// Value of field f at x with a first-order (linear) moving-least-squares correction, which
+/// Values of NF fields (f(b) returns them as an array) at x with a first-order (linear) moving-least-squares correction, which
 /// reproduces linear fields exactly also where the kernel is truncated (walls, surface).
 /// Falls back to the Shepard average when the moment matrix is ill-conditioned; empty when
 /// no fluid particle is within the kernel support.
-template <int D, class Field>
-std::optional<double> interpolate_mls(const System<D>& S, const Vec<D>& x, Field&& f) {
+template <int D, int NF, class Fields>
+std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, const Vec<D>& x, Fields&& f) {
   const auto& P = S.particles;
   using M = Eigen::Matrix<double, D + 1, D + 1>;
   using Vv = Eigen::Matrix<double, D + 1, 1>;
-  return S.with_kernel([&](const auto& K) -> std::optional<double> {
+  return S.with_kernel([&](const auto& K) -> std::optional<std::array<double, NF>> {
     M A = M::Zero();
-    Vv rhs = Vv::Zero();
-    double sw = 0.0, sf = 0.0;
+    std::array<Vv, NF> rhs;
+    for (auto& r : rhs) r = Vv::Zero();
+    double sw = 0.0;
+    std::array<double, NF> sf{};
     int n = 0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
       if (!fluid_like(P.kind[b])) return;
@@ -45,20 +48,32 @@ std::optional<double> interpolate_mls(const System<D>& S, const Vec<D>& x, Field
       q[0] = 1.0;
       for (int d = 0; d < D; ++d) q[d + 1] = -rxb[d] / K.h;  // (x_b - x)/h
       A += w * q * q.transpose();
-      const double fb = f(b);
-      rhs += (w * fb) * q;
+      const std::array<double, NF> fb = f(b);
+      for (int k = 0; k < NF; ++k) {
+        rhs[k] += (w * fb[k]) * q;
+        sf[k] += w * fb[k];
+      }
       sw += w;
-      sf += w * fb;
       ++n;
     });
     if (n == 0 || sw <= 0.0) return std::nullopt;
+    std::array<double, NF> out{};
     Eigen::FullPivLU<M> lu(A);
     if (n > D + 1 && lu.rank() == D + 1 && std::abs(lu.determinant()) > 1e-6 * std::pow(A(0, 0), D + 1)) {
-      const Vv c = lu.solve(rhs);
-      return c[0];
+      for (int k = 0; k < NF; ++k) out[k] = Vv(lu.solve(rhs[k]))[0];
+    } else {
+      for (int k = 0; k < NF; ++k) out[k] = sf[k] / sw;
     }
-    return sf / sw;
+    return out;
   });
+}
+
+/// interpolate_mls_n for one field.
+template <int D, class Field>
+std::optional<double> interpolate_mls(const System<D>& S, const Vec<D>& x, Field&& f) {
+  const auto v = interpolate_mls_n<D, 1>(S, x, [&](std::uint32_t b) { return std::array<double, 1>{f(b)}; });
+  if (!v) return std::nullopt;
+  return (*v)[0];
 }
 
 /// Shepard (zeroth-order) average of field f at x over fluid particles.

@@ -455,7 +455,7 @@ Case build_case(YAML::Node root, const std::string& file) {
   }
   if (top.has("walls")) {
     Reader r(top.get("walls"), file, "walls");
-    c.walls.type = r.choice("type", "dummy", {"dummy", "dynamic"});
+    c.walls.type = r.choice("type", "dummy", {"dummy", "dynamic", "fixed_ghost"});
     c.walls.no_slip = r.choice("slip", "no_slip", {"no_slip", "free_slip"}) == "no_slip";
     c.walls.layers = r.scalar<int>("layers", 0);
     if (c.walls.layers < 0 || c.walls.layers > 10) r.fail_at(r.get("layers"), "walls.layers", "an integer in [0, 10] (0 = from the kernel support)");

@@ -70,6 +70,38 @@ void lattice_shell(const Vec<D>& olo, const Vec<D>& ohi, const Vec<D>& lo, const
   }
 }
 
+/// The point of a wall shape's fluid-side surface nearest to x (a point of the shape's wall
+/// lattice): tank: the inner box; box: its nearest face; plane: the plane; polygon: its edges.
+template <int D>
+Vec<D> surface_point(const ShapeConfig& s, const Vec<D>& x) {
+  Vec<D> p = x;
+  if (s.type == "tank") {
+    for (int d = 0; d < D; ++d) p[d] = std::clamp(x[d], s.min[d], s.max[d]);
+  } else if (s.type == "box") {
+    double best = 1e300;
+    for (int d = 0; d < D; ++d)
+      for (const double face : {s.min[d], s.max[d]})
+        if (std::abs(x[d] - face) < best) { best = std::abs(x[d] - face); p = x; p[d] = face; }
+  } else if (s.type == "plane") {
+    Vec<D> nrm = to_vec<D>(s.normal);
+    nrm *= 1.0 / norm(nrm);
+    p = x - dot(x - to_vec<D>(s.point), nrm) * nrm;
+  } else if (s.type == "polygon") {
+    if constexpr (D == 2) {
+      double best = 1e300;
+      for (std::size_t i = 0, j = s.vertices.size() - 1; i < s.vertices.size(); j = i++) {
+        const Vec<2> a{{s.vertices[j][0], s.vertices[j][1]}}, b{{s.vertices[i][0], s.vertices[i][1]}};
+        const Vec<2> ab = b - a;
+        const double l2 = dot(ab, ab);
+        const double t = l2 > 0 ? std::clamp(dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
+        const Vec<2> q = a + t * ab;
+        if (norm(x - q) < best) { best = norm(x - q); p = q; }
+      }
+    }
+  }
+  return p;
+}
+
 bool inside_polygon(const std::vector<std::array<double, 2>>& v, double x, double z) {
   bool in = false;
   for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++) {
@@ -277,14 +309,14 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
                                  c.file, dx, c.fluid.density, m, S.h));
   check_geometry<D>(c, limits, S.support, layers);
 
-  std::vector<Vec<D>> fluid_x, fluid_v, wall_x;
+  std::vector<Vec<D>> fluid_x, fluid_v, wall_x, wall_s;  // wall_s: nearest point of the wall surface
   std::vector<std::uint32_t> fluid_shape;  // which shape made each fluid point
   for (std::size_t si = 0; si < c.shapes.size(); ++si) {
     const auto& s = c.shapes[si];
     const Vec<D> v0 = to_vec<D>(s.velocity);
     auto emit = [&](const Vec<D>& x) {
       if (s.fill == "fluid") { fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si)); }
-      else wall_x.push_back(x);
+      else { wall_x.push_back(x); wall_s.push_back(surface_point<D>(s, x)); }
     };
     Vec<D> lo, hi;
     shape_box<D>(s, dx, layers, lo, hi);
@@ -400,9 +432,14 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     P.add(fluid_x[i], fluid_v[i], rho, m, Kind::Fluid);
     ++rep.fluid;
   }
+  const std::size_t first_wall = P.n_owned();
   for (const auto& x : wall_x) {
     P.add(x, Vec<D>{}, rho_wall, m, Kind::Wall);
     ++rep.wall;
+  }
+  if (c.walls.type == "fixed_ghost") {  // each ghost's interpolation point, mirrored into the fluid
+    auto& mir = P.vector("ghost_mirror");
+    for (std::size_t k = 0; k < wall_x.size(); ++k) mir[first_wall + k] = 2.0 * wall_s[k] - wall_x[k];
   }
 
   if (!c.periodic.empty()) {
