@@ -121,3 +121,46 @@ TEST(OpenBoundary, CrossingsConvertCreateAndDeleteWithEveryMassCounted) {
   }
   EXPECT_FALSE(ob.update(s.S, k));  // nothing crossed since
 }
+
+TEST(OpenBoundary, AveragedInflowAndExtrapolatedOutflowCopyTheFluidNextToThem) {
+  // Kazemi's unknown-discharge inflow and a zero-gradient outflow: in a uniform stream the
+  // Shepard average at the nodes is exactly the stream's state; a hydrostatic outflow takes
+  // the pressure of the local depth (highest fluid particle next to the zone + dx/2).
+  test::Setup<2> s(kChannel, {"open_boundaries.0.velocity=averaged", "open_boundaries.1.velocity=extrapolated",
+                              "open_boundaries.1.pressure=hydrostatic"});
+  OpenBoundaries<2> ob(s.c);
+  OpenFlowCounters k;
+  ob.setup(s.S, k);
+  ASSERT_TRUE(ob.needs_prepare());
+  auto& P = s.S.particles;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid) { P.vel[i][0] = 0.37; P.vel[i][1] = -0.02; P.rho[i] = 1001.5; }
+  s.S.update_neighbours();
+  ob.prepare(s.S);
+  std::size_t nin = 0, nout = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] == Kind::Inflow) {
+      ++nin;
+      EXPECT_NEAR(P.vel[i][0], 0.37, 1e-12);
+      EXPECT_NEAR(P.vel[i][1], -0.02, 1e-12);
+      EXPECT_NEAR(P.rho[i], 1001.5, 1e-9);
+      EXPECT_NEAR(P.p[i], s.S.eos.pressure(1001.5), 1e-6);
+    } else if (P.kind[i] == Kind::Outflow) {
+      ++nout;
+      EXPECT_NEAR(P.vel[i][0], 0.37, 1e-12);
+      // the fluid column next to the outflow zone reaches z = 0.095 (+ dx/2 = 0.1)
+      EXPECT_NEAR(P.p[i], 1000.0 * 9.81 * (0.1 - P.pos[i][1]), 1e-6);
+    }
+  }
+  EXPECT_EQ(nin, 50u);
+  EXPECT_EQ(nout, 50u);
+  // a stream running upstream is not copied into the inlet: no backflow through the inflow zone
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid) P.vel[i][0] = -0.1;
+  ob.prepare(s.S);
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] == Kind::Inflow) {
+      EXPECT_EQ(P.vel[i][0], 0.0);
+    }
+  }
+}

@@ -30,6 +30,81 @@ OpenBoundaries<D>::OpenBoundaries(const Case& c) {
   gz_ = c.gravity.empty() ? 9.81 : std::abs(c.gravity[D - 1]);
   rho0_ = c.fluid.density;
   background_ = c.fluid.background_pressure;
+  dx_ = c.dx;
+}
+
+template <int D>
+bool OpenBoundaries<D>::needs_prepare() const {
+  return (in_ && in_->velocity == "averaged") || (out_ && (out_->velocity == "extrapolated" || out_->pressure != "frozen"));
+}
+
+template <int D>
+void OpenBoundaries<D>::prepare(System<D>& S) const {
+  if (!needs_prepare()) return;
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const bool avg_in = in_ && in_->velocity == "averaged";
+  const bool ext_u = out_ && out_->velocity == "extrapolated";
+  const bool ext_p = out_ && out_->pressure == "extrapolated";
+  const bool hyd_p = out_ && out_->pressure == "hydrostatic";
+  double level = 0.0;  // free surface next to the outflow zone: highest fluid particle + dx/2
+  if (hyd_p) {
+    const double xn = out_->x0 - 0.5 * dx_;
+    level = out_->bed + out_->depth;
+    double top = -1e300;
+    for (std::size_t i = 0; i < n; ++i)
+      if (P.kind[i] == Kind::Fluid && std::abs(P.pos[i][0] - xn) < dx_) top = std::max(top, P.pos[i][D - 1]);
+    if (top > -1e300) level = top + 0.5 * dx_;
+  }
+  // Shepard average over fluid particles (not the imposed ones) at x: (u, rho); false if none
+  auto average = [&](const Vec<D>& x, Vec<D>& u, double& rho) {
+    return S.with_kernel([&](const auto& K) {
+      double sw = 0.0, sr = 0.0;
+      Vec<D> su{};
+      S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
+        if (P.kind[b] != Kind::Fluid) return;
+        const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+        sw += w;
+        sr += w * P.rho[b];
+        su += w * P.vel[b];
+      });
+      if (sw <= 0.0) return false;
+      u = (1.0 / sw) * su;
+      rho = sr / sw;
+      return true;
+    });
+  };
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Kind k = P.kind[i];
+    if (k == Kind::Inflow && avg_in) {
+      Vec<D> node = P.pos[i];
+      node[0] = in_->x1 + 0.5 * dx_;
+      Vec<D> u;
+      double rho;
+      if (!average(node, u, rho)) continue;
+      u[0] = std::max(u[0], 0.0);  // the algorithm has no backflow at the inlet: never upstream
+      P.vel[i] = u;
+      P.rho[i] = rho;
+      P.p[i] = S.eos.pressure(rho);
+    } else if (k == Kind::Outflow && (ext_u || ext_p || hyd_p)) {
+      Vec<D> node = P.pos[i];
+      node[0] = out_->x0 - 0.5 * dx_;
+      Vec<D> u;
+      double rho;
+      const bool found = (ext_u || ext_p) && average(node, u, rho);
+      if (found && ext_u) P.vel[i] = u;
+      if (found && ext_p) {
+        P.rho[i] = rho;
+        P.p[i] = S.eos.pressure(rho);
+      }
+      if (hyd_p) {
+        P.p[i] = background_ + rho0_ * gz_ * std::max(0.0, level - P.pos[i][D - 1]);
+        P.rho[i] = S.eos.density(P.p[i]);
+      }
+    }
+  }
+  P.refresh_images();
 }
 
 template <int D>
@@ -57,7 +132,7 @@ void OpenBoundaries<D>::setup(System<D>& S, OpenFlowCounters& k) const {
       impose(S, i, *in_, true);
     } else if (out_ && x >= out_->x0) {
       P.kind[i] = Kind::Outflow;
-      if (!out_->frozen) impose(S, i, *out_, false);
+      if (out_->velocity == "imposed") impose(S, i, *out_, false);
     } else if (in_ && in_->initial_profile && x >= in_->x1) {
       impose(S, i, *in_, false);  // the fluid starts with the inflow's profile (its density stays)
     }
@@ -86,7 +161,7 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
         if (out_ && x >= out_->x0) {
           P.kind[i] = Kind::Outflow;
           k.outflow_mass += P.mass[i];
-          if (!out_->frozen) impose(S, i, *out_, false);
+          if (out_->velocity == "imposed") impose(S, i, *out_, false);
         } else if (in_ && x < in_->x1 && x >= in_->x0) {
           ++inside;
         }
@@ -108,8 +183,8 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
   // inflow particle replaces each, one zone length upstream
   std::vector<Vec<D>>* vprev = P.vector_fields().count("v_prev") ? &P.vector("v_prev") : nullptr;
   std::vector<double>* rprev = P.has_scalar("rho_prev") ? &P.scalar("rho_prev") : nullptr;
-  std::vector<Vec<D>> spawn;
-  std::vector<double> spawn_mass;
+  std::vector<Vec<D>> spawn, spawn_vel;
+  std::vector<double> spawn_mass, spawn_rho;
   for (std::size_t i : born) {
     if (vprev) (*vprev)[i] = P.vel[i];
     if (rprev) (*rprev)[i] = P.rho[i];
@@ -117,13 +192,21 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
     x[0] -= in_->x1 - in_->x0;
     spawn.push_back(x);
     spawn_mass.push_back(P.mass[i]);
+    spawn_vel.push_back(P.vel[i]);
+    spawn_rho.push_back(P.rho[i]);
   }
   if (!gone.empty()) P.remove_if_flagged(gone);
   for (std::size_t j = 0; j < spawn.size(); ++j) {
     P.add(spawn[j], Vec<D>{}, rho0_, spawn_mass[j], Kind::Inflow);
     const std::size_t i = P.n_owned() - 1;
     P.id[i] = k.next_id++;
-    impose(S, i, *in_, true);
+    if (in_->velocity == "averaged") {  // Kazemi: the new particle takes the converted one's state
+      P.vel[i] = spawn_vel[j];
+      P.rho[i] = spawn_rho[j];
+      P.p[i] = S.eos.pressure(spawn_rho[j]);
+    } else {
+      impose(S, i, *in_, true);
+    }
     if (vprev) (*vprev)[i] = P.vel[i];
     if (rprev) (*rprev)[i] = P.rho[i];
   }

@@ -12,6 +12,9 @@
 // Inflow particles carry the imposed profile u(z) and the hydrostatic pressure of the imposed
 // depth (ρ from the EOS). The masses converted are the inflow and outflow of the mass balance;
 // fluid particles that move back into the inflow zone are counted (the algorithm assumes none).
+// Kazemi's variant (velocity: averaged) takes the inflow state from the fluid next to the zone
+// instead, so the discharge is not imposed; outflows may be extrapolated (zero gradient) or get
+// the hydrostatic pressure of the local depth (prepare()).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -41,6 +44,14 @@ class OpenBoundaries {
   /// After every step: conversions, creation and deletion. Returns true when particles were
   /// created or deleted (the store must then be re-sorted).
   bool update(System<D>& S, OpenFlowCounters& k) const;
+  /// Whether prepare() has work: an averaged inflow or an extrapolated/hydrostatic outflow.
+  bool needs_prepare() const;
+  /// Before every rates pass (System::before_rates): averaged inflow particles take the Shepard
+  /// average of the fluid's velocity and density at a node 0.5 dx downstream of the inflow zone
+  /// at their height (Kazemi §3: du/dx = 0, dp/dx = 0 at the boundary line, the discharge
+  /// emerges); extrapolated outflow particles the same at a node 0.5 dx upstream of the outflow
+  /// zone; a hydrostatic outflow pressure uses the local depth there.
+  void prepare(System<D>& S) const;
 
  private:
   void impose(System<D>& S, std::size_t i, const OpenBoundaryConfig& b, bool density) const;
@@ -48,6 +59,7 @@ class OpenBoundaries {
   const OpenBoundaryConfig* out_ = nullptr;
   double gz_ = 9.81;  // |g| normal to the bed (the vertical component)
   double rho0_ = 1000.0, background_ = 0.0;
+  double dx_ = 0.0;
 };
 
 }  // namespace sph

@@ -1,6 +1,7 @@
 // The state every scheme shares: particles, neighbour search, kernel, equation of state,
 // gravity, periodic images, the wall model and the registered force terms.
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct System {
   Periodic<D> periodic;
   std::unique_ptr<WallModel<D>> walls;
   std::vector<std::unique_ptr<ForceTerm<D>>> forces;
+  /// Boundary conditions that set imposed particles from the fluid before every rates pass
+  /// (e.g. open boundaries with averaged or extrapolated states); called before the walls.
+  std::function<void(System&)> before_rates;
   double time = 0.0;
   long step = 0;
   std::uint64_t pairs_last_pass = 0;  // neighbour pairs visited in the last rates pass

@@ -354,9 +354,16 @@ OpenBoundaryConfig read_open_boundary(const YAML::Node& n, const std::string& fi
   if (!(b.x1 > b.x0)) r.fail_at(r.get("zone"), r.key_path("zone"), "[x_start, x_end] with x_end > x_start");
   b.bed = r.scalar<double>("bed", 0.0);
   b.depth = r.positive("depth", 0.0, true);
-  if (b.type == "outflow") b.frozen = r.choice("velocity", "imposed", {"imposed", "frozen"}) == "frozen";
+  if (b.type == "outflow") {
+    b.velocity = r.choice("velocity", "imposed", {"imposed", "frozen", "extrapolated"});
+    b.frozen = b.velocity == "frozen";
+    b.pressure = r.choice("pressure", b.velocity == "extrapolated" ? "extrapolated" : "frozen",
+                          {"frozen", "extrapolated", "hydrostatic"});
+  } else {
+    b.velocity = r.choice("velocity", "imposed", {"imposed", "averaged"});
+  }
   if (b.type == "inflow") b.initial_profile = r.scalar<bool>("initial_profile", false);
-  if (!(b.type == "outflow" && b.frozen) || r.has("profile")) {
+  if (b.velocity == "imposed" || r.has("profile")) {
     if (!r.has("profile")) r.fail_at(n, r.key_path("profile"), "a velocity profile, e.g. {type: uniform, u: 0.5}");
     b.profile = read_profile(r.get("profile"), file, r.key_path("profile"));
   }

@@ -100,6 +100,11 @@ struct OpenBoundaryConfig {
   double depth = 0.0;            // inflow: imposed depth (particles fill bed <= z < bed + depth);
                                  // outflow: the depth the profile is scaled with
   bool frozen = false;           // outflow: keep the velocity held on entering (true) or impose the profile
+  // Kazemi's unknown-discharge inflow (averaged) and zero-gradient outflow (extrapolated): the
+  // particles take the Shepard average of the fluid's velocity and density at a node 0.5 dx
+  // inside the fluid at their height, before every rates pass
+  std::string velocity = "imposed";  // inflow: imposed | averaged; outflow: imposed | frozen | extrapolated
+  std::string pressure = "frozen";   // outflow: frozen | extrapolated | hydrostatic (local depth)
   bool initial_profile = false;  // inflow: also give the fluid downstream the profile at t = 0
   ProfileConfig profile;
   int line = 0;

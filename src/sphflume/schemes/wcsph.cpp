@@ -249,6 +249,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
 
 template <int D>
 void WCSPH<D>::rates(System<D>& S) {
+  if (S.before_rates) S.before_rates(S);
   S.walls->prepare(S);
   S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
   for (auto& f : S.forces) f->add(S);

@@ -143,6 +143,7 @@ struct Run {
     domain_box(c, S, lo, hi);  // from the case's geometry, so a restart gets the same box
     rs.case_text = case_fingerprint(c.raw);
     open.setup(S, rs.open);  // fluid inside the zones becomes inflow/outflow particles
+    if (open.needs_prepare()) S.before_rates = [this](System<D>& s) { open.prepare(s); };
   }
 
   void start_fresh() {
