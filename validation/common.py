@@ -51,3 +51,34 @@ def run_case(sphflume, case, out, sets, threads, reuse):
     print(f"  done in {wall:.1f} s wall: {s['steps']} steps, {s['particles']['total']} particles, "
           f"simulated {s['simulated_time']:.4g} s", flush=True)
     return s, wall, 0
+
+
+class Report:
+    """Prints each metric as [PASS]/[FAIL] with its threshold and source; finish() exits 1 on a failure."""
+
+    def __init__(self):
+        self.failed = []
+
+    def metric(self, name, value, ok, threshold, source):
+        print(f"[{'PASS' if ok else 'FAIL'}] {name} = {value}   (threshold: {threshold}; source: {source})")
+        if not ok:
+            self.failed.append(name)
+
+    def finish(self, name, mode):
+        if self.failed:
+            print(f"\n{name} {mode}: FAILED: {', '.join(self.failed)}")
+            raise SystemExit(1)
+        print(f"\n{name} {mode}: PASSED")
+
+
+def validation_args(name, doc, modes):
+    """The options every check.py takes: --sphflume, --mode, --out, --threads, --set, --reuse."""
+    import argparse
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
+    ap.add_argument("--mode", choices=modes, default="coarse")
+    ap.add_argument("--out", default=f"/tmp/validation/{name}")
+    ap.add_argument("--threads", type=int, default=2)
+    add_set_option(ap)
+    ap.add_argument("--reuse", action="store_true", help="reuse a finished run in --out with the same dx and end time")
+    return ap.parse_args()

@@ -29,6 +29,18 @@ case = os.path.join(ROOT, "cases", "dambreak_2d.yaml")
 rng = random.Random(int(os.environ.get("SPHFLUME_TEST_SEED", time.time())))
 
 N_SNAP = 25  # 0.5 s at 0.02 s intervals
+
+
+def kill_after(args, out, k):
+    """Start a run into out; SIGKILL it once k snapshots exist, at a random moment within that output
+    interval. Returns (the snapshots left, the run's return code)."""
+    p = subprocess.Popen([binary] + args + ["-o", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    while len(snapshots(out)) < k and p.poll() is None:
+        time.sleep(0.002)
+    time.sleep(rng.uniform(0.0, 0.05))
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    return snapshots(out), p.returncode
 for integ in ["verlet", "symplectic"]:
     sets = ["--set", "particles.dx=0.0073", "--set", "time.end=0.5", "--set", "time.output_interval=0.02",
             "--set", f"scheme.integrator={integ}"]
@@ -40,16 +52,9 @@ for integ in ["verlet", "symplectic"]:
     ok, why = same_run(ref, ref2)
     check(rc == 0 and ok, f"{integ}: two runs with the same thread count are bitwise identical: {why}")
 
-    # SIGKILL once a random number of snapshots exist, at a random moment within that interval
-    k = rng.randint(2, N_SNAP - 3)
-    p = subprocess.Popen([binary] + args + ["-o", killed], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    while len(snapshots(killed)) < k and p.poll() is None:
-        time.sleep(0.002)
-    time.sleep(rng.uniform(0.0, 0.05))
-    p.send_signal(signal.SIGKILL)
-    p.wait()
-    left = snapshots(killed)
-    check(p.returncode == -signal.SIGKILL and len(left) < N_SNAP + 1,
+    left, code = kill_after(args, killed, rng.randint(2, N_SNAP - 3))
+    p_rc = code
+    check(p_rc == -signal.SIGKILL and len(left) < N_SNAP + 1,
           f"{integ}: run killed (SIGKILL) after {len(left)} of {N_SNAP + 1} snapshots")
     rc, log = run(binary, args + ["--restart", left[-1]])  # output folder: the restart file's run folder
     check(rc == 0, f"{integ}: restart from {os.path.basename(left[-1])} exits 0 (got {rc}) {log[-300:] if rc else ''}")
@@ -63,14 +68,7 @@ cargs = ["run", chan, "-q", "--threads", "2", "--set", "particles.dx=0.005", "--
 cref, ckill = os.path.join(work, "channel_ref"), os.path.join(work, "channel_killed")
 rc, _ = run(binary, cargs + ["-o", cref])
 check(rc == 0, f"channel: uninterrupted run exits 0 (got {rc})")
-k = rng.randint(3, 15)
-p = subprocess.Popen([binary] + cargs + ["-o", ckill], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-while len(snapshots(ckill)) < k and p.poll() is None:
-    time.sleep(0.002)
-time.sleep(rng.uniform(0.0, 0.05))
-p.send_signal(signal.SIGKILL)
-p.wait()
-left = snapshots(ckill)
+left, _ = kill_after(cargs, ckill, rng.randint(3, 15))
 rc, log = run(binary, cargs + ["--restart", left[-1]])
 ok, why = same_run(cref, ckill)
 check(rc == 0 and ok, f"channel (open boundaries): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")

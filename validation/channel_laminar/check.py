@@ -19,7 +19,6 @@ t sqrt(g/h) = 50. Metrics (issue: open channels, validation 1):
   6. fine: Re = 100 (nu = 1.808e-4, u_s = 0.2713 m/s) runs stably to t sqrt(g/h) = 50 at h/dx = 20 (exit 0).
 Usage: /usr/bin/python3 validation/channel_laminar/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import argparse
 import glob
 import math
 import os
@@ -28,7 +27,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import add_set_option, parse_sets, run_case  # noqa: E402
+from common import Report, parse_sets, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -45,13 +44,6 @@ X_MID = 0.12
 MODES = {"coarse": {"res": {"h/20": 0.005}, "tol": {"h/20": 4.0}},
          "fine": {"res": {"h/20": 0.005, "h/40": 0.0025}, "tol": {"h/40": 2.0}}}
 
-fails = []
-
-
-def report(ok, what, value, threshold, source):
-    print(f"[{'PASS' if ok else 'FAIL'}] {what} = {value}   (threshold: {threshold}; source: {source})")
-    if not ok:
-        fails.append(what)
 
 
 def u_exact(z, nu):
@@ -89,14 +81,8 @@ def gauge(out, name):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
-    ap.add_argument("--threads", type=int, default=2)
-    add_set_option(ap)
-    ap.add_argument("--reuse", action="store_true")
-    a = ap.parse_args()
+    a = validation_args(NAME, __doc__, MODES)
+    rep = Report()
     mode = MODES[a.mode]
     nu = 5.718e-4
     results = {}
@@ -105,7 +91,7 @@ def main():
         s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": dx, "time.end": END, **parse_sets(a.set)},
                                a.threads, a.reuse)
         print(f"\n== {NAME} {res} (dx = {dx} m)")
-        report(rc == 0, f"{res} exit code", rc, "0", "issue")
+        rep.metric(f"{res} exit code", rc, rc == 0, "0", "issue")
         if s is None:
             continue
         z, u = profile(out, dx, END - 10 * T_STAR)
@@ -113,8 +99,7 @@ def main():
         zi, ui = profile(out, dx, s["simulated_time"])
         results[res] = (dx, z, u, e, out)
         if res in mode["tol"]:
-            report(e <= mode["tol"][res], f"{res} MSEP at x = {X_MID} m, profile averaged over t sqrt(g/h) in [40, 50] (%)",
-                   f"{e:.3f}", f"<= {mode['tol'][res]}", "issue (thesis: < 3.5 %)" if a.mode == "fine" else "issue, first order 2x")
+            rep.metric(f"{res} MSEP at x = {X_MID} m, profile averaged over t sqrt(g/h) in [40, 50] (%)", f"{e:.3f}", e <= mode["tol"][res], f"<= {mode['tol'][res]}", "issue (thesis: < 3.5 %)" if a.mode == "fine" else "issue, first order 2x")
         else:
             print(f"  (info) {res} MSEP, profile averaged over t sqrt(g/h) in [40, 50] = {e:.3f} %")
         print(f"  (info) {res} MSEP of the instantaneous profile at t sqrt(g/h) = {s['simulated_time'] / T_STAR:.1f}: "
@@ -126,32 +111,28 @@ def main():
             tt = d["time"] / T_STAR
             depths.append(d["level"][(tt >= 25) & (tt <= 50.5)].mean())
         dmean = float(np.mean(depths))
-        report(abs(dmean - H) / H <= 0.01, f"{res} mean depth (m), x = 0.06/0.12/0.18, t* in [25, 50]",
-               f"{dmean:.5f} ({100 * (dmean - H) / H:+.2f} %; {', '.join(f'{v:.5f}' for v in depths)})", "within 1 % of h = 0.1",
-               "issue")
+        rep.metric(f"{res} mean depth (m), x = 0.06/0.12/0.18, t* in [25, 50]", f"{dmean:.5f} ({100 * (dmean - H) / H:+.2f} %; {', '.join(f'{v:.5f}' for v in depths)})", abs(dmean - H) / H <= 0.01, "within 1 % of h = 0.1", "issue")
         qi, qo = gauge(out, "q_in"), gauge(out, "q_out")
         w = (qi["time"] / T_STAR >= 25)
         qin, qout = qi["flux"][w].mean(), qo["flux"][w].mean()
         U = G * S0 * H * H / (3 * nu)
-        report(abs(qout - qin) / qin <= 0.02, f"{res} time-averaged outlet flux / inlet flux - 1",
-               f"{100 * (qout / qin - 1):+.3f} % (q_in {qin:.6f}, q_out {qout:.6f} m2/s; closed form U h = {U * H:.6f}: "
-               f"{100 * (qin / (U * H) - 1):+.2f} %)", "within 2 %", "issue")
+        rep.metric(f"{res} time-averaged outlet flux / inlet flux - 1", f"{100 * (qout / qin - 1):+.3f} % (q_in {qin:.6f}, q_out {qout:.6f} m2/s; closed form U h = {U * H:.6f}: "
+               f"{100 * (qin / (U * H) - 1):+.2f} %)", abs(qout - qin) / qin <= 0.02, "within 2 %", "issue")
         m = s["mass"]
         bal = (m["initial"] + m["inflow"] - m["outflow"] - m["removed"] - m["final"]) / m["initial"]
-        report(abs(bal) <= 1e-12, f"{res} mass balance (initial + inflow - outflow - removed - final) / initial", f"{bal:.1e}",
-               "|.| <= 1e-12", "issue (none lost without being counted)")
+        rep.metric(f"{res} mass balance (initial + inflow - outflow - removed - final) / initial", f"{bal:.1e}", abs(bal) <= 1e-12, "|.| <= 1e-12", "issue (none lost without being counted)")
         print(f"  (info) inflow {m['inflow']:.4f} kg/m, outflow {m['outflow']:.4f} kg/m (ratio {m['outflow'] / m['inflow']:.4f}); "
               f"most fluid particles inside the inflow zone at once: {s.get('backflow_max_in_inflow_zone')}; "
               f"{s['particles']['fluid']} fluid, {s['steps']} steps, {wall:.0f} s wall")
     if "h/20" in results and "h/40" in results:
         order = math.log2(results["h/20"][3] / results["h/40"][3])
-        report(order >= 1.0, "observed order of MSEP, h/20 -> h/40", f"{order:.2f}", ">= 1", "issue (thesis: 1.52)")
+        rep.metric("observed order of MSEP, h/20 -> h/40", f"{order:.2f}", order >= 1.0, ">= 1", "issue (thesis: 1.52)")
     if a.mode == "fine":  # Re = 100 at h/20: stability
         out = os.path.join(a.out, "re100")
         s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": 0.005, "time.end": END, "fluid.viscosity": 1.808e-4,
                                                        "open_boundaries.0.profile.u_surface": 0.2713,
                                                        "open_boundaries.1.profile.u_surface": 0.2713}, a.threads, a.reuse)
-        report(rc == 0, "Re = 100, h/20: runs to t sqrt(g/h) = 50", f"exit {rc}", "0", "issue")
+        rep.metric("Re = 100, h/20: runs to t sqrt(g/h) = 50", f"exit {rc}", rc == 0, "0", "issue")
         if s is not None:
             z, u = profile(out, 0.005, END - 10 * T_STAR)
             print(f"  (info) Re = 100 MSEP = {msep(z, u, 1.808e-4, 0.005):.3f} %")
@@ -181,10 +162,7 @@ def main():
     os.makedirs(os.path.dirname(png), exist_ok=True)
     fig.savefig(png, dpi=110)
     print("figure:", png)
-    if fails:
-        print(f"\n{NAME} {a.mode}: FAILED: {', '.join(fails)}")
-        sys.exit(1)
-    print(f"\n{NAME} {a.mode}: PASSED")
+    rep.finish(NAME, a.mode)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import add_set_option, parse_sets, run_case  # noqa: E402
+from common import Report, add_set_option, parse_sets, run_case  # noqa: E402
 
 import matplotlib
 
@@ -53,17 +53,6 @@ def read_gauge(path):
 def last_snapshot(out):
     snaps = sorted(os.listdir(os.path.join(out, "snapshots")))
     return os.path.join(out, "snapshots", snaps[-1])
-
-
-class Report:
-    def __init__(self):
-        self.failed = []
-
-    def metric(self, name, value, ok, threshold, source):
-        tag = "PASS" if ok else "FAIL"
-        print(f"[{tag}] {name} = {value}   (threshold: {threshold}; source: {source})")
-        if not ok:
-            self.failed.append(name)
 
 
 def main():

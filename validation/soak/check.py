@@ -15,7 +15,6 @@ walls; it sloshes and decays. Nothing enters or leaves, so over any number of st
 Modes: coarse (CI) t_end = 3 s (about 2 x 10^4 steps); fine t_end = 170 s (about 1.1 x 10^6 steps).
 Usage: /usr/bin/python3 validation/soak/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import argparse
 import glob
 import os
 import sys
@@ -23,7 +22,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import add_set_option, parse_sets, run_case  # noqa: E402
+from common import Report, parse_sets, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -39,41 +38,27 @@ E_AVAIL = RHO * G * A * A * L / 6.0
 MODES = {"coarse": {"dx": 0.0125, "end": 3.0, "min_steps": 15000},
          "fine": {"dx": 0.0125, "end": 170.0, "min_steps": 1000000}}
 
-fails = []
-
-
-def report(ok, what, value, threshold, source):
-    print(f"[{'PASS' if ok else 'FAIL'}] {what} = {value}   (threshold: {threshold}; source: {source})")
-    if not ok:
-        fails.append(what)
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
-    ap.add_argument("--threads", type=int, default=2)
-    add_set_option(ap)
-    ap.add_argument("--reuse", action="store_true")
-    a = ap.parse_args()
+    a = validation_args(NAME, __doc__, MODES)
+    rep = Report()
     m = MODES[a.mode]
     out = os.path.join(a.out, f"dx{m['dx']}_t{m['end']:g}")
     s, wall, rc = run_case(a.sphflume, CASE, out, {"particles.dx": m["dx"], "time.end": m["end"], **parse_sets(a.set)},
                            a.threads, a.reuse)
     print(f"\n== {NAME} ({a.mode}: dx = {m['dx']} m, t_end = {m['end']} s)")
-    report(rc == 0, "exit code", rc, "0", "issue")
+    rep.metric("exit code", rc, rc == 0, "0", "issue")
     if s is None:
         sys.exit(2)
     steps = s.get("total_steps", s["steps"])
-    report(steps >= m["min_steps"], "steps", steps, f">= {m['min_steps']}", "issue (about 10^6 steps; CI: a short version)")
+    rep.metric("steps", steps, steps >= m["min_steps"], f">= {m['min_steps']}", "issue (about 10^6 steps; CI: a short version)")
     print(f"  {s['particles']['fluid']} fluid + {s['particles']['wall']} wall particles, {wall:.0f} s wall, "
           f"{s['particle_steps_per_second'] / 1e6:.2f} M particle-steps/s")
 
     # mass
-    report(s["particles"]["fluid"] == s["particles"]["initial_fluid"] and s.get("removed_particles_total", 0) == 0,
-           "fluid particles at the end / at the start; removed", f"{s['particles']['fluid']} / {s['particles']['initial_fluid']}; "
-           f"{s.get('removed_particles_total', 0)}", "equal; 0", "issue (closed tank)")
+    rep.metric("fluid particles at the end / at the start; removed", f"{s['particles']['fluid']} / {s['particles']['initial_fluid']}; "
+           f"{s.get('removed_particles_total', 0)}", s["particles"]["fluid"] == s["particles"]["initial_fluid"] and s.get("removed_particles_total", 0) == 0, "equal; 0", "issue (closed tank)")
     snaps = sorted(glob.glob(os.path.join(out, "snapshots", "snap_*.h5")))
     m0 = s["mass"]["initial"]
     drift, worst, worst_t = 0.0, -1e9, 0.0
@@ -89,23 +74,18 @@ def main():
             if exc > worst:
                 worst, worst_t = exc, t
             t_s.append(t)
-    report(drift <= 1e-12 and abs(s["mass"]["relative_error"]) <= 1e-12, "fluid mass drift over the snapshots (max |m - m0| / m0)",
-           f"{drift:.1e} (summary: {s['mass']['relative_error']:.1e})", "<= 1e-12", "issue (no drift of the total mass)")
-    report(worst < m["dx"] / 2, "worst excursion past the tank's inner boundary (m)", f"{worst:.5f} at t = {worst_t:g} s",
-           f"< dx/2 = {m['dx'] / 2}", "issue (no particle crosses a wall)")
+    rep.metric("fluid mass drift over the snapshots (max |m - m0| / m0)", f"{drift:.1e} (summary: {s['mass']['relative_error']:.1e})", drift <= 1e-12 and abs(s["mass"]["relative_error"]) <= 1e-12, "<= 1e-12", "issue (no drift of the total mass)")
+    rep.metric("worst excursion past the tank's inner boundary (m)", f"{worst:.5f} at t = {worst_t:g} s", worst < m["dx"] / 2, f"< dx/2 = {m['dx'] / 2}", "issue (no particle crosses a wall)")
 
     # energy
     e = np.genfromtxt(os.path.join(out, "gauges", "energy.csv"), delimiter=",", names=True)
     t, ke, tot = e["time"], e["kinetic"], e["total"]
     rise = float(np.max(tot - tot[0]))
-    report(ke.max() <= E_AVAIL, "max kinetic energy (J/m)", f"{ke.max():.4f} at t = {t[np.argmax(ke)]:g} s",
-           f"<= E_avail = rho g A^2 L / 6 = {E_AVAIL:.4f}", "energy bound (linear tilt)")
-    report(rise <= 0.05 * E_AVAIL, "max rise of the total mechanical energy above its initial value (J/m)",
-           f"{rise:.2e}", f"<= 0.05 E_avail = {0.05 * E_AVAIL:.4f}", "energy bound (dissipative scheme)")
+    rep.metric("max kinetic energy (J/m)", f"{ke.max():.4f} at t = {t[np.argmax(ke)]:g} s", ke.max() <= E_AVAIL, f"<= E_avail = rho g A^2 L / 6 = {E_AVAIL:.4f}", "energy bound (linear tilt)")
+    rep.metric("max rise of the total mechanical energy above its initial value (J/m)", f"{rise:.2e}", rise <= 0.05 * E_AVAIL, f"<= 0.05 E_avail = {0.05 * E_AVAIL:.4f}", "energy bound (dissipative scheme)")
     late = ke[t >= 0.9 * t[-1]].max()
     early = ke[t <= 1.0].max()
-    report(late <= early, "max kinetic energy over the last tenth of the run (J/m)", f"{late:.2e}",
-           f"<= max over the first second = {early:.4f}", "bounded kinetic energy")
+    rep.metric("max kinetic energy over the last tenth of the run (J/m)", f"{late:.2e}", late <= early, f"<= max over the first second = {early:.4f}", "bounded kinetic energy")
     print(f"  (info) energy dissipated by the end: {tot[0] - tot[-1]:.4f} J/m = {(tot[0] - tot[-1]) / E_AVAIL:.2f} E_avail")
 
     fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
@@ -124,10 +104,7 @@ def main():
     os.makedirs(os.path.dirname(png), exist_ok=True)
     fig.savefig(png, dpi=110)
     print("figure:", png)
-    if fails:
-        print(f"\n{NAME} {a.mode}: FAILED: {', '.join(fails)}")
-        sys.exit(1)
-    print(f"\n{NAME} {a.mode}: PASSED")
+    rep.finish(NAME, a.mode)
 
 
 if __name__ == "__main__":
