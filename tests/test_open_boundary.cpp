@@ -120,6 +120,17 @@ TEST(OpenBoundary, CrossingsConvertCreateAndDeleteWithEveryMassCounted) {
     }
   }
   EXPECT_FALSE(ob.update(s.S, k));  // nothing crossed since
+
+  // a fluid particle pushed back into the inflow zone is removed and counted, not left to
+  // overlap the inflow lattice
+  std::size_t f = 0;
+  while (P.kind[f] != Kind::Fluid) ++f;
+  P.pos[f][0] = 0.03;
+  const double before = s.S.total_mass(Kind::Fluid);
+  EXPECT_TRUE(ob.update(s.S, k));
+  EXPECT_EQ(k.backflow, 1);
+  EXPECT_NEAR(k.backflow_mass, m, 1e-15);
+  EXPECT_NEAR(s.S.total_mass(Kind::Fluid), before - m, 1e-12);
 }
 
 TEST(OpenBoundary, AveragedInflowAndExtrapolatedOutflowCopyTheFluidNextToThem) {

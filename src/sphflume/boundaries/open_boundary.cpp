@@ -120,6 +120,16 @@ void OpenBoundaries<D>::impose(System<D>& S, std::size_t i, const OpenBoundaryCo
 }
 
 template <int D>
+void OpenBoundaries<D>::impose_outflow(System<D>& S, std::size_t i) const {
+  auto& P = S.particles;
+  const Vec<D> v = P.vel[i];
+  const double p = P.p[i], rho = P.rho[i];
+  impose(S, i, *out_, out_->pressure == "imposed");  // profile velocity; hydrostatic pressure of `depth`
+  if (out_->velocity != "imposed") P.vel[i] = v;
+  if (out_->pressure != "imposed") { P.p[i] = p; P.rho[i] = rho; }
+}
+
+template <int D>
 void OpenBoundaries<D>::setup(System<D>& S, OpenFlowCounters& k) const {
   auto& P = S.particles;
   std::uint32_t maxid = 0;
@@ -132,7 +142,7 @@ void OpenBoundaries<D>::setup(System<D>& S, OpenFlowCounters& k) const {
       impose(S, i, *in_, true);
     } else if (out_ && x >= out_->x0) {
       P.kind[i] = Kind::Outflow;
-      if (out_->velocity == "imposed") impose(S, i, *out_, false);
+      impose_outflow(S, i);
     } else if (in_ && in_->initial_profile && x >= in_->x1) {
       impose(S, i, *in_, false);  // the fluid starts with the inflow's profile (its density stays)
     }
@@ -146,7 +156,6 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
   const std::size_t n = P.n_owned();
   std::vector<std::size_t> born;  // inflow particles that became fluid
   std::vector<char> gone;
-  long inside = 0;  // fluid particles inside the inflow zone now
   for (std::size_t i = 0; i < n; ++i) {
     const double x = P.pos[i][0];
     switch (P.kind[i]) {
@@ -161,9 +170,12 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
         if (out_ && x >= out_->x0) {
           P.kind[i] = Kind::Outflow;
           k.outflow_mass += P.mass[i];
-          if (out_->velocity == "imposed") impose(S, i, *out_, false);
-        } else if (in_ && x < in_->x1 && x >= in_->x0) {
-          ++inside;
+          impose_outflow(S, i);
+        } else if (in_ && x < in_->x1 && x >= in_->x0) {  // back into the inflow zone: removed, counted
+          if (gone.empty()) gone.assign(n, 0);
+          gone[i] = 1;
+          ++k.backflow;
+          k.backflow_mass += P.mass[i];
         }
         break;
       case Kind::Outflow:
@@ -176,7 +188,6 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
         break;
     }
   }
-  k.backflow = std::max(k.backflow, inside);
   if (born.empty() && gone.empty()) return false;
   P.clear_images();
   // particles that became fluid start their integrator history from their current state; a new

@@ -11,7 +11,8 @@
 //   - an outflow particle past the zone's end is deleted.
 // Inflow particles carry the imposed profile u(z) and the hydrostatic pressure of the imposed
 // depth (ρ from the EOS). The masses converted are the inflow and outflow of the mass balance;
-// fluid particles that move back into the inflow zone are counted (the algorithm assumes none).
+// fluid particles that move back into the inflow zone (the algorithm assumes none; splashes of a
+// hydraulic jump's roller can) would overlap the inflow lattice: they are removed and counted.
 // Kazemi's variant (velocity: averaged) takes the inflow state from the fluid next to the zone
 // instead, so the discharge is not imposed; outflows may be extrapolated (zero gradient) or get
 // the hydrostatic pressure of the local depth (prepare()).
@@ -29,7 +30,8 @@ double profile_velocity(const ProfileConfig& p, double z, double depth);
 
 struct OpenFlowCounters {
   double inflow_mass = 0.0, outflow_mass = 0.0;
-  long backflow = 0;          // most fluid particles found inside the inflow zone at one time
+  long backflow = 0;          // fluid particles that went back into the inflow zone (removed)
+  double backflow_mass = 0.0; // their mass (a term of the mass balance)
   std::uint32_t next_id = 0;  // id of the next particle created
 };
 
@@ -55,6 +57,7 @@ class OpenBoundaries {
 
  private:
   void impose(System<D>& S, std::size_t i, const OpenBoundaryConfig& b, bool density) const;
+  void impose_outflow(System<D>& S, std::size_t i) const;
   const OpenBoundaryConfig* in_ = nullptr;
   const OpenBoundaryConfig* out_ = nullptr;
   double gz_ = 9.81;  // |g| normal to the bed (the vertical component)

@@ -358,7 +358,7 @@ OpenBoundaryConfig read_open_boundary(const YAML::Node& n, const std::string& fi
     b.velocity = r.choice("velocity", "imposed", {"imposed", "frozen", "extrapolated"});
     b.frozen = b.velocity == "frozen";
     b.pressure = r.choice("pressure", b.velocity == "extrapolated" ? "extrapolated" : "frozen",
-                          {"frozen", "extrapolated", "hydrostatic"});
+                          {"frozen", "extrapolated", "hydrostatic", "imposed"});
   } else {
     b.velocity = r.choice("velocity", "imposed", {"imposed", "averaged"});
   }

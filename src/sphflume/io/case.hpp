@@ -104,7 +104,7 @@ struct OpenBoundaryConfig {
   // particles take the Shepard average of the fluid's velocity and density at a node 0.5 dx
   // inside the fluid at their height, before every rates pass
   std::string velocity = "imposed";  // inflow: imposed | averaged; outflow: imposed | frozen | extrapolated
-  std::string pressure = "frozen";   // outflow: frozen | extrapolated | hydrostatic (local depth)
+  std::string pressure = "frozen";   // outflow: frozen | extrapolated | hydrostatic (local depth) | imposed (of `depth`)
   bool initial_profile = false;  // inflow: also give the fluid downstream the profile at t = 0
   ProfileConfig profile;
   int line = 0;

@@ -109,8 +109,10 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
       for (std::uint32_t k = c0k; k < c1k; ++k) {
         const std::uint32_t a = sorted[k];
         if (a >= n_owned) continue;
-        // imposed-state particles need no rates: walls (unless dynamic), inflow, outflow
-        if ((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Inflow || kind[a] == Kind::Outflow) {
+        // imposed-state particles need no rates: walls (unless dynamic) and outflow particles;
+        // inflow particles get theirs (unused while they are inflow) so that one turning into
+        // fluid has the rates of its state, which the Verlet integrator's next step uses
+        if ((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow) {
           acc_out[a] = Vec<D>{};
           drho_out[a] = 0.0;
           continue;
@@ -167,7 +169,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         const std::uint32_t a = sorted[ka_k];
         if (a >= n_owned) continue;
         const Kind ka = kind[a];
-        if ((ka == Kind::Wall && !dyn) || ka == Kind::Inflow || ka == Kind::Outflow) continue;
+        if ((ka == Kind::Wall && !dyn) || ka == Kind::Outflow) continue;
         const F32 xa0 = F32(pos[a][0] - origin[0]), xa1 = F32(pos[a][1] - origin[1]);
         const F32 xa2 = F32(pos[a][D - 1] - origin[D - 1]);
         const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
@@ -177,7 +179,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         const F32 ca = F32(sound(rhoa_d)), ca2 = ca * ca;
         const F32 pa_r2 = F32(prs[a] / (rhoa_d * rhoa_d));
         const F32 inv_rhoa = F32(1.0 / rhoa_d);
-        const F32 wa = ka == Kind::Fluid ? F32(1) : F32(0);  // a dynamic wall: continuity from fluid only
+        const F32 wa = ka == Kind::Wall ? F32(0) : F32(1);  // a dynamic wall: continuity from fluid only
         F32 a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
 #pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt)
         for (std::size_t k = 0; k < npad; ++k) {
@@ -227,7 +229,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           cnt += in;
         }
         pairs += static_cast<std::uint64_t>(cnt + F32(0.5));
-        if (ka != Kind::Fluid) {
+        if (ka == Kind::Wall) {
           drho_out[a] = rhoa_d * double(dr);
           acc_out[a] = Vec<D>{};
           continue;

@@ -290,9 +290,9 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
                       res.pair_interactions_per_second, res.bytes_per_particle);
   json += fmt::format("  \"last_dt\": {:.6g},\n  \"snapshots\": {},\n", sm.last_dt, sm.snapshots);
-  json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": {:.17g}, \"outflow\": {:.17g}, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
-                      rs.initial_mass, rs.open.inflow_mass, rs.open.outflow_mass, rs.removed_mass, S.total_mass(Kind::Fluid), res.mass_error);
-  json += fmt::format("  \"backflow_max_in_inflow_zone\": {},\n", rs.open.backflow);
+  json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": {:.17g}, \"outflow\": {:.17g}, \"backflow\": {:.17g}, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
+                      rs.initial_mass, rs.open.inflow_mass, rs.open.outflow_mass, rs.open.backflow_mass, rs.removed_mass, S.total_mass(Kind::Fluid), res.mass_error);
+  json += fmt::format("  \"backflow\": {{\"particles\": {}, \"mass\": {:.17g}}},\n", rs.open.backflow, rs.open.backflow_mass);
   json += fmt::format("  \"removed_particles\": {{{}}},\n  \"removed_particles_total\": {},\n", faces, removed);
   json += fmt::format("  \"restarted_from\": \"{}\",\n  \"last_good_snapshot\": \"{}\",\n", json_escape(sm.restarted_from),
                       json_escape(sm.last_good));
@@ -438,7 +438,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
                            static_cast<double>(std::max<std::size_t>(1, res.total));
   const double m0 = R.rs.initial_mass, m1 = S.total_mass(Kind::Fluid);
   const double min = R.rs.open.inflow_mass, mout = R.rs.open.outflow_mass;
-  res.mass_error = m0 > 0 ? (m0 + min - mout - R.rs.removed_mass - m1) / m0 : 0.0;
+  res.mass_error = m0 > 0 ? (m0 + min - mout - R.rs.open.backflow_mass - R.rs.removed_mass - m1) / m0 : 0.0;
 
   Summary sm{status, failure, last_good, restart ? o.restart : std::string(), dt, snaps.count(), wall};
   try {
