@@ -1,6 +1,8 @@
 // Case files: strict parsing with file/line/key in every message, --set overrides.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "sphflume/io/case.hpp"
 
 using namespace sph;
@@ -69,6 +71,15 @@ TEST(Case, MissingSectionIsReported) {
   std::string t = kBase;
   t = t.substr(0, t.find("time:"));
   EXPECT_NE(error_of(t).find("missing required section 'time'"), std::string::npos);
+}
+
+TEST(Case, SlopeTiltsGravityIntoTheBedFrame) {
+  const Case c = parse_case(std::string(kBase) + "slope: 0.001\n", "case.yaml");
+  ASSERT_EQ(c.gravity.size(), 2u);
+  EXPECT_NEAR(std::hypot(c.gravity[0], c.gravity[1]), 9.81, 1e-12);  // |g| kept
+  EXPECT_NEAR(c.gravity[0] / -c.gravity[1], 0.001, 1e-15);            // tan(theta) = S0
+  EXPECT_NE(error_of(std::string(kBase) + "slope: 0.001\ngravity: [0, -9.81]\n").find("not both"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kBase) + "slope: 2\n").find("|slope| < 1"), std::string::npos);
 }
 
 TEST(Case, SetOverridesByDottedPath) {

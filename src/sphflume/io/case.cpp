@@ -387,6 +387,15 @@ Case build_case(YAML::Node root, const std::string& file) {
   std::vector<double> g_def(d, 0.0);
   g_def[d - 1] = -9.81;
   c.gravity = top.vec("gravity", d, g_def);
+  if (top.has("slope")) {  // a channel bed slope S0 = tan(theta): gravity tilted into the bed-aligned frame
+    if (top.has("gravity")) top.fail_at(top.get("slope"), "slope", "either 'slope' or 'gravity', not both (slope tilts |g| = 9.81)");
+    const double s0 = top.as<double>(top.get("slope"), "slope");
+    if (!(std::abs(s0) < 1.0)) top.fail_at(top.get("slope"), "slope", "a bed slope tan(theta) with |slope| < 1");
+    const double th = std::atan(s0);
+    c.gravity.assign(d, 0.0);
+    c.gravity[0] = 9.81 * std::sin(th);
+    c.gravity[d - 1] = -9.81 * std::cos(th);
+  }
 
   {  // particles / kernel
     if (!top.has("particles")) throw InputError(fmt::format("{}: missing required section 'particles' (with at least dx, the particle spacing in m)", file));
