@@ -125,7 +125,7 @@ TEST(OpenBoundary, CrossingsConvertCreateAndDeleteWithEveryMassCounted) {
   // overlap the inflow lattice
   std::size_t f = 0;
   while (P.kind[f] != Kind::Fluid) ++f;
-  P.pos[f][0] = 0.03;
+  P.pos[f][0] = 0.03;  // 2 dx inside the zone [0, 0.05)
   const double before = s.S.total_mass(Kind::Fluid);
   EXPECT_TRUE(ob.update(s.S, k));
   EXPECT_EQ(k.backflow, 1);

@@ -171,7 +171,9 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
           P.kind[i] = Kind::Outflow;
           k.outflow_mass += P.mass[i];
           impose_outflow(S, i);
-        } else if (in_ && x < in_->x1 && x >= in_->x0) {  // back into the inflow zone: removed, counted
+        } else if (in_ && x < in_->x1 - 0.5 * dx_ && x >= in_->x0) {
+          // back into the inflow zone, half a spacing past its boundary line (among the inflow
+          // lattice, not just touching it, as a slow particle at a no-slip bed may): removed, counted
           if (gone.empty()) gone.assign(n, 0);
           gone[i] = 1;
           ++k.backflow;
