@@ -21,7 +21,6 @@ Thresholds:
 Both modes run to t = 0.3 s (T = 3.48 > 2.95, the last measured T with Z < 3.8).
 Usage: /usr/bin/python3 validation/dambreak_2d/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import argparse
 import csv
 import math
 import os
@@ -29,7 +28,7 @@ import sys
 
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import add_set_option, parse_sets, run_case  # noqa: E402
+from common import parse_sets, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -89,14 +88,7 @@ def front_errors(T_sim, Z_sim, T_exp, Z_exp):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
-    ap.add_argument("--threads", type=int, default=2)
-    add_set_option(ap)
-    ap.add_argument("--reuse", action="store_true", help="reuse finished runs in --out with the same dx and end time")
-    a = ap.parse_args()
+    a = validation_args(NAME, __doc__, MODES)
     m = MODES[a.mode]
     os.makedirs(a.out, exist_ok=True)
     data = {k: read_csv(find_data(v)) for k, v in DATA.items()}

@@ -18,7 +18,6 @@ The thresholds are the same in both modes; only the resolution differs: coarse d
 Martin & Moyce (1952) for information only (the flow is nearly two-dimensional away from the side walls).
 Usage: /usr/bin/python3 validation/dambreak_3d/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import argparse
 import csv
 import math
 import os
@@ -28,7 +27,7 @@ import h5py
 import numpy as np
 import yaml
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import add_set_option, parse_sets, run_case  # noqa: E402
+from common import parse_sets, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -68,14 +67,7 @@ def read_csv(path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
-    ap.add_argument("--threads", type=int, default=2)
-    add_set_option(ap)
-    ap.add_argument("--reuse", action="store_true", help="reuse a finished run in --out with the same dx and end time")
-    a = ap.parse_args()
+    a = validation_args(NAME, __doc__, MODES)
     m = MODES[a.mode]
     os.makedirs(a.out, exist_ok=True)
     out = os.path.join(a.out, f"dx{m['dx']:g}")

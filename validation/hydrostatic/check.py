@@ -13,7 +13,6 @@ Metrics (closed-form solution p = rho g (H - z), u = 0):
      balance (initial - removed - final)/initial within 1e-12 (round-off) (both modes).
 Usage: /usr/bin/python3 validation/hydrostatic/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import argparse
 import csv
 import math
 import os
@@ -22,7 +21,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, add_set_option, parse_sets, run_case  # noqa: E402
+from common import Report, parse_sets, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -56,14 +55,7 @@ def last_snapshot(out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
-    ap.add_argument("--threads", type=int, default=2)
-    add_set_option(ap)
-    ap.add_argument("--reuse", action="store_true", help="reuse a finished run in --out with the same dx and end time")
-    a = ap.parse_args()
+    a = validation_args(NAME, __doc__, MODES)
     m = MODES[a.mode]
     os.makedirs(a.out, exist_ok=True)
     out = os.path.join(a.out, f"dx{m['dx']:g}")

@@ -16,7 +16,6 @@ Cross-check (information, not gated): the kernel-interpolated gauge profile (21 
 x = H/5) against the same closed form, interior points only (the two end points sit on the walls).
 Usage: /usr/bin/python3 validation/poiseuille_2d/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import argparse
 import csv
 import math
 import os
@@ -25,7 +24,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import add_set_option, parse_sets, run_case  # noqa: E402
+from common import parse_sets, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -129,14 +128,7 @@ def gauge_error(out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--out", default=f"/tmp/validation/{NAME}")
-    ap.add_argument("--threads", type=int, default=2)
-    add_set_option(ap)
-    ap.add_argument("--reuse", action="store_true", help="reuse finished runs in --out with the same dx and end time")
-    a = ap.parse_args()
+    a = validation_args(NAME, __doc__, MODES)
     m = MODES[a.mode]
     os.makedirs(a.out, exist_ok=True)
     failed, run_failed = [], False
