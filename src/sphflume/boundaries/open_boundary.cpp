@@ -83,8 +83,11 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
       Vec<D> u;
       double rho;
       if (!average(node, u, rho)) continue;
-      u[0] = std::max(u[0], 0.0);  // the algorithm has no backflow at the inlet: never upstream
-      P.vel[i] = u;
+      // Kazemi's inflow particles keep the elevation of their fluid layer: they take the
+      // averaged streamwise velocity only (a vertical part would carry the bottom row through
+      // the bed), and never upstream (the algorithm has no backflow at the inlet)
+      P.vel[i] = Vec<D>{};
+      P.vel[i][0] = std::max(u[0], 0.0);
       P.rho[i] = rho;
       P.p[i] = S.eos.pressure(rho);
     } else if (k == Kind::Outflow && (ext_u || ext_p || hyd_p)) {

@@ -259,15 +259,15 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
 
 GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction"});
+  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from"});
   GaugeConfig g;
   g.line = n.Mark().line + 1;
   g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, front, energy or flux");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "front", "energy", "flux"});
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy or flux");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux"});
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.type == "water_level") {
     g.point = r.vec("point", d);
@@ -280,7 +280,7 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
     g.point = r.vec("point", d);
     if (g.point.empty()) r.misspelt("point");
     if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
-  } else if (g.type == "velocity_profile" || g.type == "flux") {
+  } else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" || g.type == "flux") {
     if (g.type == "flux" && dim != 2) r.fail_at(n, path, "a 2D case (flux gauges are 2D in this version)");
     g.start = r.vec("start", d);
     g.end = r.vec("end", d);
@@ -289,6 +289,7 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
     if (g.start.empty() || g.end.empty()) r.fail_at(n, path, "'start' and 'end' points of the line");
     g.points = r.scalar<int>("points", 20);
     if (g.points < 2 || g.points > 10000) r.fail_at(r.get("points"), r.key_path("points"), "an integer in [2, 10000]");
+    g.average_from = r.scalar<double>("average_from", g.average_from);
   } else if (g.type == "front") {
     const std::string ax = r.scalar<std::string>("axis", "x");
     g.axis = axis_index(ax, dim);
@@ -377,7 +378,7 @@ Case build_case(YAML::Node root, const std::string& file) {
   c.raw = root;
   Reader top(root, file, "");
   top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
-             "gauges", "forces"});
+             "gauges", "forces", "turbulence"});
   for (const char* k : {"particles", "fluid", "geometry", "time"})
     if (!top.has(k)) top.misspelt(k);
   c.name = top.scalar<std::string>("name", "case");
@@ -522,6 +523,40 @@ Case build_case(YAML::Node root, const std::string& file) {
       const auto& out = c.open_boundaries[c.open_boundaries[0].type == "inflow" ? 1 : 0];
       if (!(out.x0 > in.x1)) top.fail_at(ob, "open_boundaries", "the outflow zone downstream (+x) of the inflow zone");
     }
+  }
+  if (top.has("turbulence")) {
+    Reader r(top.get("turbulence"), file, "turbulence");
+    auto& t = c.turbulence;
+    t.line = top.get("turbulence").Mark().line + 1;
+    t.model = r.choice("model", "none", {"none", "smagorinsky", "mixing_length"});
+    t.strain_literal = r.choice("strain_norm", "sqrt_2ss", {"sqrt_2ss", "sqrt_ss"}) == "sqrt_ss";
+    t.column_width = r.in_range("column_width", 0.0, 0.0, 1e6);
+    // every model's keys are read whatever the model, so `--set turbulence.model=...` can
+    // switch models without editing the other keys
+    t.cs = r.in_range("cs", 0.15, 0.0, 1.0);
+    t.delta = r.in_range("delta", 0.0, 0.0, 1e6);
+    t.profile = r.choice("profile", "nezu_rodi", {"nezu_rodi", "three_layer", "constant"});
+    t.bed = r.scalar<double>("bed", 0.0);
+    t.kappa = r.in_range("kappa", 0.41, 0.0, 1.0);
+    t.coles_pi = r.in_range("coles_pi", 0.0, 0.0, 2.0);
+    t.van_driest = r.scalar<bool>("van_driest", false);
+    t.a_plus = r.positive("a_plus", 26.0);
+    t.l_mb = r.in_range("l_mb", 0.002, 0.0, 1e6);
+    t.dz0 = r.scalar<double>("dz0", 0.0);
+    t.kappa_r = r.in_range("kappa_r", 0.27, 0.0, 1.0);
+    t.kappa_f = r.in_range("kappa_f", 0.22, 0.0, 1.0);
+    const bool ml = t.model == "mixing_length";
+    if (ml && t.profile == "constant") t.length = r.positive("length", 0.0, true);
+    else t.length = r.in_range("length", 0.0, 0.0, 1e6);
+    if (ml && t.profile == "three_layer") {
+      t.z_trough = r.required<double>("z_trough", "the trough level z_t in m");
+      t.z_crest = r.required<double>("z_crest", "the roughness-crest level z_c in m");
+      if (!(t.z_crest > t.z_trough)) r.fail_at(r.get("z_crest"), "turbulence.z_crest", "a level above z_trough");
+    } else {
+      t.z_trough = r.scalar<double>("z_trough", 0.0);
+      t.z_crest = r.scalar<double>("z_crest", 0.0);
+    }
+    r.finish();
   }
   if (top.has("forces")) {
     c.forces = top.get("forces");

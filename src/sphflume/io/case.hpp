@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <stdexcept>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,6 +55,27 @@ struct SchemeConfig {
   double eta2 = 0.01;  // η²/h² regularising 1/(r²+η²) in viscous and diffusion terms (theses: 0.01)
 };
 
+/// Eddy-viscosity turbulence (Kazemi ch. 3 and 6): nu_t from the strain rate |S| of the
+/// particle velocity field, stress tau = 2 rho nu_t S_dev added to the momentum equation.
+struct TurbulenceConfig {
+  std::string model = "none";  // none | smagorinsky | mixing_length
+  double cs = 0.15;            // smagorinsky: nu_t = (cs delta)^2 |S|
+  double delta = 0.0;          // smagorinsky filter width [m]; 0 = dx
+  bool strain_literal = false; // |S| = sqrt(S:S) (Kazemi eq 2.17 as printed) instead of sqrt(2 S:S)
+  // mixing_length: nu_t = l_m^2 |S|
+  std::string profile = "nezu_rodi";  // nezu_rodi | three_layer | constant
+  double bed = 0.0;            // z of the numerical bed (z_w = z - bed) [m]
+  double kappa = 0.41;         // nezu_rodi: von Karman constant
+  double coles_pi = 0.0;       // nezu_rodi: wake strength Pi
+  bool van_driest = false;     // nezu_rodi: damping 1 - exp(-z+/A+), u* = sqrt(g_x H) (uniform flow)
+  double a_plus = 26.0;
+  double length = 0.0;         // constant: l_m [m]
+  // three_layer (Kazemi eq 6.7): levels in m, in the case's frame
+  double z_trough = 0.0, z_crest = 0.0, l_mb = 0.002, dz0 = 0.0, kappa_r = 0.27, kappa_f = 0.22;
+  double column_width = 0.0;   // free-surface columns [m]; 0 = 2 dx
+  int line = 0;
+};
+
 struct WallConfig {
   std::string type = "dummy";  // dummy (Adami 2012) | dynamic (SPHysics)
   bool no_slip = true;
@@ -74,12 +96,14 @@ struct ShapeConfig {
 };
 
 struct GaugeConfig {
-  std::string name, type;  // water_level | pressure | velocity_profile | front | energy | flux
+  std::string name, type;  // water_level | pressure | velocity_profile | stress_profile | depth_profile | front | energy | flux
   std::vector<double> point, start, end;
   double x = 0.0;  // water_level: vertical line at x (and y in 3D via point)
   int points = 20;
   int axis = 0;     // front: axis along which the surge runs
   double direction = 1.0;  // front: +1 or -1
+  // profiles and flux: also write NAME.mean.csv, the mean of the samples at t >= average_from
+  double average_from = std::numeric_limits<double>::infinity();
   int line = 0;
 };
 
@@ -129,6 +153,7 @@ struct Case {
   std::vector<GaugeConfig> gauges;
   YAML::Node forces;  // list of registered force terms, each {type: NAME, ...}
   std::vector<OpenBoundaryConfig> open_boundaries;
+  TurbulenceConfig turbulence;
   YAML::Node raw;     // the whole document after --set overrides
 
   double h() const { return h_over_dx * dx; }

@@ -16,7 +16,7 @@ namespace sph {
 template <int D>
 GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
                       double resume_after)
-    : cfg_(gauges), level_top_(level_top) {
+    : cfg_(gauges), level_top_(level_top), dir_(dir), means_(gauges.size()) {
   if (gauges.empty()) return;
   std::filesystem::create_directories(dir + "/gauges");
   const char* ax = D == 2 ? "xz" : "xyz";
@@ -45,20 +45,56 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     else if (g.type == "front") *f << ",front";
     else if (g.type == "energy") *f << ",kinetic,potential,total";
     else if (g.type == "flux") *f << ",flux";
-    else if (g.type == "velocity_profile") {
+    else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile") {
       std::string pts = "index,x,y,z\n";
       for (int i = 0; i < g.points; ++i) {
         const double s = static_cast<double>(i) / (g.points - 1);
         double c[3] = {0, 0, 0};
         for (int d = 0; d < D; ++d) c[d == D - 1 ? 2 : d] = g.start[d] + s * (g.end[d] - g.start[d]);
         pts += fmt::format("{},{:.9g},{:.9g},{:.9g}\n", i, c[0], c[1], c[2]);
-        for (int d = 0; d < D; ++d) *f << fmt::format(",u{}_{}", ax[d], i);
+        if (g.type == "velocity_profile")
+          for (int d = 0; d < D; ++d) *f << fmt::format(",u{}_{}", ax[d], i);
+        else if (g.type == "stress_profile")
+          *f << fmt::format(",ux_{0},tau_t_{0},tau_r_{0},nu_t_{0}", i);
+        else
+          *f << fmt::format(",depth_{}", i);
       }
       write_file_atomically(dir + "/gauges/" + g.name + ".points.csv", pts);
     }
     *f << "\n";
     files_.push_back(std::move(f));
   }
+}
+
+template <int D>
+std::vector<double> GaugeSet<D>::evaluate_stress(const GaugeConfig& g, const System<D>& S) {
+  // Per point: Shepard-averaged streamwise velocity ū, the modelled turbulent shear stress
+  // τ_t/ρ (the xz component of the eddy-viscosity stress, 0 without turbulence), the resolved
+  // stress τ_r/ρ = −⟨(u − ū)(w − w̄)⟩ (Kazemi eqs 3.22–3.23: the kernel-weighted covariance of
+  // the particle velocities about their kernel average; positive in the sense of τ_t) and ν_t.
+  const auto& P = S.particles;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const char* xz = "tau_xz";
+  const std::vector<double>* tau = P.has_scalar(xz) ? &P.scalar_fields().at(xz) : nullptr;
+  const std::vector<double>* nut = P.has_scalar("nu_t") ? &P.scalar_fields().at("nu_t") : nullptr;
+  std::vector<double> out;
+  for (int i = 0; i < g.points; ++i) {
+    const double s = static_cast<double>(i) / (g.points - 1);
+    Vec<D> x{};
+    for (int d = 0; d < D; ++d) x[d] = g.start[d] + s * (g.end[d] - g.start[d]);
+    auto u = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][0]; });
+    auto w = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][D - 1]; });
+    if (!u || !w) {
+      out.insert(out.end(), {nan, nan, nan, nan});
+      continue;
+    }
+    const double ub = *u, wb = *w;
+    auto tt = tau ? interpolate_shepard(S, x, [&](std::uint32_t b) { return (*tau)[b]; }) : std::optional<double>(0.0);
+    auto tr = interpolate_shepard(S, x, [&](std::uint32_t b) { return -(P.vel[b][0] - ub) * (P.vel[b][D - 1] - wb); });
+    auto nt = nut ? interpolate_shepard(S, x, [&](std::uint32_t b) { return (*nut)[b]; }) : std::optional<double>(0.0);
+    out.insert(out.end(), {ub, tt ? *tt : nan, tr ? *tr : nan, nt ? *nt : nan});
+  }
+  return out;
 }
 
 template <int D>
@@ -85,6 +121,21 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
         auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d]; });
         out.push_back(v ? *v : nan);
       }
+    }
+    return out;
+  }
+  if (g.type == "stress_profile") return evaluate_stress(g, S);
+  if (g.type == "depth_profile") {
+    // depth above the gauge line at each point: the water level of the vertical through it
+    // minus the line's own z (put the line on the bed)
+    std::vector<double> out;
+    GaugeConfig wl;
+    wl.type = "water_level";
+    for (int i = 0; i < g.points; ++i) {
+      const double s = static_cast<double>(i) / (g.points - 1);
+      wl.point.assign(D, 0.0);
+      for (int d = 0; d < D; ++d) wl.point[d] = g.start[d] + s * (g.end[d] - g.start[d]);
+      out.push_back(evaluate(wl, S, level_top)[0] - wl.point[vz]);
     }
     return out;
   }
@@ -177,11 +228,38 @@ void GaugeSet<D>::sample(const System<D>& S) {
   for (std::size_t k = 0; k < cfg_.size(); ++k) {
     auto& f = *files_[k];
     f << fmt::format("{:.9g}", S.time);
-    for (double v : evaluate(cfg_[k], S, top)) f << fmt::format(",{:.9g}", v);
+    const auto v = evaluate(cfg_[k], S, top);
+    for (double x : v) f << fmt::format(",{:.9g}", x);
     f << "\n";
     f.flush();
     if (!f) throw IoError(fmt::format("writing gauge '{}' failed (disk full?)", cfg_[k].name));
+    if (S.time >= cfg_[k].average_from * (1.0 - 1e-12)) accumulate(k, S.time, v);
   }
+}
+
+template <int D>
+void GaugeSet<D>::accumulate(std::size_t k, double t, const std::vector<double>& v) {
+  // running time mean of a profile gauge over its samples at t >= average_from (NaN samples,
+  // e.g. a dry point, are left out of that column's mean), rewritten as NAME.mean.csv
+  auto& m = means_[k];
+  if (m.n == 0) {
+    m.t0 = t;
+    m.sum.assign(v.size(), 0.0);
+    m.count.assign(v.size(), 0);
+  }
+  ++m.n;
+  m.t1 = t;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (std::isfinite(v[i])) { m.sum[i] += v[i]; ++m.count[i]; }
+  std::string text = "t_from,t_to,samples";
+  std::ifstream hdr(dir_ + "/gauges/" + cfg_[k].name + ".csv");
+  std::string header;
+  std::getline(hdr, header);
+  text += header.substr(header.find(',') == std::string::npos ? header.size() : header.find(','));
+  text += fmt::format("\n{:.9g},{:.9g},{}", m.t0, m.t1, m.n);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    text += m.count[i] ? fmt::format(",{:.9g}", m.sum[i] / m.count[i]) : std::string(",nan");
+  write_file_atomically(dir_ + "/gauges/" + cfg_[k].name + ".mean.csv", text + "\n");
 }
 
 template class GaugeSet<2>;

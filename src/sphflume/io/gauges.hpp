@@ -5,6 +5,11 @@
 //  pressure          pressure: linear-MLS kernel interpolation from fluid particles
 //  velocity_profile  ux_i, (uy_i,) uz_i at points i along the line (Shepard average);
 //                    the points' coordinates go to NAME.points.csv
+//  stress_profile    per point i: ux_i, tau_t_i (modelled turbulent shear stress τ_xz/ρ),
+//                    tau_r_i (resolved −⟨u'w'⟩ about the kernel average), nu_t_i [m2/s]
+//  depth_profile     depth_i: water level above each point of the line (put it on the bed)
+//  profiles and flux with `average_from: T` also keep NAME.mean.csv: the time mean of the
+//  samples from T on (one row, rewritten at every output)
 //  front             front: furthest fluid particle along the axis that has at least 3 fluid
 //                    neighbours (isolated droplets ignored)
 //  energy            kinetic, potential, total: fluid energies [J (per m in 2D)], potential
@@ -35,9 +40,19 @@ class GaugeSet {
   static std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double level_top);
 
  private:
+  static std::vector<double> evaluate_stress(const GaugeConfig& g, const System<D>& S);
+  void accumulate(std::size_t k, double t, const std::vector<double>& v);
+  struct Mean {
+    long n = 0;
+    double t0 = 0.0, t1 = 0.0;
+    std::vector<double> sum;
+    std::vector<long> count;
+  };
   std::vector<GaugeConfig> cfg_;
   std::vector<std::unique_ptr<std::ofstream>> files_;
   double level_top_;
+  std::string dir_;
+  std::vector<Mean> means_;
 };
 
 }  // namespace sph

@@ -1,5 +1,8 @@
 #include "sphflume/physics/force_terms.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "sphflume/io/case.hpp"
@@ -54,13 +57,83 @@ class BodyForce final : public ForceTerm<D> {
   bool region_ = false;
 };
 
+/// Kazemi's rough-bed drag layer (ch. 3, eqs 3.3, 3.4, 3.17; digest §2.4): inside a layer of
+/// thickness R_d above the numerical bed (the roughness crest is bed + R_d), every fluid
+/// particle feels  a = -factor C_d W_d(z) / d_s  u |u|  (factor 1/2: F_d = 1/2 C_d rho A_d u|u|
+/// over A_r = d_s l0 with A_d = l0), W_d the chord fraction of the bed spheres (diameter d_s,
+/// centres d_s/2 below the crest) over the particle's height dx.
+template <int D>
+class RoughBed final : public ForceTerm<D> {
+ public:
+  RoughBed(const YAML::Node& n, const std::string& where) {
+    for (const auto& kv : n) {
+      const auto k = kv.first.as<std::string>();
+      if (k != "type" && k != "cd" && k != "diameter" && k != "bed" && k != "thickness" && k != "shape" && k != "factor")
+        throw InputError(fmt::format("{}: unknown key '{}' for rough_bed (known: cd, diameter, bed, thickness, shape, factor)", where, k));
+    }
+    auto num = [&](const char* k, double def, bool required) {
+      if (!n[k]) {
+        if (required) throw InputError(fmt::format("{}: rough_bed needs '{}'", where, k));
+        return def;
+      }
+      return n[k].as<double>();
+    };
+    cd_ = num("cd", 1.0, false);
+    ds_ = num("diameter", 0.0, true);
+    bed_ = num("bed", 0.0, false);
+    rd_ = num("thickness", 0.0, true);
+    factor_ = num("factor", 0.5, false);
+    if (!(ds_ > 0.0)) throw InputError(fmt::format("{}: rough_bed.diameter: expected the sphere diameter d_s > 0 in m", where));
+    if (!(rd_ > 0.0 && rd_ <= ds_)) throw InputError(fmt::format("{}: rough_bed.thickness: expected R_d in (0, diameter] (the layer between the numerical bed and the crest)", where));
+    if (!(cd_ >= 0.0)) throw InputError(fmt::format("{}: rough_bed.cd: expected a drag coefficient >= 0", where));
+    const std::string shape = n["shape"] ? n["shape"].as<std::string>() : "fragment";
+    if (shape != "fragment" && shape != "point") throw InputError(fmt::format("{}: rough_bed.shape: expected fragment or point (got '{}')", where, shape));
+    point_ = shape == "point";
+  }
+  const char* name() const override { return "rough_bed"; }
+  void add(System<D>& S) override {
+    auto& P = S.particles;
+    const double crest = bed_ + rd_, centre = crest - 0.5 * ds_, l0 = point_ ? 0.0 : S.dx;
+    const double k = factor_ * cd_ / ds_;
+    const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      const double z = P.pos[i][D - 1];
+      if (z <= bed_ || z >= crest) continue;
+      const double wd = rough_bed_shape(z, centre, ds_, l0);
+      P.acc[i] -= (k * wd * norm(P.vel[i])) * P.vel[i];
+    }
+  }
+
+ private:
+  double cd_ = 1.0, ds_ = 0.0, bed_ = 0.0, rd_ = 0.0, factor_ = 0.5;
+  bool point_ = false;
+};
+
 }  // namespace
+
+double rough_bed_shape(double z, double z_centre, double d_s, double l0) {
+  const double r = 0.5 * d_s;
+  if (l0 <= 0.0) {
+    const double y = (z - z_centre) / r;
+    return std::abs(y) < 1.0 ? std::sqrt(1.0 - y * y) : 0.0;
+  }
+  // area of the circle between two horizontal lines, F(y) = ∫ 2 sqrt(r² − y²) dy
+  auto F = [r](double y) {  // in t = y/r, clamped so that round-off never leaves [-1, 1]
+    const double t = std::clamp(y / r, -1.0, 1.0);
+    return r * r * (t * std::sqrt(std::max(0.0, 1.0 - t * t)) + std::asin(t));
+  };
+  const double y = z - z_centre;
+  return (F(y + 0.5 * l0) - F(y - 0.5 * l0)) / (d_s * l0);
+}
 
 template <int D>
 Registry<ForceTerm<D>, const YAML::Node&, const std::string&>& force_registry() {
   static Registry<ForceTerm<D>, const YAML::Node&, const std::string&> r = [] {
     Registry<ForceTerm<D>, const YAML::Node&, const std::string&> reg;
     reg.add("body_force", [](const YAML::Node& n, const std::string& w) { return std::make_unique<BodyForce<D>>(n, w); });
+    reg.add("rough_bed", [](const YAML::Node& n, const std::string& w) { return std::make_unique<RoughBed<D>>(n, w); });
     return reg;
   }();
   return r;

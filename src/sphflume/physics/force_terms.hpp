@@ -22,6 +22,12 @@ class ForceTerm {
   virtual void add(System<D>& S) = 0;
 };
 
+/// Kazemi's rough-bed shape function W_d (ch. 3, eq 3.17): the fraction of a fluid fragment of
+/// width d_s and height l0 centred at elevation z that lies inside the circular cross-section
+/// (diameter d_s, centre z_centre) of a bed sphere. l0 = 0 gives the point form
+/// sqrt(1 - ((z - z_centre)/(d_s/2))^2).
+double rough_bed_shape(double z, double z_centre, double d_s, double l0);
+
 /// Factories take the term's YAML node and a description of where it is (for messages).
 template <int D>
 Registry<ForceTerm<D>, const YAML::Node&, const std::string&>& force_registry();

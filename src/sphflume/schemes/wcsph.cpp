@@ -8,6 +8,7 @@
 
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "sphflume/physics/turbulence.hpp"
 
 namespace sph {
 
@@ -37,13 +38,21 @@ void WCSPH<D>::update_pressure(System<D>& S) const {
 template <int D>
 template <class K>
 void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
-  // XSPH's smoothed velocity needs W(r) in every pair: compiled in only when it is on
-  if (cfg_.xsph > 0.0) sweep<K, true>(S, ker);
-  else sweep<K, false>(S, ker);
+  // XSPH's smoothed velocity needs W(r) in every pair, turbulence the velocity gradient and
+  // the stress divergence: each is compiled in only when it is on
+  const bool turb = turb_.on();
+  if (cfg_.xsph > 0.0) {
+    if (turb) sweep<K, true, true>(S, ker);
+    else sweep<K, true, false>(S, ker);
+  } else {
+    if (turb) sweep<K, false, true>(S, ker);
+    else sweep<K, false, false>(S, ker);
+  }
+  if (turb) turb_.update(S);
 }
 
 template <int D>
-template <class K, bool Xsph>
+template <class K, bool Xsph, bool Turb>
 void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const bool dyn = S.walls->evolves_density();
@@ -60,6 +69,14 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const double dcoef = 2.0 * cfg_.delta * h * c0;
   const double xsph = cfg_.xsph;
   std::vector<Vec<D>>* xs = xsph > 0.0 ? &P.vector("xsph") : nullptr;
+  // turbulence: the stress of the previous pass (kinematic, τ/ρ) and the gradient buffer
+  constexpr int NT = Turbulence<D>::kStress;
+  const double* tau_in[6] = {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+  double* grad_out = nullptr;
+  if constexpr (Turb) {
+    for (int k = 0; k < NT; ++k) tau_in[k] = P.scalar(Turbulence<D>::stress_name(k)).data();
+    grad_out = turb_.gradient(P.n_owned());
+  }
   double g[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
   const double support2 = ker.support2;
@@ -90,7 +107,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   // are converted back to double per particle. Particle state and time integration stay in
   // double precision.
   using F32 = float;
-  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, NCOL };
+  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, NCOL = T0 + 6 };
   const F32 fh = F32(h), feta2 = F32(eta2 + tiny), fsupport2 = F32(support2);
   const F32 flam = F32(lam), falpha = F32(alpha), ffour = F32(four);
   const F32 fsym = F32(sym), fvisc_wall = F32(visc_wall);
@@ -144,10 +161,14 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           cm[m] = F32(mass[b]);
           cf[m] = fl ? F32(1) : F32(0);
           ccs[m] = F32(sound(rho[b]));  // sound speed c(rho_b) (any EOS)
+          if constexpr (Turb)  // τ_b/ρ_b²; walls carry none of their own (see wall factor below)
+            for (int t = 0; t < NT; ++t) B[T0 + t][m] = fl ? F32(tau_in[t][b] / rho[b]) : F32(0);
         });
         for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, massless
           for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cw[d][m] = 0; }
           crho[m] = 0; cp[m] = 0; cm[m] = 0; cf[m] = 0; ccs[m] = F32(c0);
+          if constexpr (Turb)
+            for (int t = 0; t < NT; ++t) B[T0 + t][m] = 0;
         }
       }
       const F32* __restrict bx0 = B[X0];
@@ -164,6 +185,13 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
       const F32* __restrict bm = B[MASS];
       const F32* __restrict bf = B[FLUID];
       const F32* __restrict bcs = B[CS];
+      // stress columns (2D: xx, xz, zz; 3D: xx, yy, zz, xy, xz, yz)
+      const F32* __restrict bt0 = B[T0];
+      const F32* __restrict bt1 = B[T0 + 1];
+      const F32* __restrict bt2 = B[T0 + 2];
+      const F32* __restrict bt3 = B[T0 + (D == 3 ? 3 : 0)];
+      const F32* __restrict bt4 = B[T0 + (D == 3 ? 4 : 0)];
+      const F32* __restrict bt5 = B[T0 + (D == 3 ? 5 : 0)];
 
       for (std::uint32_t ka_k = c0k; ka_k < c1k; ++ka_k) {
         const std::uint32_t a = sorted[ka_k];
@@ -180,8 +208,13 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         const F32 pa_r2 = F32(prs[a] / (rhoa_d * rhoa_d));
         const F32 inv_rhoa = F32(1.0 / rhoa_d);
         const F32 wa = ka == Kind::Wall ? F32(0) : F32(1);  // a dynamic wall: continuity from fluid only
+        F32 ta[6] = {0, 0, 0, 0, 0, 0};  // τ_a/ρ_a²
+        if constexpr (Turb)
+          for (int t = 0; t < NT; ++t) ta[t] = F32(tau_in[t][a] / rhoa_d);
+        const F32 ta0 = ta[0], ta1 = ta[1], ta2 = ta[2], ta3 = ta[3], ta4 = ta[4], ta5 = ta[5];
         F32 a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
-#pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt)
+        F32 g00 = 0, g01 = 0, g02 = 0, g10 = 0, g11 = 0, g12 = 0, g20 = 0, g21 = 0, g22 = 0;
+#pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt, g00, g01, g02, g10, g11, g12, g20, g21, g22)
         for (std::size_t k = 0; k < npad; ++k) {
           const F32 r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : F32(0);
           const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
@@ -220,6 +253,29 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           a0 += lamf * w0 - gcoef * gw0;
           a1 += lamf * w1 - gcoef * gw1;
           a2 += lamf * w2 - gcoef * gw2;
+          if constexpr (Turb) {
+            // velocity gradient (∂u_i/∂x_j)_a = Σ V_b (u_b − u_a)_i ∂_j W, walls through the
+            // wall model's velocity as in the viscous term
+            const F32 gv = mv * Vb;
+            g00 -= w0 * gw0 * gv; g01 -= w0 * gw1 * gv;
+            g10 -= w1 * gw0 * gv; g11 -= w1 * gw1 * gv;
+            if constexpr (D == 3) {
+              g02 -= w0 * gw2 * gv; g12 -= w1 * gw2 * gv;
+              g20 -= w2 * gw0 * gv; g21 -= w2 * gw1 * gv; g22 -= w2 * gw2 * gv;
+            }
+            // stress divergence Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W; a no-slip wall carries τ_a
+            const F32 fa = mb * (F32(1) + (F32(1) - fb) * fvisc_wall);
+            if constexpr (D == 2) {  // (xx, xz, zz)
+              a0 += (fa * ta0 + mb * bt0[k]) * gw0 + (fa * ta1 + mb * bt1[k]) * gw1;
+              a1 += (fa * ta1 + mb * bt1[k]) * gw0 + (fa * ta2 + mb * bt2[k]) * gw1;
+            } else {  // (xx, yy, zz, xy, xz, yz)
+              const F32 txx = fa * ta0 + mb * bt0[k], tyy = fa * ta1 + mb * bt1[k], tzz = fa * ta2 + mb * bt2[k];
+              const F32 txy = fa * ta3 + mb * bt3[k], txz = fa * ta4 + mb * bt4[k], tyz = fa * ta5 + mb * bt5[k];
+              a0 += txx * gw0 + txy * gw1 + txz * gw2;
+              a1 += txy * gw0 + tyy * gw1 + tyz * gw2;
+              a2 += txz * gw0 + tyz * gw1 + tzz * gw2;
+            }
+          }
           if constexpr (Xsph) {
             const F32 xw = fb * F32(2) * mb * inv_rsum * ker.W(r) * in;
             s0 -= xw * u0;
@@ -229,6 +285,12 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           cnt += in;
         }
         pairs += static_cast<std::uint64_t>(cnt + F32(0.5));
+        if constexpr (Turb) {
+          double* G = grad_out + std::size_t(a) * D * D;
+          G[0] = g00; G[1] = g01;
+          if constexpr (D == 2) { G[2] = g10; G[3] = g11; }
+          else { G[2] = g02; G[3] = g10; G[4] = g11; G[5] = g12; G[6] = g20; G[7] = g21; G[8] = g22; }
+        }
         if (ka == Kind::Wall) {
           drho_out[a] = rhoa_d * double(dr);
           acc_out[a] = Vec<D>{};
@@ -296,6 +358,8 @@ double WCSPH<D>::time_step(const System<D>& S) const {
   double dt = cfg_.cfl * S.h / (cmax + std::sqrt(umax2));
   if (cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0)
     dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / S.nu);
+  if (turb_.on() && turb_.nu_t_max() > 0.0)
+    dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / (S.nu + turb_.nu_t_max()));
   if (max_acc_ > 0.0) dt = std::min(dt, cfg_.force_coefficient * std::sqrt(S.h / max_acc_));
   return dt;
 }
@@ -337,6 +401,10 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
     const bool fluid = P.kind[i] == Kind::Fluid;
     if (P.kind[i] == Kind::Inflow || P.kind[i] == Kind::Outflow) {
       P.pos[i] += dt * P.vel[i];  // open-boundary particles move with their imposed velocity
+      // their imposed state is also their previous one: an inflow particle that becomes fluid
+      // starts its leapfrog from it (a new particle has no previous state of its own)
+      vprev[i] = P.vel[i];
+      rprev[i] = P.rho[i];
       continue;
     }
     if (!fluid && !(P.kind[i] == Kind::Wall && dyn)) continue;

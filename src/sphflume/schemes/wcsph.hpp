@@ -17,6 +17,7 @@
 #pragma once
 #include <vector>
 
+#include "sphflume/physics/turbulence.hpp"
 #include "sphflume/schemes/scheme.hpp"
 
 namespace sph {
@@ -24,7 +25,7 @@ namespace sph {
 template <int D>
 class WCSPH final : public Scheme<D> {
  public:
-  explicit WCSPH(const Case& c) : cfg_(c.scheme) {}
+  explicit WCSPH(const Case& c) : cfg_(c.scheme), turb_(c.turbulence) {}
   const char* name() const override { return "wcsph"; }
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
@@ -45,7 +46,7 @@ class WCSPH final : public Scheme<D> {
  private:
   template <class K>
   void pair_loop(System<D>& S, const K& kernel);
-  template <class K, bool Xsph>
+  template <class K, bool Xsph, bool Turb>
   void sweep(System<D>& S, const K& kernel);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);
@@ -54,6 +55,7 @@ class WCSPH final : public Scheme<D> {
   void check_finite(const System<D>& S) const;
 
   SchemeConfig cfg_;
+  Turbulence<D> turb_;
   bool verlet_started_ = false;
   double max_acc_ = 0.0;
 };

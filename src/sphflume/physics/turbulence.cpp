@@ -1,0 +1,150 @@
+#include "sphflume/physics/turbulence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <unordered_map>
+
+namespace sph {
+
+template <int D>
+const char* Turbulence<D>::stress_name(int k) {
+  if constexpr (D == 2) {
+    static const char* n[] = {"tau_xx", "tau_xz", "tau_zz"};
+    return n[k];
+  } else {
+    static const char* n[] = {"tau_xx", "tau_yy", "tau_zz", "tau_xy", "tau_xz", "tau_yz"};
+    return n[k];
+  }
+}
+
+template <int D>
+std::pair<int, int> Turbulence<D>::stress_index(int k) {
+  if constexpr (D == 2) {
+    static const std::pair<int, int> p[] = {{0, 0}, {0, 1}, {1, 1}};
+    return p[k];
+  } else {
+    static const std::pair<int, int> p[] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+    return p[k];
+  }
+}
+
+template <int D>
+double Turbulence<D>::strain_norm(const double* G) const {
+  double ss = 0.0;
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) {
+      const double s = 0.5 * (G[i * D + j] + G[j * D + i]);
+      ss += s * s;
+    }
+  return std::sqrt((cfg_.strain_literal ? 1.0 : 2.0) * ss);
+}
+
+template <int D>
+double Turbulence<D>::mixing_length(double z, double zs, double g_x, double nu) const {
+  if (cfg_.profile == "constant") return cfg_.length;
+  if (cfg_.profile == "three_layer") {
+    const double z0 = cfg_.z_trough + cfg_.dz0, zc = cfg_.z_crest;
+    if (z <= z0) return cfg_.l_mb;
+    if (z <= zc) return cfg_.l_mb + cfg_.kappa_r * (z - z0);
+    const double lmc = cfg_.l_mb + cfg_.kappa_r * std::max(zc - z0, 0.0);
+    const double hc = zs - zc;
+    if (!(hc > 0.0)) return lmc;
+    const double xi = std::min((z - zc) / hc, 1.0);
+    return lmc + cfg_.kappa_f * (z - zc) * std::sqrt(1.0 - xi);
+  }
+  // nezu_rodi
+  const double zw = z - cfg_.bed, H = zs - cfg_.bed;
+  if (!(zw > 0.0) || !(H > 0.0) || zw >= H) return 0.0;
+  const double xi = zw / H;
+  double lm = cfg_.kappa * zw * std::sqrt(1.0 - xi) /
+              (1.0 + std::numbers::pi * cfg_.coles_pi * xi * std::sin(std::numbers::pi * xi));
+  if (cfg_.van_driest && nu > 0.0) {
+    const double ustar = std::sqrt(std::abs(g_x) * H);
+    lm *= 1.0 - std::exp(-zw * ustar / nu / cfg_.a_plus);
+  }
+  return lm;
+}
+
+template <int D>
+double Turbulence<D>::eddy_viscosity(double s, double lm, double delta) const {
+  if (cfg_.model == "smagorinsky") {
+    const double l = cfg_.cs * delta;
+    return l * l * s;
+  }
+  if (cfg_.model == "mixing_length") return lm * lm * s;
+  return 0.0;
+}
+
+template <int D>
+std::vector<double> Turbulence<D>::column_surface(const System<D>& S, double width) {
+  const auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  auto key = [&](const Vec<D>& x, int di, int dj) {
+    const long long i = static_cast<long long>(std::floor(x[0] / width)) + di;
+    const long long j = D == 3 ? static_cast<long long>(std::floor(x[1] / width)) + dj : 0;
+    return (i << 32) ^ (j & 0xffffffffLL);
+  };
+  std::unordered_map<long long, double> top;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (!fluid_like(P.kind[a])) continue;
+    auto [it, fresh] = top.try_emplace(key(P.pos[a], 0, 0), P.pos[a][D - 1]);
+    if (!fresh) it->second = std::max(it->second, P.pos[a][D - 1]);
+  }
+  std::vector<double> zs(n, -std::numeric_limits<double>::infinity());
+  const int r3 = D == 3 ? 1 : 0;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (!fluid_like(P.kind[a])) continue;
+    double z = -std::numeric_limits<double>::infinity();
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -r3; dj <= r3; ++dj)
+        if (auto it = top.find(key(P.pos[a], di, dj)); it != top.end()) z = std::max(z, it->second);
+    zs[a] = z + 0.5 * S.dx;
+  }
+  return zs;
+}
+
+template <int D>
+void Turbulence<D>::update(System<D>& S) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  if (grad_.size() < n * D * D) return;  // no pass has filled the gradient yet
+  auto& nut = P.scalar("nu_t");
+  std::vector<double>* tau[kStress];
+  for (int k = 0; k < kStress; ++k) tau[k] = &P.scalar(stress_name(k));
+  const bool ml = cfg_.model == "mixing_length";
+  std::vector<double> zs;
+  if (ml && cfg_.profile != "constant") zs = column_surface(S, cfg_.column_width > 0.0 ? cfg_.column_width : 2.0 * S.dx);
+  const double delta = cfg_.delta > 0.0 ? cfg_.delta : S.dx;
+  const double gx = S.gravity[0];
+  double numax = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : numax)
+  for (std::size_t a = 0; a < n; ++a) {
+    if (!fluid_like(P.kind[a])) {
+      nut[a] = 0.0;
+      for (int k = 0; k < kStress; ++k) (*tau[k])[a] = 0.0;
+      continue;
+    }
+    if (P.kind[a] == Kind::Outflow) continue;  // frozen: keeps the stress it had as fluid
+    const double* G = grad_.data() + a * D * D;
+    const double s = strain_norm(G);
+    const double lm = ml ? mixing_length(P.pos[a][D - 1], zs.empty() ? 0.0 : zs[a], gx, S.nu) : 0.0;
+    const double nu = eddy_viscosity(s, lm, delta);
+    nut[a] = nu;
+    numax = std::max(numax, nu);
+    double tr = 0.0;
+    for (int i = 0; i < D; ++i) tr += G[i * D + i];
+    for (int k = 0; k < kStress; ++k) {
+      const auto [i, j] = stress_index(k);
+      const double sij = 0.5 * (G[i * D + j] + G[j * D + i]) - (i == j ? tr / 3.0 : 0.0);
+      (*tau[k])[a] = 2.0 * nu * sij;
+    }
+  }
+  nu_t_max_ = numax;
+}
+
+template class Turbulence<2>;
+template class Turbulence<3>;
+
+}  // namespace sph
