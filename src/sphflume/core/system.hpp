@@ -2,6 +2,8 @@
 // gravity, periodic images, the wall model and the registered force terms.
 #pragma once
 #include <functional>
+#include <map>
+#include <string>
 #include <memory>
 #include <vector>
 
@@ -35,6 +37,9 @@ struct System {
   double time = 0.0;
   long step = 0;
   std::uint64_t pairs_last_pass = 0;  // neighbour pairs visited in the last rates pass
+  /// Cumulative boundary masses the run keeps (inflow_mass, outflow_mass, backflow_mass), for
+  /// the gauges; set by the driver before each output.
+  std::map<std::string, double> counters;
 
   /// Sort the owned particles into cell order (moving every per-particle field), rebuild the
   /// images and rebin. Without images the cell list then indexes the store directly

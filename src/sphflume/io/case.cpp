@@ -266,8 +266,8 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy or flux");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux"});
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux or boundary_volume");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume"});
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.type == "water_level") {
     g.point = r.vec("point", d);

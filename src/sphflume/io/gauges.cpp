@@ -45,6 +45,7 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     else if (g.type == "front") *f << ",front";
     else if (g.type == "energy") *f << ",kinetic,potential,total";
     else if (g.type == "flux") *f << ",flux";
+    else if (g.type == "boundary_volume") *f << ",inflow,outflow,backflow";
     else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile") {
       std::string pts = "index,x,y,z\n";
       for (int i = 0; i < g.points; ++i) {
@@ -125,6 +126,10 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     return out;
   }
   if (g.type == "stress_profile") return evaluate_stress(g, S);
+  if (g.type == "boundary_volume") {  // cumulative volumes (mass / rho0) through the open boundaries
+    auto c = [&](const char* k) { auto it = S.counters.find(k); return it == S.counters.end() ? 0.0 : it->second / S.eos.rho0; };
+    return {c("inflow_mass"), c("outflow_mass"), c("backflow_mass")};
+  }
   if (g.type == "depth_profile") {
     // depth above the gauge line at each point: the water level of the vertical through it
     // minus the line's own z (put the line on the bed)

@@ -8,6 +8,8 @@
 //  stress_profile    per point i: ux_i, tau_t_i (modelled turbulent shear stress τ_xz/ρ),
 //                    tau_r_i (resolved −⟨u'w'⟩ about the kernel average), nu_t_i [m2/s]
 //  depth_profile     depth_i: water level above each point of the line (put it on the bed)
+//  boundary_volume   inflow, outflow, backflow: cumulative volumes [m3 (per m in 2D)] of the
+//                    particles converted at the open boundaries (mass / rho0)
 //  profiles and flux with `average_from: T` also keep NAME.mean.csv: the time mean of the
 //  samples from T on (one row, rewritten at every output)
 //  front             front: furthest fluid particle along the axis that has at least 3 fluid

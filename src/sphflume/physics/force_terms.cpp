@@ -125,7 +125,7 @@ double rough_bed_shape(double z, double z_centre, double d_s, double l0) {
     return r * r * (t * std::sqrt(std::max(0.0, 1.0 - t * t)) + std::asin(t));
   };
   const double y = z - z_centre;
-  return (F(y + 0.5 * l0) - F(y - 0.5 * l0)) / (d_s * l0);
+  return std::clamp((F(y + 0.5 * l0) - F(y - 0.5 * l0)) / (d_s * l0), 0.0, 1.0);
 }
 
 template <int D>

@@ -19,9 +19,12 @@
 //
 // The scheme's pair loop accumulates the velocity gradient of every fluid particle in the same
 // pass as the other terms and uses the stress of the previous pass (one step behind, as in
-// DualSPHysics' SPS), so turbulence costs no extra neighbour pass. Walls: a no-slip wall
-// carries the stress of the fluid particle next to it (zero normal gradient), a free-slip wall
-// none. The stress (kinematic, τ/ρ in m²/s²) and ν_t are store fields, written to snapshots.
+// DualSPHysics' SPS), so turbulence costs no extra neighbour pass. Walls carry no modelled stress
+// (τ_b = 0, as the boundary particles of SPHysics and DualSPHysics): the eddy viscosity vanishes
+// at the wall (l_m = 0 at the numerical bed), the bed shear is the drag layer's and the laminar
+// term's. (A wall carrying the stress of the fluid next to it was tried: it adds a bed friction
+// of the first particle row's τ, ~30 % of ρ g H S0 in Kazemi's S004H50, which his model has not.)
+// The stress (kinematic, τ/ρ in m²/s²) and ν_t are store fields, written to snapshots.
 #pragma once
 #include <string>
 #include <vector>

@@ -263,8 +263,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
               g02 -= w0 * gw2 * gv; g12 -= w1 * gw2 * gv;
               g20 -= w2 * gw0 * gv; g21 -= w2 * gw1 * gv; g22 -= w2 * gw2 * gv;
             }
-            // stress divergence Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W; a no-slip wall carries τ_a
-            const F32 fa = mb * (F32(1) + (F32(1) - fb) * fvisc_wall);
+            // stress divergence Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W; walls carry no modelled stress
+            const F32 fa = mb;
             if constexpr (D == 2) {  // (xx, xz, zz)
               a0 += (fa * ta0 + mb * bt0[k]) * gw0 + (fa * ta1 + mb * bt1[k]) * gw1;
               a1 += (fa * ta1 + mb * bt1[k]) * gw0 + (fa * ta2 + mb * bt2[k]) * gw1;

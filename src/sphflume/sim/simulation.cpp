@@ -363,6 +363,9 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     S.update_neighbours();
     const RunState st = R.state();
     snaps.write(S.particles, S.time, S.step, &st);
+    S.counters["inflow_mass"] = R.rs.open.inflow_mass;
+    S.counters["outflow_mass"] = R.rs.open.outflow_mass;
+    S.counters["backflow_mass"] = R.rs.open.backflow_mass;
     gauges->sample(S);
     last_snapshot_step = S.step;
     restart_point = snaps.last_path();
