@@ -222,3 +222,60 @@ TEST(RoughBed, DragAcceleration) {
     EXPECT_NEAR(P.acc[i][0], -1.0 * wd / (2 * 0.024) * 0.09, 1e-12);
   }
 }
+
+// Monaghan–Kos repulsive walls (Federico §5.2.1c): no force on fluid at rest one spacing from the
+// first wall layer; a particle dx/2 from it feels A5 (1 − q)/sqrt(q) with q = 1/2, whether it
+// faces one wall particle (P = 1) or sits between two (P = 1/2 each); the approach speed adds
+// β2 c0 v to A5; a particle leaving fast is not pulled back.
+TEST(RepulsiveWalls, MonaghanKosForce) {
+  const char* yaml = R"(
+dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 0.0, sound_speed: 10.0, hydrostatic_init: false}
+walls: {type: repulsive, repulsion: {beta1: 0.01, beta2: 1.0}}
+geometry:
+  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.35, 0.0]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+time: {end: 1.0}
+)";
+  test::Setup<2> s(yaml);
+  auto& P = s.S.particles;
+  EXPECT_FALSE(s.S.walls->in_pair_sums());
+  // particle indices change with every neighbour update (cell sort): find particles by id
+  auto index_of = [&](std::uint32_t id) {
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.id[i] == id) return i;
+    ADD_FAILURE() << "particle " << id << " not found";
+    return std::size_t(0);
+  };
+  auto force_on = [&](std::uint32_t id) {
+    s.S.update_neighbours();
+    for (auto& x : P.acc) x = Vec<2>{};
+    s.S.walls->add_forces(s.S);
+    return P.acc[index_of(id)];
+  };
+  // at rest: the first fluid row is dx above the first wall layer (wall line in between)
+  s.S.update_neighbours();
+  for (auto& x : P.acc) x = Vec<2>{};
+  s.S.walls->add_forces(s.S);
+  for (std::size_t i = 0; i < P.n_owned(); ++i) EXPECT_EQ(P.acc[i][1], 0.0);
+  // take a bottom-row particle at x = 0.155 down onto the wall line (q = 1/2)
+  std::uint32_t id = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid && std::abs(P.pos[i][0] - 0.155) < 1e-9 && std::abs(P.pos[i][1] - 0.005) < 1e-9) id = P.id[i];
+  P.pos[index_of(id)][1] = 0.0;
+  const double c0 = 10.0, h = 0.02, expected = 0.01 * c0 * c0 / h * 0.5 / std::sqrt(0.5);
+  Vec<2> f = force_on(id);
+  EXPECT_NEAR(f[1], expected, 1e-12 * expected);
+  EXPECT_NEAR(f[0], 0.0, 1e-12 * expected);
+  P.pos[index_of(id)][0] += 0.005;  // between two wall particles: P = 1/2 + 1/2
+  f = force_on(id);
+  EXPECT_NEAR(f[1], expected, 1e-9 * expected);
+  P.vel[index_of(id)] = Vec<2>{{0.0, -0.2}};  // approaching at 0.2 m/s
+  f = force_on(id);
+  EXPECT_NEAR(f[1], (0.01 * c0 * c0 + 1.0 * c0 * 0.2) / h * 0.5 / std::sqrt(0.5), 1e-9 * expected);
+  P.vel[index_of(id)] = Vec<2>{{0.0, 0.5}};  // leaving faster than beta1 c0 / beta2: no attraction
+  f = force_on(id);
+  EXPECT_EQ(f[1], 0.0);
+}

@@ -181,14 +181,15 @@ class FixedGhostWalls final : public WallModel<D> {
       if (clamp) pg = std::max(pg, S.eos.background);
       Vec<D> u;
       for (int d = 0; d < D; ++d) u[d] = (*v)[d + 1];
-      if (no_slip) {
-        u *= -1.0;
+      // normal part reversed; tangential part reversed (no-slip), kept (free-slip) or scaled by psi
+      const double psi = std::isnan(this->cfg.tangential_factor) ? (no_slip ? -1.0 : 1.0) : this->cfg.tangential_factor;
+      const double len = norm(dxg);
+      if (len > 0.0) {
+        const Vec<D> nrm = (1.0 / len) * dxg;
+        const Vec<D> un = dot(u, nrm) * nrm;
+        u = psi * (u - un) - un;
       } else {
-        const double len = norm(dxg);
-        if (len > 0.0) {
-          const Vec<D> nrm = (1.0 / len) * dxg;
-          u -= (2.0 * dot(u, nrm)) * nrm;
-        }
+        u *= -1.0;
       }
       P.p[i] = pg;
       P.rho[i] = S.eos.density(pg);
@@ -196,6 +197,18 @@ class FixedGhostWalls final : public WallModel<D> {
     }
     P.refresh_images();
   }
+};
+
+/// Monaghan & Kos (1999) walls alone: the wall particles are outside every pair sum; only the
+/// repulsive force (WallModel::add_forces) keeps the fluid out.
+template <int D>
+class RepulsiveWalls final : public WallModel<D> {
+ public:
+  using WallModel<D>::WallModel;
+  const char* name() const override { return "repulsive"; }
+  bool evolves_density() const override { return false; }
+  bool in_pair_sums() const override { return false; }
+  void prepare(System<D>&) override {}
 };
 
 template <int D>
@@ -210,12 +223,46 @@ class DynamicWalls final : public WallModel<D> {
 }  // namespace
 
 template <int D>
+void WallModel<D>::add_forces(System<D>& S) const {
+  if (!cfg.repulsive) return;
+  auto& P = S.particles;
+  if (!P.vector_fields().count("wall_normal"))
+    throw std::logic_error("repulsive walls: the geometry made no wall normals (wall_normal)");
+  const auto& nrm = P.vector("wall_normal");
+  const std::size_t n = P.n_owned();
+  const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
+  const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t a = 0; a < n; ++a) {
+    if (P.kind[a] != Kind::Fluid) continue;
+    Vec<D> f{};
+    S.cells.for_neighbours(P.pos, P.pos[a], dx, [&](std::uint32_t k, const Vec<D>& r, double r2) {
+      if (P.kind[k] != Kind::Wall) return;
+      const Vec<D>& nk = nrm[k < n ? k : P.image_source[k - n]];
+      const double rn = dot(r, nk);  // r = x_a − x_k: distance on the fluid side of the wall particle
+      if (!(rn > 0.0) || rn >= dx) return;
+      const double rt = std::sqrt(std::max(0.0, r2 - rn * rn));
+      if (rt >= dx) return;
+      const double q = rn / dx;
+      const double v = -dot(P.vel[a] - P.vel[k], nk);
+      const double A = std::max(0.0, b1 + b2 * v) / h;
+      f += (A * (1.0 - q) / std::sqrt(q) * 0.5 * (1.0 + std::cos(pi * rt / dx))) * nk;
+    });
+    P.acc[a] += f;
+  }
+}
+
+template class WallModel<2>;
+template class WallModel<3>;
+
+template <int D>
 Registry<WallModel<D>, const WallConfig&>& wall_registry() {
   static Registry<WallModel<D>, const WallConfig&> r = [] {
     Registry<WallModel<D>, const WallConfig&> reg;
     reg.add("dummy", [](const WallConfig& c) { return std::make_unique<DummyWalls<D>>(c); });
     reg.add("dynamic", [](const WallConfig& c) { return std::make_unique<DynamicWalls<D>>(c); });
     reg.add("fixed_ghost", [](const WallConfig& c) { return std::make_unique<FixedGhostWalls<D>>(c); });
+    reg.add("repulsive", [](const WallConfig& c) { return std::make_unique<RepulsiveWalls<D>>(c); });
     return reg;
   }();
   return r;

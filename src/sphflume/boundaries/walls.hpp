@@ -6,7 +6,17 @@
 //             continuity equation, pressure from the EOS, not moved.
 //  - fixed_ghost: Marrone et al. (2011) fixed ghost particles (Federico §5.2.6): MLS
 //             interpolation at points mirrored across the wall surface, Neumann pressure,
-//             reversed velocity (no-slip) or reversed normal velocity (free-slip).
+//             reversed velocity (no-slip), reversed normal velocity (free-slip), or the
+//             tangential part scaled by psi (Federico's eq 5.8).
+//  - repulsive: Monaghan & Kos (1999) normal repulsive force (Federico §5.2.1c) alone: the wall
+//             particles enter no pair sum (free-slip); any model can add the same force with
+//             `repulsion:` (Federico §5.2.5 couples it with ghosts).
+//  Repulsive force per unit mass on fluid particle a from wall particle k within dx:
+//     f = n_k R(r⊥) P(r∥),  R = A5 (1 − q)/sqrt(q), q = r⊥/dx (r⊥ < dx),
+//     P = (1 + cos(π r∥/dx))/2 (r∥ < dx),  A5 = max(0, β1 c0² + β2 c0 v)/h,
+//  n_k the wall particle's unit normal towards the fluid, v = −(u_a − u_k)·n_k the speed at which
+//  a approaches the wall (Monaghan & Kos: stronger when approaching; clamped so that it never
+//  attracts). P sums to 1 over wall particles dx apart, so a flat wall pushes uniformly.
 // New models: derive from WallModel and add one line to wall_registry().
 #pragma once
 #include <memory>
@@ -30,6 +40,12 @@ class WallModel {
   virtual void prepare(System<D>& S) = 0;
   /// Velocity of wall particle j as seen by the viscous term (no-slip).
   virtual const std::vector<Vec<D>>& viscous_velocity(const System<D>& S) const { return S.particles.vel; }
+  /// Whether wall particles enter the fluid's pair sums (pressure, continuity, viscosity);
+  /// purely repulsive walls act through their force alone.
+  virtual bool in_pair_sums() const { return true; }
+  /// After the pair loop: forces the walls add to fluid particles (the Monaghan–Kos repulsion
+  /// when cfg.repulsive).
+  void add_forces(System<D>& S) const;
   WallConfig cfg;
 };
 

@@ -472,11 +472,24 @@ Case build_case(YAML::Node root, const std::string& file) {
   }
   if (top.has("walls")) {
     Reader r(top.get("walls"), file, "walls");
-    c.walls.type = r.choice("type", "dummy", {"dummy", "dynamic", "fixed_ghost"});
+    c.walls.type = r.choice("type", "dummy", {"dummy", "dynamic", "fixed_ghost", "repulsive"});
     c.walls.no_slip = r.choice("slip", "no_slip", {"no_slip", "free_slip"}) == "no_slip";
     c.walls.layers = r.scalar<int>("layers", 0);
     if (c.walls.layers < 0 || c.walls.layers > 10) r.fail_at(r.get("layers"), "walls.layers", "an integer in [0, 10] (0 = from the kernel support)");
     c.walls.clamp_negative_pressure = r.scalar<bool>("clamp_negative_pressure", true);
+    c.walls.repulsive = c.walls.type == "repulsive";
+    if (r.has("repulsion")) {
+      Reader q(r.get("repulsion"), file, "walls.repulsion");
+      c.walls.repulsive = true;
+      c.walls.beta1 = q.in_range("beta1", 0.01, 0.0, 10.0);
+      c.walls.beta2 = q.in_range("beta2", 1.0, 0.0, 100.0);
+      q.finish();
+    }
+    if (r.has("tangential_factor")) {
+      if (c.walls.type != "fixed_ghost")
+        r.fail_at(r.get("tangential_factor"), "walls.tangential_factor", "walls.type: fixed_ghost (the factor scales the ghosts' tangential velocity)");
+      c.walls.tangential_factor = r.in_range("tangential_factor", 0.0, -1.0, 1.0);
+    }
     r.finish();
   }
   {

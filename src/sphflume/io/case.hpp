@@ -81,6 +81,14 @@ struct WallConfig {
   bool no_slip = true;
   int layers = 0;  // 0 = derived from the kernel support
   bool clamp_negative_pressure = true;
+  // Monaghan & Kos (1999) normal repulsive force from wall particles within dx (Federico §5.2.1c,
+  // eqs 5.3-5.5), alone (type repulsive) or added to another wall model (Federico §5.2.5 couples
+  // it with ghost particles)
+  bool repulsive = false;
+  double beta1 = 0.01, beta2 = 1.0;  // A5 = (beta1 c0² + beta2 c0 v_approach) / h (Federico ch. 6 values)
+  // fixed_ghost: tangential ghost velocity = psi × the interpolated one (Federico eq 5.8: psi in
+  // [0, 1] calibrates bed roughness, 0.4 in his ch. 6); NaN = from `slip` (-1 no-slip, +1 free-slip)
+  double tangential_factor = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ShapeConfig {

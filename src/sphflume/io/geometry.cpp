@@ -441,6 +441,14 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     auto& mir = P.vector("ghost_mirror");
     for (std::size_t k = 0; k < wall_x.size(); ++k) mir[first_wall + k] = 2.0 * wall_s[k] - wall_x[k];
   }
+  if (c.walls.repulsive) {  // unit normal of each wall particle towards the fluid side of its surface
+    auto& nrm = P.vector("wall_normal");
+    for (std::size_t k = 0; k < wall_x.size(); ++k) {
+      const Vec<D> v = wall_s[k] - wall_x[k];
+      const double len = norm(v);
+      nrm[first_wall + k] = len > 0.0 ? (1.0 / len) * v : Vec<D>{};
+    }
+  }
 
   if (!c.periodic.empty()) {
     S.periodic.lo = to_vec<D>(c.domain_min);

@@ -66,6 +66,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const double four = cfg_.density_diffusion == DensityDiffusion::Fourtakas ? 1.0 : 0.0;
   const double sym = cfg_.pressure_gradient == PressureGradient::Symmetric ? 1.0 : 0.0;
   const double visc_wall = S.walls->cfg.no_slip ? 1.0 : 0.0;  // walls enter the viscous terms
+  const double wall_in = S.walls->in_pair_sums() ? 1.0 : 0.0;  // walls enter the pair sums at all
   const double dcoef = 2.0 * cfg_.delta * h * c0;
   const double xsph = cfg_.xsph;
   std::vector<Vec<D>>* xs = xsph > 0.0 ? &P.vector("xsph") : nullptr;
@@ -110,7 +111,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, NCOL = T0 + 6 };
   const F32 fh = F32(h), feta2 = F32(eta2 + tiny), fsupport2 = F32(support2);
   const F32 flam = F32(lam), falpha = F32(alpha), ffour = F32(four);
-  const F32 fsym = F32(sym), fvisc_wall = F32(visc_wall);
+  const F32 fsym = F32(sym), fvisc_wall = F32(visc_wall * wall_in), fwall_in = F32(wall_in);
   const F32 fg0 = F32(g[0]), fg1 = F32(g[1]), fg2 = F32(g[2]);
   const F32 ffar = F32(1.0e3);  // padding entries: 1 km away, outside every support
 
@@ -220,7 +221,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
           const F32 fb = bf[k];
           // in: a neighbour within the support (not a itself); a wall a only sees fluid
-          const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? (wa + (F32(1) - wa) * fb) : F32(0);
+          // (purely repulsive walls are in no sum: fwall_in = 0)
+          const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? (wa + (F32(1) - wa) * fb) * (fb + (F32(1) - fb) * fwall_in) : F32(0);
           const F32 r = std::sqrt(r2);
           const F32 Fk = ker.F(r) * in;
           const F32 gw0 = Fk * r0, gw1 = Fk * r1, gw2 = Fk * r2c;
@@ -316,6 +318,7 @@ void WCSPH<D>::rates(System<D>& S) {
   if (S.before_rates) S.before_rates(S);
   S.walls->prepare(S);
   S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
+  S.walls->add_forces(S);
   for (auto& f : S.forces) f->add(S);
   auto& P = S.particles;
   double amax = 0.0;
