@@ -58,7 +58,8 @@ def flow(fid):
     raise KeyError(fid)
 
 
-def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", periodic=False, output=0.5):
+def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", periodic=False, output=0.5,
+              outlet="extrapolated"):
     """The case file text of flow `fid` (in/out-flow channel, or periodic along x with periodic=True)."""
     _, _, s0, h, fr, _ = flow(fid)
     u = measured_u(fr, h)
@@ -102,7 +103,10 @@ def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", 
             "open_boundaries:",
             f"  - {{type: inflow, zone: [{-zone:.6g}, 0.0], depth: {depth:.6g}, velocity: averaged, initial_profile: true,",
             f"     profile: {{type: uniform, u: {u0}}}}}",
-            f"  - {{type: outflow, zone: [{L:.6g}, {L + zone:.6g}], depth: {depth:.6g}, velocity: frozen}}",
+            # outlet: zero gradient (velocity and density extrapolated); Kazemi's frozen outlet (outlet="frozen")
+            # lets the surface draw down by ~15 % over L = 4 H with stationary waves (measured on S004H50)
+            f"  - {{type: outflow, zone: [{L:.6g}, {L + zone:.6g}], depth: {depth:.6g}, "
+            + ("velocity: frozen}" if outlet == "frozen" else "velocity: extrapolated, pressure: extrapolated}"),
             f"domain: {{min: [{-zone - 0.05:.6g}, -0.05], max: [{L + zone + 0.05:.6g}, {3 * depth:.6g}]}}",
         ]
     lines += [f"time: {{end: {t_end}, output_interval: {output}}}", "gauges:"]
@@ -118,6 +122,8 @@ def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", 
     lines.append(f"  - {{name: stress_50, type: stress_profile, start: [{0.5 * L:.6g}, {0.5 * dx:.6g}], "
                  f"end: [{0.5 * L:.6g}, {depth - 0.5 * dx:.6g}], points: {2 * dx_per_h + 1}}}")
     lines.append(f"  - {{name: depth, type: depth_profile, start: [{0.1 * L:.6g}, 0.0], end: [{0.9 * L:.6g}, 0.0], points: 9}}")
+    if not periodic:
+        lines.append("  - {name: volumes, type: boundary_volume}")
     return "\n".join(lines) + "\n"
 
 

@@ -359,9 +359,13 @@ OpenBoundaryConfig read_open_boundary(const YAML::Node& n, const std::string& fi
     b.velocity = r.choice("velocity", "imposed", {"imposed", "frozen", "extrapolated"});
     b.frozen = b.velocity == "frozen";
     b.pressure = r.choice("pressure", b.velocity == "extrapolated" ? "extrapolated" : "frozen",
-                          {"frozen", "extrapolated", "hydrostatic", "imposed"});
+                          {"frozen", "extrapolated", "hydrostatic", "imposed", "inlet"});
   } else {
     b.velocity = r.choice("velocity", "imposed", {"imposed", "averaged"});
+    if (r.has("average_at")) {
+      if (b.velocity != "averaged") r.fail_at(r.get("average_at"), r.key_path("average_at"), "velocity: averaged (the node's distance from the inlet line)");
+      b.average_at = r.positive("average_at", 0.0);
+    }
   }
   if (b.type == "inflow") b.initial_profile = r.scalar<bool>("initial_profile", false);
   if (b.velocity == "imposed" || r.has("profile")) {

@@ -136,8 +136,12 @@ struct OpenBoundaryConfig {
   // particles take the Shepard average of the fluid's velocity and density at a node 0.5 dx
   // inside the fluid at their height, before every rates pass
   std::string velocity = "imposed";  // inflow: imposed | averaged; outflow: imposed | frozen | extrapolated
-  std::string pressure = "frozen";   // outflow: frozen | extrapolated | hydrostatic (local depth) | imposed (of `depth`)
+  std::string pressure = "frozen";   // outflow: frozen | extrapolated | hydrostatic (local depth) | imposed (of `depth`) | inlet
   bool initial_profile = false;  // inflow: also give the fluid downstream the profile at t = 0
+  // inflow `averaged`: distance of the velocity's averaging node downstream of the inlet line
+  // (0 = Kazemi's 0.5 dx; a distance well inside the channel recycles the developed profile);
+  // the density is always averaged 0.5 dx inside
+  double average_at = 0.0;
   ProfileConfig profile;
   int line = 0;
 };
