@@ -2,6 +2,7 @@
 // that moves particles between the inflow, fluid and outflow sets with every mass counted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "sphflume/boundaries/open_boundary.hpp"
@@ -135,7 +136,8 @@ TEST(OpenBoundary, CrossingsConvertCreateAndDeleteWithEveryMassCounted) {
 
 TEST(OpenBoundary, AveragedInflowAndExtrapolatedOutflowCopyTheFluidNextToThem) {
   // Kazemi's unknown-discharge inflow and a zero-gradient outflow: in a uniform stream the
-  // Shepard average at the nodes is exactly the stream's state; a hydrostatic outflow takes
+  // Shepard average at the nodes is exactly the stream's state (the inflow takes its streamwise
+  // velocity and density, the outflow its whole velocity); a hydrostatic outflow takes
   // the pressure of the local depth (highest fluid particle next to the zone + dx/2).
   test::Setup<2> s(kChannel, {"open_boundaries.0.velocity=averaged", "open_boundaries.1.velocity=extrapolated",
                               "open_boundaries.1.pressure=hydrostatic"});
@@ -153,7 +155,7 @@ TEST(OpenBoundary, AveragedInflowAndExtrapolatedOutflowCopyTheFluidNextToThem) {
     if (P.kind[i] == Kind::Inflow) {
       ++nin;
       EXPECT_NEAR(P.vel[i][0], 0.37, 1e-12);
-      EXPECT_NEAR(P.vel[i][1], -0.02, 1e-12);
+      EXPECT_EQ(P.vel[i][1], 0.0);  // the streamwise part only: inflow rows keep their elevation
       EXPECT_NEAR(P.rho[i], 1001.5, 1e-9);
       EXPECT_NEAR(P.p[i], s.S.eos.pressure(1001.5), 1e-6);
     } else if (P.kind[i] == Kind::Outflow) {
@@ -174,4 +176,36 @@ TEST(OpenBoundary, AveragedInflowAndExtrapolatedOutflowCopyTheFluidNextToThem) {
       EXPECT_EQ(P.vel[i][0], 0.0);
     }
   }
+}
+
+// Averaged (Kazemi) inflow: the inflow rows are stacked at the heights of the hydrostatically
+// compressed column (each particle m/(rho dx) tall), so the column stands as high as the fluid
+// settles and not dx per row: the column is sum_k m/(rho_k dx) tall, shorter than the imposed
+// depth by the mean compression, and rows keep their order and touch.
+TEST(OpenBoundary, AveragedInflowRowsStackAtTheSettledHeights) {
+  test::Setup<2> s(kChannel, {"open_boundaries.0.velocity=averaged", "fluid.sound_speed=5.0", "fluid.eos=linear"});
+  OpenBoundaries<2> ob(s.c);
+  OpenFlowCounters k;
+  ob.setup(s.S, k);
+  const auto& P = s.S.particles;
+  std::vector<std::pair<double, double>> col;  // (z, height) of the inflow column at x = 0.005
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Inflow && std::abs(P.pos[i][0] - 0.005) < 1e-9) col.push_back({P.pos[i][1], P.mass[i] / (P.rho[i] * 0.01)});
+  std::sort(col.begin(), col.end());
+  ASSERT_EQ(col.size(), 10u);
+  EXPECT_NEAR(col[0].first, 0.005, 1e-12);  // the bottom row stays
+  const double bottom = col[0].first - 0.5 * col[0].second;  // the bottom row's lower face
+  double height = 0.0;
+  for (std::size_t r = 0; r < col.size(); ++r) {
+    EXPECT_LT(col[r].second, 0.01);  // compressed: shorter than dx
+    if (r > 0) {
+      EXPECT_NEAR(col[r].first - col[r - 1].first, 0.5 * (col[r].second + col[r - 1].second), 1e-12);
+    }
+    height += col[r].second;
+  }
+  // linear EOS: a row at pressure p is dx rho0/(rho0 + p/c0²) tall, so the column is shorter by
+  // about g H²/(2 c0²) = 1.96 mm (to first order in p/(rho0 c0²) <= 3.7 %: within 5 % of it)
+  const double expected = 0.1 * (1.0 - 1000.0 * 9.81 * 0.1 / (2.0 * 1000.0 * 25.0));
+  EXPECT_NEAR(col.back().first + 0.5 * col.back().second, bottom + height, 1e-12);  // rows touch
+  EXPECT_NEAR(height, expected, 0.05 * (0.1 - expected));
 }

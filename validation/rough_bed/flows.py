@@ -59,7 +59,7 @@ def flow(fid):
 
 
 def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", periodic=False, output=0.5,
-              outlet="extrapolated"):
+              outlet="frozen"):
     """The case file text of flow `fid` (in/out-flow channel, or periodic along x with periodic=True)."""
     _, _, s0, h, fr, _ = flow(fid)
     u = measured_u(fr, h)
@@ -103,8 +103,8 @@ def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", 
             "open_boundaries:",
             f"  - {{type: inflow, zone: [{-zone:.6g}, 0.0], depth: {depth:.6g}, velocity: averaged, initial_profile: true,",
             f"     profile: {{type: uniform, u: {u0}}}}}",
-            # outlet: zero gradient (velocity and density extrapolated); Kazemi's frozen outlet (outlet="frozen")
-            # lets the surface draw down by ~15 % over L = 4 H with stationary waves (measured on S004H50)
+            # outlet: Kazemi's frozen outflow (default); outlet="extrapolated" gives the zero-gradient one (velocity
+            # and density extrapolated), which at L = 4 H lets the flow stall (validation/README.md)
             f"  - {{type: outflow, zone: [{L:.6g}, {L + zone:.6g}], depth: {depth:.6g}, "
             + ("velocity: frozen}" if outlet == "frozen" else "velocity: extrapolated, pressure: extrapolated}"),
             f"domain: {{min: [{-zone - 0.05:.6g}, -0.05], max: [{L + zone + 0.05:.6g}, {3 * depth:.6g}]}}",

@@ -56,6 +56,8 @@ class Turbulence {
   void update(System<D>& S);
   /// Largest ν_t of the last update (for the viscous time-step limit).
   double nu_t_max() const { return nu_t_max_; }
+  /// After a restart: the value saved with the state (the time step of the next step uses it).
+  void restore_nu_t_max(double v) { nu_t_max_ = v; }
 
   /// Mixing length at height z (case frame) under a free surface at zs; g_x is the driving
   /// gravity component and nu the molecular viscosity (van Driest damping).

@@ -33,10 +33,11 @@ class WCSPH final : public Scheme<D> {
   int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet ? 1 : 2; }
   std::size_t bytes() const override;
   std::map<std::string, double> state() const override {
-    return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}};
+    return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}, {"nu_t_max", turb_.nu_t_max()}};
   }
   void restore(const std::map<std::string, double>& s) override {
     if (auto it = s.find("max_acc"); it != s.end()) max_acc_ = it->second;
+    if (auto it = s.find("nu_t_max"); it != s.end()) turb_.restore_nu_t_max(it->second);
     if (auto it = s.find("verlet_started"); it != s.end()) verlet_started_ = it->second != 0.0;
   }
 
