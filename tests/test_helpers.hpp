@@ -1,5 +1,7 @@
 #pragma once
+#include <cmath>
 #include <memory>
+#include <utility>
 #include <string>
 
 #include "sphflume/boundaries/walls.hpp"
@@ -26,5 +28,22 @@ struct Setup {
     scheme = std::make_unique<WCSPH<D>>(c);
   }
 };
+
+/// Lattice moments of the SPH operators around particle a (Wendland C2 kernel): the first-
+/// derivative moment m = -Σ_b V_b F(r) z_ab² and the Laplacian moment
+/// m_L = -Σ_b V_b F(r) z_ab² r²/(r² + η²), η² = eta2 h² (both 1 in the continuum).
+inline std::pair<double, double> lattice_moments(const System<2>& S, std::size_t a, double eta2 = 0.01) {
+  const auto& P = S.particles;
+  WendlandC2<2> k(S.h);
+  double m = 0.0, mL = 0.0;
+  const double e2 = eta2 * S.h * S.h;
+  S.cells.for_neighbours(P.pos, P.pos[a], k.support, [&](std::uint32_t b, const Vec<2>& r, double r2) {
+    if (r2 == 0.0) return;
+    const double V = P.mass[b] / P.rho[b], F = k.F(std::sqrt(r2));
+    m -= V * F * r[1] * r[1];
+    mL -= V * F * r[1] * r[1] * r2 / (r2 + e2);
+  });
+  return {m, mL};
+}
 
 }  // namespace sph::test

@@ -33,19 +33,7 @@ time: {end: 1.0}
 bool interior(const Vec<2>& x) { return x[0] > 0.1 && x[0] < 0.2 && x[1] > 0.1 && x[1] < 0.2; }
 
 /// Lattice moments around particle a (see the header comment).
-std::pair<double, double> moments(const System<2>& S, std::size_t a) {
-  const auto& P = S.particles;
-  WendlandC2<2> k(S.h);
-  double m = 0.0, mL = 0.0;
-  const double eta2 = 0.01 * S.h * S.h;
-  S.cells.for_neighbours(P.pos, P.pos[a], k.support, [&](std::uint32_t b, const Vec<2>& r, double r2) {
-    if (r2 == 0.0) return;
-    const double V = P.mass[b] / P.rho[b], F = k.F(std::sqrt(r2));
-    m -= V * F * r[1] * r[1];
-    mL -= V * F * r[1] * r[1] * r2 / (r2 + eta2);
-  });
-  return {m, mL};
-}
+std::pair<double, double> moments(const System<2>& S, std::size_t a) { return test::lattice_moments(S, a); }
 
 /// Round-off bound of the pair loop, which evaluates and sums the pair terms in single
 /// precision: each term and each partial sum carries a relative error of FLT_EPSILON, so the

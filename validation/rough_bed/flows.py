@@ -59,12 +59,12 @@ def flow(fid):
 
 
 def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", periodic=False, output=0.5,
-              outlet="frozen"):
+              outlet="frozen", length_h=4.0):
     """The case file text of flow `fid` (in/out-flow channel, or periodic along x with periodic=True)."""
     _, _, s0, h, fr, _ = flow(fid)
     u = measured_u(fr, h)
     dx = h / dx_per_h  # (computed before R_d: H / dx particles above the crest)
-    L = 4.0 * h
+    L = length_h * h  # the thesis: 4 H
     zone = 4.0 * dx  # one kernel support (2h, h = 2 dx)
     rd = rd_over_h(h) * h
     depth = h + rd  # fluid from the numerical bed to the surface
