@@ -29,6 +29,19 @@ struct Setup {
   }
 };
 
+/// A 0.3 m x 0.3 m block of fluid on a regular lattice (dx = 0.01, Wendland C2, h/dx = 1.5), at
+/// rest, no gravity, no walls: the operator tests set a field on it and take one rates pass.
+inline constexpr const char* kLattice2D = R"(
+dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-3, sound_speed: 10.0, hydrostatic_init: false}
+scheme: {density_diffusion: none, viscosity: laminar}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.3]}
+time: {end: 1.0}
+)";
+
 /// Lattice moments of the SPH operators around particle a (Wendland C2 kernel): the first-
 /// derivative moment m = -Σ_b V_b F(r) z_ab² and the Laplacian moment
 /// m_L = -Σ_b V_b F(r) z_ab² r²/(r² + η²), η² = eta2 h² (both 1 in the continuum).

@@ -13,17 +13,9 @@
 using namespace sph;
 
 namespace {
-const char* kLattice = R"(
-dimension: 2
-gravity: [0.0, 0.0]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, viscosity: 0.0, sound_speed: 10.0, hydrostatic_init: false}
-scheme: {density_diffusion: none, viscosity: laminar}
-turbulence: {model: smagorinsky, cs: 0.15}
-geometry:
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.3]}
-time: {end: 1.0}
-)";
+const char* kLattice = test::kLattice2D;
+// the lattice with the Smagorinsky model and no molecular viscosity
+const std::vector<std::string> kSmagorinsky = {"fluid.viscosity=0.0", "turbulence.model=smagorinsky", "turbulence.cs=0.15"};
 
 bool interior(const Vec<2>& x) { return x[0] > 0.1 && x[0] < 0.2 && x[1] > 0.1 && x[1] < 0.2; }
 
@@ -34,7 +26,7 @@ double moment(const System<2>& S, std::size_t a) { return test::lattice_moments(
 // u = γ z: ∂u/∂z = γ m on the lattice, |S| = sqrt(2 S:S) = γ m, ν_t = (C_s dx)² γ m,
 // τ_xz/ρ = 2 ν_t S_xz = ν_t γ m; the pair loop sums in single precision (relative 1e-5).
 TEST(Turbulence, SmagorinskyEddyViscosityOfLinearShear) {
-  test::Setup<2> s(kLattice);
+  test::Setup<2> s(kLattice, kSmagorinsky);
   auto& P = s.S.particles;
   const double gamma = 4.0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) P.vel[i] = Vec<2>{{gamma * P.pos[i][1], 0.0}};
@@ -72,7 +64,7 @@ TEST(Turbulence, LiteralStrainNormOption) {
 // A stress field τ_xz/ρ = A z (other components 0) accelerates the fluid by ∂(τ_xz/ρ)/∂z = A
 // along x, times the lattice moment: the momentum term is Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W.
 TEST(Turbulence, StressDivergenceOfLinearStress) {
-  test::Setup<2> s(kLattice);
+  test::Setup<2> s(kLattice, kSmagorinsky);
   auto& P = s.S.particles;
   const double A = 0.02;  // m/s² per m of height
   s.S.update_neighbours();

@@ -19,16 +19,7 @@
 using namespace sph;
 
 namespace {
-const char* kLattice = R"(
-dimension: 2
-gravity: [0.0, 0.0]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, viscosity: 1.0e-3, sound_speed: 10.0, hydrostatic_init: false}
-scheme: {density_diffusion: none, viscosity: laminar}
-geometry:
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.3]}
-time: {end: 1.0}
-)";
+const char* kLattice = test::kLattice2D;
 
 bool interior(const Vec<2>& x) { return x[0] > 0.1 && x[0] < 0.2 && x[1] > 0.1 && x[1] < 0.2; }
 
