@@ -17,8 +17,8 @@ STATUS (2026-11-22, session 3): not in CTest. Fine, h1/20, with the tailwater im
 (`--set open_boundaries.1.pressure=imposed`): h2/h1 = 1.5 passes all three (front held at 8.2 h1, drift +0.37 h1,
 S2/S1 1.024); h2/h1 = 2.2 passes the outflow depth (+0.7 %) and the drift (-0.79 h1) but its front sits at 2.3-5.1 h1,
 so its upstream slab reaches into the inflow zone and the fluid-only S1 came out 0.59 of the exact value (S2/S1 1.65,
-FAIL). The upstream slab now also counts the inflow particles (the imposed upstream state); the 2.2 run has not been
-re-analysed with that rule. With the thesis's outflow (velocity only) the jump still drifts upstream.
+FAIL); with the upstream slab also counting the inflow particles (the imposed upstream state), as now, S1 = 0.854 and
+S2/S1 = 1.15 (FAIL). With the thesis's outflow (velocity only) the jump still drifts upstream.
 Usage: /usr/bin/python3 validation/hydraulic_jump/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import glob
