@@ -12,14 +12,23 @@
 
 namespace sph {
 
+/// Per-particle porosity (null without porous media): volumes are m / (φ ρ).
+template <int D>
+const double* porosity_field(const System<D>& S) {
+  const auto& F = S.particles.scalar_fields();
+  const auto it = F.find("porosity");
+  return it == F.end() ? nullptr : it->second.data();
+}
+
 /// Σ_b V_b W(x - x_b) over fluid particles: 1 inside the fluid, ~0.5 at the free surface.
 template <int D>
 double fluid_fraction(const System<D>& S, const Vec<D>& x) {
   const auto& P = S.particles;
+  const double* phi = porosity_field(S);
   return S.with_kernel([&](const auto& K) {
     double s = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-      if (fluid_like(P.kind[b])) s += P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+      if (fluid_like(P.kind[b])) s += P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * K.W(std::sqrt(r2));
     });
     return s;
   });
@@ -34,6 +43,7 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
   const auto& P = S.particles;
   using M = Eigen::Matrix<double, D + 1, D + 1>;
   using Vv = Eigen::Matrix<double, D + 1, 1>;
+  const double* phi = porosity_field(S);
   return S.with_kernel([&](const auto& K) -> std::optional<std::array<double, NF>> {
     M A = M::Zero();
     std::array<Vv, NF> rhs;
@@ -43,7 +53,7 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
     int n = 0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
       if (!fluid_like(P.kind[b])) return;
-      const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * K.W(std::sqrt(r2));
       Vv q;
       q[0] = 1.0;
       for (int d = 0; d < D; ++d) q[d + 1] = -rxb[d] / K.h;  // (x_b - x)/h
@@ -80,11 +90,12 @@ std::optional<double> interpolate_mls(const System<D>& S, const Vec<D>& x, Field
 template <int D, class Field>
 std::optional<double> interpolate_shepard(const System<D>& S, const Vec<D>& x, Field&& f) {
   const auto& P = S.particles;
+  const double* phi = porosity_field(S);
   return S.with_kernel([&](const auto& K) -> std::optional<double> {
     double sw = 0.0, sf = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
       if (!fluid_like(P.kind[b])) return;
-      const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * K.W(std::sqrt(r2));
       sw += w;
       sf += w * f(b);
     });

@@ -17,6 +17,7 @@ namespace sph {
 
 template <int D> class WallModel;
 template <int D> class ForceTerm;
+template <int D> class PorousMedia;
 
 template <int D>
 struct System {
@@ -31,6 +32,9 @@ struct System {
   Periodic<D> periodic;
   std::unique_ptr<WallModel<D>> walls;
   std::vector<std::unique_ptr<ForceTerm<D>>> forces;
+  /// Porous regions (null without a `porous:` section): the porosity field and drag closures
+  /// of the SPHAM equations; particles then carry the store field "porosity".
+  std::shared_ptr<PorousMedia<D>> porous;
   /// Boundary conditions that set imposed particles from the fluid before every rates pass
   /// (e.g. open boundaries with averaged or extrapolated states); called before the walls.
   std::function<void(System&)> before_rates;

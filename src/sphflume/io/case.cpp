@@ -201,6 +201,36 @@ int axis_index(const std::string& a, int dim) {
   return -1;
 }
 
+std::vector<std::array<double, 2>> read_vertices(Reader& r, const YAML::Node& n) {
+  if (!r.has("vertices")) r.misspelt("vertices");
+  const YAML::Node v = r.get("vertices");
+  if (!v.IsSequence() || v.size() < 3) r.fail_at(v.IsDefined() ? v : n, r.key_path("vertices"), "a list of at least 3 [x, z] points");
+  std::vector<std::array<double, 2>> out;
+  for (const auto& p : v) {
+    if (!p.IsSequence() || p.size() != 2) r.fail_at(p, r.key_path("vertices"), "[x, z] pairs");
+    try { out.push_back({p[0].as<double>(), p[1].as<double>()}); } catch (const YAML::Exception&) {
+      r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of numbers");
+    }
+    if (!std::isfinite(out.back()[0]) || !std::isfinite(out.back()[1]))
+      r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of finite numbers");
+  }
+  return out;
+}
+
+/// A list of numbers, strictly increasing when `increasing`.
+std::vector<double> read_list(Reader& r, const std::string& k, bool increasing) {
+  const YAML::Node v = r.get(k);
+  const std::string what = increasing ? "a list of increasing numbers" : "a list of numbers";
+  if (!v.IsSequence() || v.size() == 0) r.fail_at(v, r.key_path(k), what);
+  std::vector<double> out;
+  for (const auto& e : v) {
+    try { out.push_back(e.as<double>()); } catch (const YAML::Exception&) { r.fail_at(e, r.key_path(k), what); }
+    if (!std::isfinite(out.back()) || (increasing && out.size() > 1 && !(out.back() > out[out.size() - 2])))
+      r.fail_at(e, r.key_path(k), what);
+  }
+  return out;
+}
+
 ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity"});
@@ -224,17 +254,7 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
     }
   } else if (s.type == "polygon") {
     if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
-    if (!r.has("vertices")) r.misspelt("vertices");
-    const YAML::Node v = r.get("vertices");
-    if (!v.IsSequence() || v.size() < 3) r.fail_at(v.IsDefined() ? v : n, r.key_path("vertices"), "a list of at least 3 [x, z] points");
-    for (const auto& p : v) {
-      if (!p.IsSequence() || p.size() != 2) r.fail_at(p, r.key_path("vertices"), "[x, z] pairs");
-      try { s.vertices.push_back({p[0].as<double>(), p[1].as<double>()}); } catch (const YAML::Exception&) {
-        r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of numbers");
-      }
-      if (!std::isfinite(s.vertices.back()[0]) || !std::isfinite(s.vertices.back()[1]))
-        r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of finite numbers");
-    }
+    s.vertices = read_vertices(r, n);
   } else if (s.type == "plane") {
     s.point = r.vec("point", d);
     s.normal = r.vec("normal", d);
@@ -257,6 +277,81 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
   return s;
 }
 
+PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+  Reader r(n, file, path);
+  r.valid({"shape", "min", "max", "vertices", "porosity", "diameter", "layer", "closure", "x", "z", "phi"});
+  PorousRegionConfig g;
+  g.line = n.Mark().line + 1;
+  g.shape = r.choice("shape", "box", {"box", "polygon", "profile"});
+  const std::size_t d = static_cast<std::size_t>(dim);
+  if (g.shape == "box") {
+    g.min = r.vec("min", d);
+    g.max = r.vec("max", d);
+    if (g.min.empty() || g.max.empty()) r.fail_at(n, path, "'min' and 'max' corners of the porous box");
+    for (std::size_t i = 0; i < d; ++i)
+      if (!(g.max[i] > g.min[i])) r.fail_at(r.get("max"), r.key_path("max"), "max > min in every coordinate");
+  } else if (g.shape == "polygon") {
+    if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
+    g.vertices = read_vertices(r, n);
+  }
+  if (g.shape == "profile") {
+    if (!r.has("z")) r.misspelt("z");
+    if (!r.has("z") || !r.has("phi"))
+      r.fail_at(n, path, "a profile: 'z' (heights) and 'phi' (porosity at each height; with 'x', one row per x)");
+    g.z = read_list(r, "z", true);
+    if (r.has("x")) g.x = read_list(r, "x", true);
+    const YAML::Node ph = r.get("phi");
+    const std::string what = g.x.empty() ? fmt::format("a list of {} porosities in (0, 1], one per z", g.z.size())
+                                         : fmt::format("{} rows (one per x) of {} porosities in (0, 1]", g.x.size(), g.z.size());
+    if (!ph.IsSequence()) r.fail_at(ph, r.key_path("phi"), what);
+    auto row = [&](const YAML::Node& rn) {
+      if (!rn.IsSequence() || rn.size() != g.z.size()) r.fail_at(rn, r.key_path("phi"), what);
+      std::vector<double> v;
+      for (const auto& e : rn) {
+        double x = -1.0;
+        try { x = e.as<double>(); } catch (const YAML::Exception&) { r.fail_at(e, r.key_path("phi"), what); }
+        if (!(x > 0.0 && x <= 1.0)) r.fail_at(e, r.key_path("phi"), what);
+        v.push_back(x);
+      }
+      return v;
+    };
+    if (g.x.empty()) g.phi.push_back(row(ph));
+    else {
+      if (ph.size() != g.x.size()) r.fail_at(ph, r.key_path("phi"), what);
+      for (const auto& rn : ph) g.phi.push_back(row(rn));
+    }
+    g.porosity = 1.0;
+    for (const auto& rw : g.phi) for (double v : rw) g.porosity = std::min(g.porosity, v);
+  } else {
+    g.porosity = r.scalar<double>("porosity", -1.0);
+    if (!r.has("porosity")) r.misspelt("porosity");
+    if (!(g.porosity > 0.0 && g.porosity <= 1.0))
+      r.fail_at(r.has("porosity") ? r.get("porosity") : n, r.key_path("porosity"), "a porosity in (0, 1]");
+  }
+  g.diameter = r.positive("diameter", 0.0, true);
+  g.layer = r.in_range("layer", 0.0, 0.0, 1e6);
+  if (r.has("closure")) {
+    Reader c(r.get("closure"), file, r.key_path("closure"));
+    auto& k = g.closure;
+    k.type = c.choice("type", "ergun", {"ergun", "tsurudome", "van_gent", "roughness"});
+    if (k.type == "van_gent") {
+      k.c1 = c.in_range("alpha", 1000.0, 0.0, 1e9);
+      k.c2 = c.in_range("beta", 1.1, 0.0, 1e9);
+      k.added_mass = c.in_range("added_mass", 0.34, 0.0, 100.0);
+      k.kc = c.in_range("kc", 0.0, 0.0, 1e12);
+    } else if (k.type == "roughness") {
+      k.cd = c.in_range("cd", 0.9, 0.0, 100.0);
+      k.factor = c.in_range("factor", 1.0, 0.0, 100.0);
+    } else {
+      k.c1 = c.in_range("c1", 150.0, 0.0, 1e9);
+      k.c2 = c.in_range("c2", 1.75, 0.0, 1e9);
+    }
+    c.finish();
+  }
+  r.finish();
+  return g;
+}
+
 GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from"});
@@ -266,8 +361,8 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux or boundary_volume");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume"});
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume or water_volume");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume"});
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.type == "water_level") {
     g.point = r.vec("point", d);
@@ -290,6 +385,12 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
     g.points = r.scalar<int>("points", 20);
     if (g.points < 2 || g.points > 10000) r.fail_at(r.get("points"), r.key_path("points"), "an integer in [2, 10000]");
     g.average_from = r.scalar<double>("average_from", g.average_from);
+  } else if (g.type == "water_volume") {  // optional box [start, end]; default: everywhere
+    g.start = r.vec("start", d);
+    g.end = r.vec("end", d);
+    if (g.start.empty() != g.end.empty()) r.fail_at(n, path, "both 'start' and 'end' corners of the box, or neither");
+    for (std::size_t i = 0; i < g.start.size(); ++i)
+      if (!(g.end[i] > g.start[i])) r.fail_at(r.get("end"), r.key_path("end"), "end > start in every coordinate");
   } else if (g.type == "front") {
     const std::string ax = r.scalar<std::string>("axis", "x");
     g.axis = axis_index(ax, dim);
@@ -382,7 +483,7 @@ Case build_case(YAML::Node root, const std::string& file) {
   c.raw = root;
   Reader top(root, file, "");
   top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
-             "gauges", "forces", "turbulence"});
+             "gauges", "forces", "turbulence", "porous"});
   for (const char* k : {"particles", "fluid", "geometry", "time"})
     if (!top.has(k)) top.misspelt(k);
   c.name = top.scalar<std::string>("name", "case");
@@ -573,6 +674,22 @@ Case build_case(YAML::Node root, const std::string& file) {
       t.z_trough = r.scalar<double>("z_trough", 0.0);
       t.z_crest = r.scalar<double>("z_crest", 0.0);
     }
+    r.finish();
+  }
+  if (top.has("porous")) {
+    Reader r(top.get("porous"), file, "porous");
+    auto& p = c.porous;
+    p.line = top.get("porous").Mark().line + 1;
+    p.field = r.choice("field", "smoothed", {"smoothed", "particles", "sharp"});
+    p.literal_normalisation = r.choice("normalisation", "full_block", {"full_block", "thesis_literal"}) == "thesis_literal";
+    p.mesh_ratio = r.positive("mesh_ratio", 1.2);
+    if (!r.has("regions")) r.misspelt("regions");
+    const YAML::Node regs = r.get("regions");
+    if (!regs.IsSequence() || regs.size() == 0)
+      r.fail_at(regs.IsDefined() ? regs : top.get("porous"), "porous.regions",
+                "a list of porous regions, e.g. [{shape: box, min: [0.3, 0], max: [0.59, 0.58], porosity: 0.49, diameter: 0.0159}]");
+    for (std::size_t i = 0; i < regs.size(); ++i)
+      p.regions.push_back(read_porous_region(regs[i], file, fmt::format("porous.regions.{}", i), c.dimension));
     r.finish();
   }
   if (top.has("forces")) {

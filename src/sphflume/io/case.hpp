@@ -146,6 +146,43 @@ struct OpenBoundaryConfig {
   int line = 0;
 };
 
+/// Drag closure of a porous region (per unit mass, on the intrinsic velocity u; K = a + b |u|,
+/// drag = -K u). See physics/porous.hpp for the formulas.
+struct PorousClosureConfig {
+  std::string type = "ergun";  // ergun | tsurudome | van_gent | roughness
+  double c1 = 150.0, c2 = 1.75;  // ergun, tsurudome: linear and quadratic constants; van_gent: alpha, beta
+  double added_mass = 0.0;       // van_gent: gamma of the added-mass factor 1 + gamma (1 - phi)/phi
+  double kc = 0.0;               // van_gent: Keulegan-Carpenter number of the 1 + 7.5/KC factor; 0 = steady (no term)
+  double cd = 0.9, factor = 1.0; // roughness (Kazemi eq 6.2): -factor cd (1 - phi) u|u| / d_s
+};
+
+/// A porous region: a shape (box, polygon) of porosity phi0 and grain diameter, or a prescribed
+/// porosity profile phi(z) or phi(x, z) (Kazemi's Situation #2).
+struct PorousRegionConfig {
+  std::string shape = "box";  // box | polygon | profile
+  std::vector<double> min, max;
+  std::vector<std::array<double, 2>> vertices;
+  double porosity = 1.0;      // phi0 (shapes)
+  double diameter = 0.0;      // grain diameter d_s [m]
+  double layer = 0.0;         // field smoothed: thickness of the transition layer [m]; 0 = the diameter
+  PorousClosureConfig closure;
+  std::vector<double> x, z;                // profile: stations (x optional) and heights
+  std::vector<std::vector<double>> phi;    // profile: phi[ix][iz] (one row without x)
+  int line = 0;
+};
+
+struct PorousConfig {
+  // how shapes become a porosity field: smoothed (Kazemi's Situation #1: the indicator convolved
+  // over a layer `layer` thick), particles (Tsurudome eq 4.2.1: kernel sum of porous particles),
+  // sharp (the indicator itself)
+  std::string field = "smoothed";
+  bool literal_normalisation = false;  // particles: Tsurudome's rho_p / rho_w as printed (gives 1-(1-phi)phi inside)
+  double mesh_ratio = 1.2;             // smoothed: background mesh spacing = h_Omega / mesh_ratio (Kazemi: 1.2)
+  std::vector<PorousRegionConfig> regions;
+  int line = 0;
+  bool on() const { return !regions.empty(); }
+};
+
 struct Case {
   std::string file;  // where it came from (for messages)
   std::string name = "case";
@@ -166,6 +203,7 @@ struct Case {
   YAML::Node forces;  // list of registered force terms, each {type: NAME, ...}
   std::vector<OpenBoundaryConfig> open_boundaries;
   TurbulenceConfig turbulence;
+  PorousConfig porous;
   YAML::Node raw;     // the whole document after --set overrides
 
   double h() const { return h_over_dx * dx; }

@@ -7,6 +7,9 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/core/shapes.hpp"
+#include "sphflume/physics/porous.hpp"
+
 namespace sph {
 namespace {
 
@@ -100,15 +103,6 @@ Vec<D> surface_point(const ShapeConfig& s, const Vec<D>& x) {
     }
   }
   return p;
-}
-
-bool inside_polygon(const std::vector<std::array<double, 2>>& v, double x, double z) {
-  bool in = false;
-  for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++) {
-    if (((v[i][1] > z) != (v[j][1] > z)) && (x < (v[j][0] - v[i][0]) * (z - v[i][1]) / (v[j][1] - v[i][1]) + v[i][0]))
-      in = !in;
-  }
-  return in;
 }
 
 /// The box whose lattice a shape visits (a tank: with its walls; a polygon: its bounding box
@@ -309,14 +303,28 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
                                  c.file, dx, c.fluid.density, m, S.h));
   check_geometry<D>(c, limits, S.support, layers);
 
+  // porous regions: the fluid inside region r starts on a lattice dx / phi0^(1/D) (Kazemi eq 5.1),
+  // so that every particle keeps the mass rho0 dx^D and the volume m / (phi rho)
+  if (c.porous.on()) S.porous = std::make_shared<PorousMedia<D>>(c.porous, c.kernel, S.h, dx);
+  auto porous_region_of = [&](const Vec<D>& x) -> int {
+    if (!S.porous) return -1;
+    for (std::size_t r = 0; r < S.porous->size(); ++r)
+      if (S.porous->fill_spacing(r) > 0.0 && S.porous->region(r).porosity < 1.0 && S.porous->inside(r, x)) return static_cast<int>(r);
+    return -1;
+  };
+
   std::vector<Vec<D>> fluid_x, fluid_v, wall_x, wall_s;  // wall_s: nearest point of the wall surface
   std::vector<std::uint32_t> fluid_shape;  // which shape made each fluid point
+  std::vector<double> fluid_half;          // half the lattice spacing of each fluid point
   for (std::size_t si = 0; si < c.shapes.size(); ++si) {
     const auto& s = c.shapes[si];
     const Vec<D> v0 = to_vec<D>(s.velocity);
     auto emit = [&](const Vec<D>& x) {
-      if (s.fill == "fluid") { fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si)); }
-      else { wall_x.push_back(x); wall_s.push_back(surface_point<D>(s, x)); }
+      if (s.fill == "fluid") {
+        if (porous_region_of(x) >= 0) return;  // filled at the region's spacing below
+        fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si));
+        fluid_half.push_back(0.5 * dx);
+      } else { wall_x.push_back(x); wall_s.push_back(surface_point<D>(s, x)); }
     };
     Vec<D> lo, hi;
     shape_box<D>(s, dx, layers, lo, hi);
@@ -341,6 +349,42 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
       });
     }
   }
+
+  if (S.porous)  // each porous region's share of each fluid shape, at the region's spacing
+    for (std::size_t r = 0; r < S.porous->size(); ++r) {
+      const double sp = S.porous->fill_spacing(r);
+      if (!(sp > 0.0) || !(S.porous->region(r).porosity < 1.0)) continue;
+      const auto& rc = S.porous->region(r);
+      Vec<D> rlo, rhi;
+      if (rc.shape == "box") { rlo = to_vec<D>(rc.min); rhi = to_vec<D>(rc.max); }
+      else {
+        for (int d = 0; d < D; ++d) { rlo[d] = 1e300; rhi[d] = -1e300; }
+        for (const auto& v : rc.vertices)
+          for (int d = 0; d < D; ++d) { rlo[d] = std::min(rlo[d], v[d]); rhi[d] = std::max(rhi[d], v[d]); }
+      }
+      for (std::size_t si = 0; si < c.shapes.size(); ++si) {
+        const auto& s = c.shapes[si];
+        if (s.fill != "fluid" || (s.type != "box" && s.type != "polygon")) continue;
+        Vec<D> lo, hi;
+        shape_box<D>(s, dx, layers, lo, hi);
+        bool empty = false;
+        for (int d = 0; d < D; ++d) {
+          lo[d] = std::max(lo[d], rlo[d]);
+          hi[d] = std::min(hi[d], rhi[d]);
+          empty |= !(hi[d] > lo[d]);
+        }
+        if (empty) continue;
+        const Vec<D> v0 = to_vec<D>(s.velocity);
+        lattice<D>(lo, hi, sp, [&](const Vec<D>& x) {
+          if (porous_region_of(x) != static_cast<int>(r)) return;  // outside r, or in an earlier region
+          if (s.type == "polygon") {
+            if constexpr (D == 2) { if (!inside_polygon(s.vertices, x[0], x[1])) return; }
+          }
+          fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si));
+          fluid_half.push_back(0.5 * sp);
+        });
+      }
+    }
 
   // Drop fluid lattice points that fall inside the walls (closer than dx/2 to a wall particle),
   // e.g. a fluid box drawn over a sloping bed.
@@ -409,8 +453,8 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
   if (c.fluid.hydrostatic_init && gz > 0)
     for (std::size_t i = 0; i < fluid_x.size(); ++i) {
       if (drop[i]) continue;
-      auto [it, fresh] = top.emplace(column(fluid_x[i]), fluid_x[i][vz]);
-      if (!fresh) it->second = std::max(it->second, fluid_x[i][vz]);
+      auto [it, fresh] = top.emplace(column(fluid_x[i]), fluid_x[i][vz] + fluid_half[i]);
+      if (!fresh) it->second = std::max(it->second, fluid_x[i][vz] + fluid_half[i]);
     }
 
   auto& P = S.particles;
@@ -419,7 +463,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     if (drop[i]) { ++rep.fluid_dropped_in_walls; continue; }
     double rho = c.fluid.density;
     if (c.fluid.hydrostatic_init && gz > 0) {
-      const double zs = top[column(fluid_x[i])] + 0.5 * dx;
+      const double zs = top[column(fluid_x[i])];
       rho = S.eos.density(S.eos.background + c.fluid.density * gz * (zs - fluid_x[i][vz]));
     } else if (S.eos.background != 0.0) {
       rho = rho_wall;
@@ -461,6 +505,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
                                      S.periodic.period(ax), S.support));
     }
   }
+  if (S.porous) S.porous->update(S);  // the initial porosity (snapshots, checks)
   S.particles.shrink_to_fit();  // particles were appended one by one: drop the growth slack
   return rep;
 }

@@ -8,6 +8,7 @@
 
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "sphflume/physics/porous.hpp"
 #include "sphflume/physics/turbulence.hpp"
 
 namespace sph {
@@ -40,19 +41,24 @@ template <class K>
 void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
   // XSPH's smoothed velocity needs W(r) in every pair, turbulence the velocity gradient and
   // the stress divergence: each is compiled in only when it is on
+  // porosity the SPHAM terms (volumes m/(φρ), porosity-weighted velocities)
   const bool turb = turb_.on();
-  if (cfg_.xsph > 0.0) {
-    if (turb) sweep<K, true, true>(S, ker);
-    else sweep<K, true, false>(S, ker);
-  } else {
-    if (turb) sweep<K, false, true>(S, ker);
-    else sweep<K, false, false>(S, ker);
-  }
+  auto with_bool = [](bool b, auto&& f) {
+    if (b) f(std::true_type{});
+    else f(std::false_type{});
+  };
+  with_bool(cfg_.xsph > 0.0, [&](auto xs) {
+    with_bool(turb, [&](auto tu) {
+      with_bool(static_cast<bool>(S.porous), [&](auto po) {
+        this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value>(S, ker);
+      });
+    });
+  });
   if (turb) turb_.update(S);
 }
 
 template <int D>
-template <class K, bool Xsph, bool Turb>
+template <class K, bool Xsph, bool Turb, bool Porous>
 void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const bool dyn = S.walls->evolves_density();
@@ -78,6 +84,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
     for (int k = 0; k < NT; ++k) tau_in[k] = P.scalar(Turbulence<D>::stress_name(k)).data();
     grad_out = turb_.gradient(P.n_owned());
   }
+  // porous media (SPHAM, Kazemi eqs 4.56-4.57): φ of every particle (walls 1)
+  const double* __restrict phi = Porous ? P.scalar("porosity").data() : nullptr;
   double g[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
   const double support2 = ker.support2;
@@ -108,7 +116,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   // are converted back to double per particle. Particle state and time integration stay in
   // double precision.
   using F32 = float;
-  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, NCOL = T0 + 6 };
+  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, NCOL };
   const F32 fh = F32(h), feta2 = F32(eta2 + tiny), fsupport2 = F32(support2);
   const F32 flam = F32(lam), falpha = F32(alpha), ffour = F32(four);
   const F32 fsym = F32(sym), fvisc_wall = F32(visc_wall * wall_in), fwall_in = F32(wall_in);
@@ -164,12 +172,17 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           ccs[m] = F32(sound(rho[b]));  // sound speed c(rho_b) (any EOS)
           if constexpr (Turb)  // τ_b/ρ_b²; walls carry none of their own (see wall factor below)
             for (int t = 0; t < NT; ++t) B[T0 + t][m] = fl ? F32(tau_in[t][b] / rho[b]) : F32(0);
+          if constexpr (Porous) {
+            B[PHI][m] = F32(phi[b]);
+            B[IPHI][m] = F32(1.0 / phi[b]);
+          }
         });
         for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, massless
           for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cw[d][m] = 0; }
           crho[m] = 0; cp[m] = 0; cm[m] = 0; cf[m] = 0; ccs[m] = F32(c0);
           if constexpr (Turb)
             for (int t = 0; t < NT; ++t) B[T0 + t][m] = 0;
+          if constexpr (Porous) { B[PHI][m] = 1; B[IPHI][m] = 1; }
         }
       }
       const F32* __restrict bx0 = B[X0];
@@ -193,6 +206,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
       const F32* __restrict bt3 = B[T0 + (D == 3 ? 3 : 0)];
       const F32* __restrict bt4 = B[T0 + (D == 3 ? 4 : 0)];
       const F32* __restrict bt5 = B[T0 + (D == 3 ? 5 : 0)];
+      const F32* __restrict bphi = B[PHI];
+      const F32* __restrict biphi = B[IPHI];
 
       for (std::uint32_t ka_k = c0k; ka_k < c1k; ++ka_k) {
         const std::uint32_t a = sorted[ka_k];
@@ -213,6 +228,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         if constexpr (Turb)
           for (int t = 0; t < NT; ++t) ta[t] = F32(tau_in[t][a] / rhoa_d);
         const F32 ta0 = ta[0], ta1 = ta[1], ta2 = ta[2], ta3 = ta[3], ta4 = ta[4], ta5 = ta[5];
+        const double phia_d = Porous ? phi[a] : 1.0;
+        const F32 phia = F32(phia_d), iphia = F32(1.0 / phia_d);
         F32 a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
         F32 g00 = 0, g01 = 0, g02 = 0, g10 = 0, g11 = 0, g12 = 0, g20 = 0, g21 = 0, g22 = 0;
 #pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt, g00, g01, g02, g10, g11, g12, g20, g21, g22)
@@ -238,23 +255,47 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           const F32 inv_r2e = inv * rhob * p2;
           const F32 inv_rsum = inv * p1 * csum;
           const F32 inv_csum = inv * p1 * rsum;
-          const F32 Vb = mb * inv_rhob;
-          dr += (u0 * gw0 + u1 * gw1 + u2 * gw2) * Vb;
+          // porous: b's volume m/(φ_b ρ_b); continuity of the porosity-weighted velocity
+          // (φ_a u_a − φ_b u_b), where a wall takes the porosity of the fluid it faces (it is no
+          // porosity interface) and a wall a sees its fluid neighbours as plain fluid
+          const F32 ivb = Porous ? biphi[k] : F32(1);
+          const F32 mbp = mb * ivb;
+          const F32 Vb = mbp * inv_rhob;
+          F32 phf = F32(1);
+          if constexpr (Porous) {
+            const F32 sel = fb * wa;
+            phf = sel * bphi[k] + (F32(1) - sel) * (wa * phia + (F32(1) - wa));
+          }
+          const F32 pa_c = Porous ? wa * phia + (F32(1) - wa) : F32(1);
+          const F32 uc0 = Porous ? pa_c * va0 - phf * bu0[k] : u0;
+          const F32 uc1 = Porous ? pa_c * va1 - phf * bu1[k] : u1;
+          const F32 uc2 = Porous ? (D == 3 ? pa_c * va2 - phf * bu2[k] : F32(0)) : u2;
+          dr += (uc0 * gw0 + uc1 * gw1 + uc2 * gw2) * Vb;
           const F32 fr = Fk * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
           // δ-SPH: Fourtakas removes the hydrostatic density difference ρ g·r / c² (pair means)
           const F32 gr = fg0 * r0 + fg1 * r1 + fg2 * r2c;
           dd += fb * (deva - devb - ffour * rsum * inv_csum * gr) * fr * Vb;
-          const F32 pterm = fsym * mb * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - fsym) * (pa + pb) * Vb * inv_rhoa;
+          const F32 pterm = fsym * mbp * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - fsym) * (pa + pb) * Vb * inv_rhoa;
           // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
           const F32 mv = fb + (F32(1) - fb) * fvisc_wall;
           const F32 w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : F32(0);
           const F32 vr = std::min(w0 * r0 + w1 * r1 + w2 * r2c, F32(0));
           const F32 pi_ab = -falpha * (ca + cb) * fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
-          const F32 lamf = mv * flam * mb * fr * inv_rsum;
-          const F32 gcoef = pterm + mv * mb * pi_ab;
-          a0 += lamf * w0 - gcoef * gw0;
-          a1 += lamf * w1 - gcoef * gw1;
-          a2 += lamf * w2 - gcoef * gw2;
+          const F32 gcoef = pterm + mv * mbp * pi_ab;
+          if constexpr (Porous) {
+            // Kazemi eq 4.57: μ m_b/(φ_a φ_b) [2 (φu)_ab + φ_ab u_ab] ... = the plain term on
+            // (φ_a − φ_b) u_a + (φ_a + φ_b)/2 (u_a − u_b), φ_b the flow porosity above
+            const F32 lamf = mv * flam * mbp * fr * inv_rsum * iphia;
+            const F32 dphi = phia - phf, mphi = F32(0.5) * (phia + phf);
+            a0 += lamf * (dphi * va0 + mphi * w0) - gcoef * gw0;
+            a1 += lamf * (dphi * va1 + mphi * w1) - gcoef * gw1;
+            a2 += lamf * (dphi * (D == 3 ? va2 : F32(0)) + mphi * w2) - gcoef * gw2;
+          } else {
+            const F32 lamf = mv * flam * mb * fr * inv_rsum;
+            a0 += lamf * w0 - gcoef * gw0;
+            a1 += lamf * w1 - gcoef * gw1;
+            a2 += lamf * w2 - gcoef * gw2;
+          }
           if constexpr (Turb) {
             // velocity gradient (∂u_i/∂x_j)_a = Σ V_b (u_b − u_a)_i ∂_j W, walls through the
             // wall model's velocity as in the viscous term
@@ -265,14 +306,15 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
               g02 -= w0 * gw2 * gv; g12 -= w1 * gw2 * gv;
               g20 -= w2 * gw0 * gv; g21 -= w2 * gw1 * gv; g22 -= w2 * gw2 * gv;
             }
-            // stress divergence Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W; walls carry no modelled stress
-            const F32 fa = mb;
+            // stress divergence Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W; walls carry no modelled stress;
+            // porous: Σ m_b/(φ_a φ_b) (φ_a τ_a/ρ_a² + φ_b τ_b/ρ_b²)·∇W (Kazemi eq 4.57)
+            const F32 fa = mbp, fbm = Porous ? mb * iphia : mb;
             if constexpr (D == 2) {  // (xx, xz, zz)
-              a0 += (fa * ta0 + mb * bt0[k]) * gw0 + (fa * ta1 + mb * bt1[k]) * gw1;
-              a1 += (fa * ta1 + mb * bt1[k]) * gw0 + (fa * ta2 + mb * bt2[k]) * gw1;
+              a0 += (fa * ta0 + fbm * bt0[k]) * gw0 + (fa * ta1 + fbm * bt1[k]) * gw1;
+              a1 += (fa * ta1 + fbm * bt1[k]) * gw0 + (fa * ta2 + fbm * bt2[k]) * gw1;
             } else {  // (xx, yy, zz, xy, xz, yz)
-              const F32 txx = fa * ta0 + mb * bt0[k], tyy = fa * ta1 + mb * bt1[k], tzz = fa * ta2 + mb * bt2[k];
-              const F32 txy = fa * ta3 + mb * bt3[k], txz = fa * ta4 + mb * bt4[k], tyz = fa * ta5 + mb * bt5[k];
+              const F32 txx = fa * ta0 + fbm * bt0[k], tyy = fa * ta1 + fbm * bt1[k], tzz = fa * ta2 + fbm * bt2[k];
+              const F32 txy = fa * ta3 + fbm * bt3[k], txz = fa * ta4 + fbm * bt4[k], tyz = fa * ta5 + fbm * bt5[k];
               a0 += txx * gw0 + txy * gw1 + txz * gw2;
               a1 += txy * gw0 + tyy * gw1 + tyz * gw2;
               a2 += txz * gw0 + tyz * gw1 + tzz * gw2;
@@ -298,7 +340,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           acc_out[a] = Vec<D>{};
           continue;
         }
-        drho_out[a] = rhoa_d * double(dr) + fdiff * dcoef * double(dd);
+        drho_out[a] = rhoa_d / phia_d * double(dr) + fdiff * dcoef * double(dd);
         Vec<D> acc, sx;
         acc[0] = double(a0) + g[0];
         acc[1] = double(a1) + g[1];
@@ -316,10 +358,12 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
 template <int D>
 void WCSPH<D>::rates(System<D>& S) {
   if (S.before_rates) S.before_rates(S);
+  if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
   S.walls->prepare(S);
   S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
   S.walls->add_forces(S);
   for (auto& f : S.forces) f->add(S);
+  if (S.porous) S.porous->drag(S);  // the drag rate the integrator applies point-implicitly
   auto& P = S.particles;
   double amax = 0.0;
   const std::size_t n = P.n_owned();
@@ -399,6 +443,9 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
   verlet_started_ = true;
   const double dt2 = euler ? dt : 2.0 * dt;
   const double hdt2 = 0.5 * dt * dt;
+  // porous drag, point-implicit: u = (u_base + Δt a/M) / (1 + Δt K/M)
+  const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
+  const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const bool fluid = P.kind[i] == Kind::Fluid;
@@ -418,8 +465,14 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
     const Vec<D> v = P.vel[i];
     Vec<D> u = v;
     if (xs) u += (*xs)[i];
-    P.pos[i] += dt * u + hdt2 * P.acc[i];
-    P.vel[i] = (euler ? v : vprev[i]) + dt2 * P.acc[i];
+    const Vec<D> vb = euler ? v : vprev[i];
+    if (kr) {
+      P.vel[i] = (1.0 / (1.0 + dt2 * kr[i])) * (vb + (dt2 * im[i]) * P.acc[i]);
+      P.pos[i] += dt * u + (hdt2 / dt2) * (P.vel[i] - vb);  // the acceleration the drag left
+    } else {
+      P.pos[i] += dt * u + hdt2 * P.acc[i];
+      P.vel[i] = vb + dt2 * P.acc[i];
+    }
     vprev[i] = v;
   }
 }
@@ -438,6 +491,15 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
   const bool dyn = S.walls->evolves_density();
   std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector("xsph") : nullptr;
   const double hdt = 0.5 * dt;
+  // porous drag, point-implicit: u = (u_base + Δt a/M) / (1 + Δt K/M), K of the stage's state
+  // (fields looked up per call: the store re-sorts between the stages)
+  auto advance = [&P, por = static_cast<bool>(S.porous)](std::size_t i, const Vec<D>& base, double step,
+                                                          const double* kr, const double* im) {
+    if (!por) return base + step * P.acc[i];
+    return (1.0 / (1.0 + step * kr[i])) * (base + (step * im[i]) * P.acc[i]);
+  };
+  const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
+  const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     x0[i] = P.pos[i];
@@ -447,7 +509,7 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
       Vec<D> u = P.vel[i];
       if (xs) u += (*xs)[i];
       P.pos[i] += hdt * u;
-      P.vel[i] += hdt * P.acc[i];
+      P.vel[i] = advance(i, P.vel[i], hdt, kr, im);
       P.rho[i] += hdt * P.drho[i];
     } else if (P.kind[i] == Kind::Inflow || P.kind[i] == Kind::Outflow) {
       P.pos[i] += hdt * P.vel[i];  // open-boundary particles move with their imposed velocity
@@ -460,6 +522,8 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
   S.update_neighbours();
   rates(S);
   const bool symplectic = cfg_.integrator == Integrator::Symplectic;
+  kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
+  im = S.porous ? P.scalar("inertia").data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const bool fluid = P.kind[i] == Kind::Fluid;
@@ -478,12 +542,12 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
     Vec<D> xcorr{};
     if (xs) xcorr = (*xs)[i];
     if (symplectic) {
-      P.vel[i] = v0[i] + dt * P.acc[i];
+      P.vel[i] = advance(i, v0[i], dt, kr, im);
       P.pos[i] = x0[i] + dt * (0.5 * (P.vel[i] + v0[i]) + xcorr);
     } else {  // Monaghan predictor-corrector: corrected mid-step, then extrapolate
-      const Vec<D> vc = v0[i] + hdt * P.acc[i];
+      const Vec<D> vc = advance(i, v0[i], hdt, kr, im);
       P.pos[i] = x0[i] + dt * (vc + xcorr);
-      P.vel[i] = v0[i] + dt * P.acc[i];
+      P.vel[i] = advance(i, v0[i], dt, kr, im);
     }
   }
 }
@@ -494,6 +558,7 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   std::vector<double> out(n);
+  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;  // volumes m/(φρ)
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
@@ -502,7 +567,7 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
       double num = 0.0, den = 0.0;
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
         if (P.kind[b] != Kind::Fluid) return;
-        const double w = K.W(std::sqrt(r2));
+        const double w = K.W(std::sqrt(r2)) * (phi ? 1.0 / phi[b] : 1.0);
         num += P.mass[b] * w;
         den += P.mass[b] / P.rho[b] * w;
       });

@@ -5,6 +5,9 @@
 //              + Lo & Shao laminar viscosity Σ mb 4ν (rab·∇aW)/((ρa+ρb)(r²+η²)) uab
 //                or Monaghan artificial viscosity, + g + registered force terms
 //  Tait or linear EOS; XSPH; Shepard filter every N steps;
+//  porous media (S.porous): the SPHAM equations of Kazemi eqs 4.56-4.57 on intrinsic ρ, u, p with
+//              volumes m/(φρ), and the closure's drag integrated point-implicitly
+//              (physics/porous.hpp); with φ = 1 every term is the plain one;
 //  time integration:
 //   symplectic           position-Verlet as in DualSPHysics: rates at t^n and t^{n+1/2}
 //                        (two neighbour passes per step), second order;
@@ -47,7 +50,7 @@ class WCSPH final : public Scheme<D> {
  private:
   template <class K>
   void pair_loop(System<D>& S, const K& kernel);
-  template <class K, bool Xsph, bool Turb>
+  template <class K, bool Xsph, bool Turb, bool Porous>
   void sweep(System<D>& S, const K& kernel);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);

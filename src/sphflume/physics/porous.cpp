@@ -1,0 +1,215 @@
+#include "sphflume/physics/porous.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sphflume/core/shapes.hpp"
+
+namespace sph {
+
+template <int D>
+PorousMedia<D>::PorousMedia(const PorousConfig& c, KernelType kernel, double h, double dx)
+    : cfg_(c), kernel_(kernel), dx_(dx) {
+  const double fac = kernel_support_factor(kernel);
+  for (const auto& rc : c.regions) {
+    Region g;
+    g.cfg = rc;
+    phi_min_ = std::min(phi_min_, rc.porosity);
+    if (rc.shape == "profile") {
+      regions_.push_back(g);
+      continue;
+    }
+    if (rc.shape == "box") {
+      for (int d = 0; d < D; ++d) { g.lo[d] = rc.min[d]; g.hi[d] = rc.max[d]; }
+    } else {  // polygon (2D)
+      g.lo = Vec<D>{};
+      for (int d = 0; d < D; ++d) { g.lo[d] = 1e300; g.hi[d] = -1e300; }
+      for (const auto& v : rc.vertices)
+        for (int d = 0; d < 2 && d < D; ++d) {
+          g.lo[d] = std::min(g.lo[d], v[d]);
+          g.hi[d] = std::max(g.hi[d], v[d]);
+        }
+    }
+    if (c.field == "particles") {
+      g.spacing = fill_spacing_of(rc.porosity, dx);
+      g.h = h;
+      g.reach = fac * h;
+    } else {  // smoothed: r_Ω = layer/2 (default d_s/2), h_Ω = r_Ω/2, mesh h_Ω / mesh_ratio
+      const double layer = rc.layer > 0.0 ? rc.layer : rc.diameter;
+      g.reach = 0.5 * layer;
+      g.h = g.reach / fac;
+      g.spacing = 0.5 * g.reach / c.mesh_ratio;
+    }
+    for (int d = 0; d < D; ++d) g.origin[d] = g.lo[d] + 0.5 * g.spacing;
+    regions_.push_back(g);
+  }
+}
+
+template <int D>
+double PorousMedia<D>::fill_spacing_of(double phi, double dx) {
+  return dx / std::pow(phi, 1.0 / D);
+}
+
+template <int D>
+double PorousMedia<D>::fill_spacing(std::size_t r) const {
+  if (regions_[r].cfg.shape == "profile") return 0.0;
+  return fill_spacing_of(regions_[r].cfg.porosity, dx_);
+}
+
+template <int D>
+bool PorousMedia<D>::inside(const Region& g, const Vec<D>& x) const {
+  if (g.cfg.shape == "box") {
+    for (int d = 0; d < D; ++d)
+      if (x[d] < g.lo[d] || x[d] > g.hi[d]) return false;
+    return true;
+  }
+  if (g.cfg.shape == "polygon") {
+    if constexpr (D == 2) return inside_polygon(g.cfg.vertices, x[0], x[1]);
+  }
+  return false;
+}
+
+template <int D>
+bool PorousMedia<D>::inside(std::size_t r, const Vec<D>& x) const {
+  return inside(regions_[r], x);
+}
+
+template <int D>
+double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x) const {
+  if (cfg_.field == "sharp") return inside(g, x) ? 1.0 : 0.0;
+  for (int d = 0; d < D; ++d)
+    if (x[d] < g.lo[d] - g.reach || x[d] > g.hi[d] + g.reach) return 0.0;
+  const bool literal = cfg_.field == "particles" && cfg_.literal_normalisation;
+  if (g.cfg.shape == "box" && !literal) {  // deep inside a box the normalised sum is exactly 1
+    bool deep = true;
+    for (int d = 0; d < D; ++d) deep &= x[d] > g.lo[d] + g.reach && x[d] < g.hi[d] - g.reach;
+    if (deep) return 1.0;
+  }
+  const double s = g.spacing, R2 = g.reach * g.reach;
+  int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (int d = 0; d < D; ++d) {
+    lo[d] = static_cast<int>(std::ceil((x[d] - g.reach - g.origin[d]) / s));
+    hi[d] = static_cast<int>(std::floor((x[d] + g.reach - g.origin[d]) / s));
+  }
+  // particles: porous particles are the lattice nodes inside the region; smoothed: mesh nodes
+  // carry the indicator. Both: the sum over nodes inside, normalised by the sum over all nodes.
+  return with_kernel<D>(kernel_, g.h, [&](const auto& K) {
+    double in = 0.0, all = 0.0;
+    Vec<D> c{};
+    for (int i = lo[0]; i <= hi[0]; ++i) {
+      c[0] = g.origin[0] + i * s;
+      for (int j = lo[1]; j <= hi[1]; ++j) {
+        c[1] = g.origin[1] + j * s;
+        const int k0 = D == 3 ? lo[D - 1] : 0, k1 = D == 3 ? hi[D - 1] : 0;
+        for (int k = k0; k <= k1; ++k) {
+          if constexpr (D == 3) c[2] = g.origin[2] + k * s;
+          const Vec<D> r = x - c;
+          const double r2 = dot(r, r);
+          if (r2 >= R2) continue;
+          const double w = K.W(std::sqrt(r2));
+          all += w;
+          if (inside(g, c)) in += w;
+        }
+      }
+    }
+    if (literal) return std::pow(dx_, D) * in;  // ρ_p / ρ_w with m_p = ρ_w dx^D
+    return all > 0.0 ? in / all : 0.0;
+  });
+}
+
+template <int D>
+double PorousMedia<D>::profile(const Region& g, const Vec<D>& x) const {
+  // linear interpolation in a table, constant beyond its ends
+  auto locate = [](const std::vector<double>& t, double v, std::size_t& i, double& f) {
+    if (t.size() == 1 || v <= t.front()) { i = 0; f = 0.0; return; }
+    if (v >= t.back()) { i = t.size() - 2; f = 1.0; return; }
+    i = static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), v) - t.begin()) - 1;
+    f = (v - t[i]) / (t[i + 1] - t[i]);
+  };
+  const auto& c = g.cfg;
+  std::size_t iz = 0;
+  double fz = 0.0;
+  locate(c.z, x[D - 1], iz, fz);
+  auto at = [&](const std::vector<double>& row) {
+    return c.z.size() == 1 ? row[0] : (1.0 - fz) * row[iz] + fz * row[iz + 1];
+  };
+  if (c.x.empty()) return at(c.phi[0]);
+  std::size_t ix = 0;
+  double fx = 0.0;
+  locate(c.x, x[0], ix, fx);
+  if (c.x.size() == 1) return at(c.phi[0]);
+  return (1.0 - fx) * at(c.phi[ix]) + fx * at(c.phi[ix + 1]);
+}
+
+template <int D>
+double PorousMedia<D>::porosity(const Vec<D>& x, int* region) const {
+  double phi = 1.0, best = 0.0;
+  int which = -1;
+  for (std::size_t r = 0; r < regions_.size(); ++r) {
+    const Region& g = regions_[r];
+    const double c = g.cfg.shape == "profile" ? 1.0 - profile(g, x) : (1.0 - g.cfg.porosity) * indicator(g, x);
+    phi -= c;
+    if (c > best) { best = c; which = static_cast<int>(r); }
+  }
+  if (region) *region = which;
+  return std::clamp(phi, phi_min_, 1.0);
+}
+
+template <int D>
+void PorousMedia<D>::update(System<D>& S) {
+  auto& P = S.particles;
+  auto& phi = P.scalar("porosity");
+  const std::size_t n = P.n_owned();
+  region_of_.assign(n, -1);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] == Kind::Wall) { phi[i] = 1.0; continue; }
+    phi[i] = porosity(P.pos[i], &region_of_[i]);
+  }
+  for (std::size_t k = 0; k < P.image_source.size(); ++k) phi[n + k] = phi[P.image_source[k]];
+}
+
+template <int D>
+void PorousMedia<D>::drag(System<D>& S) {
+  auto& P = S.particles;
+  auto& rate = P.scalar("drag_rate");
+  auto& inertia = P.scalar("inertia");
+  const auto& phi = P.scalar("porosity");
+  const std::size_t n = P.n_owned();
+  if (region_of_.size() != n) throw std::logic_error("PorousMedia::drag: update() was not called for this state");
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    rate[i] = 0.0;
+    inertia[i] = 1.0;
+    const int r = region_of_[i];
+    if (P.kind[i] != Kind::Fluid || r < 0) continue;
+    const auto& c = regions_[static_cast<std::size_t>(r)].cfg;
+    const auto [K, M] = closure(c.closure, phi[i], norm(P.vel[i]), S.nu, c.diameter);
+    rate[i] = K / M;
+    inertia[i] = 1.0 / M;
+  }
+}
+
+template <int D>
+std::pair<double, double> PorousMedia<D>::closure(const PorousClosureConfig& c, double phi, double speed, double nu,
+                                                  double d) {
+  if (!(phi < 1.0)) return {0.0, 1.0};
+  const double s = 1.0 - phi;
+  if (c.type == "roughness") return {c.factor * c.cd * s * speed / d, 1.0};
+  if (c.type == "tsurudome") {
+    const double p3 = phi * phi * phi;
+    return {c.c1 * s * s / p3 * nu / (d * d) + c.c2 * s / p3 * speed / d, 1.0};
+  }
+  const double kc = (c.type == "van_gent" && c.kc > 0.0) ? 1.0 + 7.5 / c.kc : 1.0;
+  const double K = c.c1 * s * s / (phi * phi) * nu / (d * d) + c.c2 * kc * s / phi * speed / d;
+  const double M = c.type == "van_gent" ? 1.0 + c.added_mass * s / phi : 1.0;
+  return {K, M};
+}
+
+template class PorousMedia<2>;
+template class PorousMedia<3>;
+
+}  // namespace sph

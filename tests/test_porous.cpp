@@ -1,0 +1,275 @@
+// Porous media (SPHAM, Kazemi ch. 4-6; Tsurudome ch. 4): drag closures against hand values and
+// the digest's table, the porosity fields (smoothed layer one grain thick, porous-particle sums
+// and their two normalisations, prescribed profiles), the fill spacing dx/phi^(1/D), the exact
+// reduction to plain WCSPH at phi = 1, and the point-implicit drag (digest kazemi.md §12 B0,
+// tsurudome.md §11.1).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sphflume/physics/porous.hpp"
+#include "test_helpers.hpp"
+
+using namespace sph;
+
+namespace {
+
+PorousClosureConfig closure(const std::string& type, double c1 = 150.0, double c2 = 1.75) {
+  PorousClosureConfig c;
+  c.type = type;
+  c.c1 = c1;
+  c.c2 = c2;
+  return c;
+}
+
+PorousConfig box_region(const std::string& field, double phi0, double d, std::vector<double> lo, std::vector<double> hi) {
+  PorousConfig c;
+  c.field = field;
+  PorousRegionConfig r;
+  r.shape = "box";
+  r.min = std::move(lo);
+  r.max = std::move(hi);
+  r.porosity = phi0;
+  r.diameter = d;
+  c.regions.push_back(r);
+  return c;
+}
+
+}  // namespace
+
+// Kazemi eq 4.29, φ = 0.49, d_s = 15.9 mm, u = 0.1 m/s, ν = 1e-6 (digest B0 hand calculation):
+// a = 150 (0.51/0.49)² 1e-6 / 0.0159² = 0.64276 1/s, b|u| = 1.75 (0.51/0.49) 0.1 / 0.0159 = 11.4555 1/s.
+TEST(PorousClosure, ErgunAgainstHandCalculation) {
+  const auto [K, M] = PorousMedia<2>::closure(closure("ergun"), 0.49, 0.1, 1e-6, 0.0159);
+  EXPECT_NEAR(K, 0.64276 + 11.4555, 1e-4 * K);
+  EXPECT_EQ(M, 1.0);
+  // no drag in clear water
+  EXPECT_EQ(PorousMedia<2>::closure(closure("ergun"), 1.0, 0.1, 1e-6, 0.0159).first, 0.0);
+}
+
+// Tsurudome eq 4.1.2 in the ν/Kp form: the digest's table for φ = 0.49 (A = ν/Kp, B in 1/m),
+// given to 3-4 digits there.
+TEST(PorousClosure, TsurudomeFormMatchesTheDigestTable) {
+  struct Row { double d, A, B; };
+  for (const Row r : {Row{0.25e-3, 5306.0, 30344.0}, Row{15.9e-3, 1.31, 477.1}, Row{50e-3, 0.13, 151.7}}) {
+    const double A = PorousMedia<2>::closure(closure("tsurudome"), 0.49, 0.0, 1e-6, r.d).first;
+    const double B = PorousMedia<2>::closure(closure("tsurudome"), 0.49, 1.0, 1e-6, r.d).first - A;
+    EXPECT_NEAR(A, r.A, 0.005 * r.A + 0.005) << "d = " << r.d;
+    EXPECT_NEAR(B, r.B, 0.001 * r.B) << "d = " << r.d;
+  }
+}
+
+// Kazemi eq 6.3: the roughness-layer drag is the Ergun form with c1 = 0 and c2 = C_d φ.
+TEST(PorousClosure, RoughnessLayerIsTheUnifiedErgunForm) {
+  PorousClosureConfig rough;
+  rough.type = "roughness";
+  rough.cd = 0.9;
+  for (double phi : {0.22, 0.5, 0.9}) {
+    const double Kr = PorousMedia<2>::closure(rough, phi, 0.3, 1e-6, 0.0136).first;
+    const double Ke = PorousMedia<2>::closure(closure("ergun", 0.0, 0.9 * phi), phi, 0.3, 1e-6, 0.0136).first;
+    EXPECT_NEAR(Kr, Ke, 1e-12 * Ke);
+  }
+}
+
+// van Gent / olaFlow: the KC factor multiplies the quadratic term, the added mass is 1 + γ(1-φ)/φ.
+TEST(PorousClosure, VanGentKcTermAndAddedMass) {
+  PorousClosureConfig vg = closure("van_gent", 1000.0, 1.1);
+  vg.added_mass = 0.34;
+  const auto [K0, M] = PorousMedia<2>::closure(vg, 0.49, 0.2, 1e-6, 0.0159);
+  vg.kc = 7.5;  // doubles the quadratic part
+  const double K1 = PorousMedia<2>::closure(vg, 0.49, 0.2, 1e-6, 0.0159).first;
+  const double lin = PorousMedia<2>::closure(vg, 0.49, 0.0, 1e-6, 0.0159).first;
+  EXPECT_NEAR(K1 - lin, 2.0 * (K0 - lin), 1e-12 * K1);
+  EXPECT_NEAR(M, 1.0 + 0.34 * 0.51 / 0.49, 1e-14);
+}
+
+// Kazemi's Situation #1: the porosity goes from φ0 to 1 over a layer one grain diameter thick
+// centred on the region's outline: exactly φ0 deeper than d/2 inside, exactly 1 beyond d/2
+// outside, monotone in between, and (1 + φ0)/2 on the outline of a flat face (symmetric kernel;
+// the mesh's lattice error is below 1 %).
+TEST(PorousField, SmoothedLayerIsOneGrainDiameterThick) {
+  const double d = 0.02, phi0 = 0.49;
+  const PorousMedia<2> pm(box_region("smoothed", phi0, d, {0.0, 0.0}, {1.0, 0.5}), KernelType::WendlandC2, 0.0075, 0.005);
+  const double x = 0.4321;  // off the mesh lines
+  EXPECT_EQ(pm.porosity(Vec<2>{{x, 0.5 - 0.5 * d - 1e-9}}), phi0);
+  EXPECT_EQ(pm.porosity(Vec<2>{{x, 0.5 + 0.5 * d + 1e-9}}), 1.0);
+  double prev = 0.0;
+  for (int k = 0; k <= 100; ++k) {
+    const double z = 0.5 - 0.6 * d + 1.2 * d * k / 100.0;
+    const double phi = pm.porosity(Vec<2>{{x, z}});
+    EXPECT_GE(phi, prev - 1e-12) << "z = " << z;
+    EXPECT_GE(phi, phi0);
+    EXPECT_LE(phi, 1.0);
+    prev = phi;
+  }
+  EXPECT_NEAR(pm.porosity(Vec<2>{{x, 0.5}}), 0.5 * (1.0 + phi0), 0.01 * 0.5 * (1.0 + phi0));
+  int region = 7;
+  (void)pm.porosity(Vec<2>{{x, 2.0}}, &region);
+  EXPECT_EQ(region, -1);
+  (void)pm.porosity(Vec<2>{{x, 0.25}}, &region);
+  EXPECT_EQ(region, 0);
+}
+
+// Tsurudome eq 4.2.1 from porous particles on the lattice dx/sqrt(φ0): with the digest's
+// normalisation φ = φ0 inside; as printed (ρ_p/ρ_w) φ = 1 - (1 - φ0) φ0 = 0.75 inside (the
+// inconsistency the digest points out), to the lattice-sum accuracy of the kernel (2 %).
+TEST(PorousField, PorousParticleSumAndItsTwoNormalisations) {
+  const double phi0 = 0.49, dx = 0.005, h = 1.5 * dx;
+  PorousConfig c = box_region("particles", phi0, 0.0159, {0.0, 0.0}, {0.3, 0.3});
+  const PorousMedia<2> full(c, KernelType::WendlandC2, h, dx);
+  c.literal_normalisation = true;
+  const PorousMedia<2> literal(c, KernelType::WendlandC2, h, dx);
+  const Vec<2> inside{{0.1512, 0.1498}};
+  EXPECT_NEAR(full.porosity(inside), phi0, 1e-12);
+  EXPECT_NEAR(literal.porosity(inside), 1.0 - (1.0 - phi0) * phi0, 0.02 * 0.75);
+  // on the face the kernel is half covered: between φ0 and 1
+  const double face = full.porosity(Vec<2>{{0.3, 0.1498}});
+  EXPECT_GT(face, phi0 + 0.1);
+  EXPECT_LT(face, 1.0 - 0.1);
+  EXPECT_EQ(full.porosity(Vec<2>{{0.3 + 2.0 * h + 1e-6, 0.15}}), 1.0);
+}
+
+// Kazemi's Situation #2: φ(z) and φ(x, z) tables, linear in between, constant beyond.
+TEST(PorousField, PrescribedProfiles) {
+  PorousConfig c;
+  PorousRegionConfig r;
+  r.shape = "profile";
+  r.z = {0.0, 0.1};
+  r.phi = {{0.22, 1.0}};
+  r.diameter = 0.0136;
+  r.porosity = 0.22;
+  c.regions.push_back(r);
+  const PorousMedia<2> pz(c, KernelType::WendlandC2, 0.0075, 0.005);
+  EXPECT_NEAR(pz.porosity(Vec<2>{{3.0, -0.5}}), 0.22, 1e-15);
+  EXPECT_NEAR(pz.porosity(Vec<2>{{3.0, 0.025}}), 0.22 + 0.25 * 0.78, 1e-14);
+  EXPECT_NEAR(pz.porosity(Vec<2>{{3.0, 0.2}}), 1.0, 1e-15);
+  c.regions[0].x = {0.0, 1.0};
+  c.regions[0].phi = {{0.75, 0.75}, {0.22, 1.0}};
+  const PorousMedia<2> pxz(c, KernelType::WendlandC2, 0.0075, 0.005);
+  EXPECT_NEAR(pxz.porosity(Vec<2>{{0.5, 0.0}}), 0.5 * (0.75 + 0.22), 1e-14);
+  EXPECT_NEAR(pxz.porosity(Vec<2>{{0.5, 0.1}}), 0.5 * (0.75 + 1.0), 1e-14);
+  EXPECT_NEAR(pxz.porosity(Vec<2>{{-1.0, 0.05}}), 0.75, 1e-14);
+}
+
+namespace {
+// a pool with a porous block on the floor, dx = 0.005
+const char* kPool = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.005, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 20.0}
+scheme: {integrator: symplectic, density_diffusion: fourtakas, viscosity: laminar}
+turbulence: {model: none, cs: 0.15}
+walls: {type: dummy, slip: no_slip}
+porous:
+  field: smoothed
+  regions:
+    - {shape: box, min: [0.1, -0.05], max: [0.2, 0.1], porosity: 0.49, diameter: 0.0159}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.3, 0.2]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.15]}
+time: {end: 1.0}
+)";
+}  // namespace
+
+// Kazemi eq 5.1: every particle has the mass ρ0 dx²; inside the block the lattice is dx/sqrt(φ0)
+// (here 7.14 mm, 14 x 14 points in the 0.1 m block), so the water volume Σ m/(φρ) is the pool's.
+TEST(Porous, FillSpacingKeepsTheWaterVolume) {
+  test::Setup<2> s(kPool);
+  const auto& P = s.S.particles;
+  const auto& phi = s.S.particles.scalar_fields().at("porosity");
+  std::size_t in_block = 0;
+  double vol = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    EXPECT_DOUBLE_EQ(P.mass[i], 1000.0 * 0.005 * 0.005);
+    const auto& x = P.pos[i];
+    in_block += x[0] > 0.1 && x[0] < 0.2 && x[1] < 0.1;
+    vol += P.mass[i] / (phi[i] * 1000.0);  // volume at rho0 (the density is hydrostatic)
+  }
+  EXPECT_EQ(in_block, 14u * 14u);
+  // the smoothed porosity of the band particles is not the lattice's: within 2 % of 0.3 x 0.15
+  EXPECT_NEAR(vol, 0.3 * 0.15, 0.02 * 0.045);
+}
+
+// With φ = 1 the SPHAM terms are the plain ones: one rates pass on the same state (a sheared,
+// compressed pool, laminar and artificial viscosity, with turbulence) gives the same
+// accelerations and density rates with a porosity-1 region as without porous media.
+TEST(Porous, UnitPorosityReducesToPlainWcsph) {
+  for (const char* visc : {"laminar", "artificial"}) {
+    for (const char* turb : {"none", "smagorinsky"}) {
+      const std::vector<std::string> common = {std::string("scheme.viscosity=") + visc,
+                                               std::string("turbulence.model=") + turb};
+      auto with = common;
+      with.push_back("porous.regions.0.porosity=1.0");
+      test::Setup<2> plain(kPool, with), por(kPool, with);
+      plain.S.porous.reset();  // the same particles, without porous media
+      for (auto* s : {&plain, &por}) {
+        auto& P = s->S.particles;
+        for (std::size_t i = 0; i < P.n_owned(); ++i) {
+          if (P.kind[i] != Kind::Fluid) continue;
+          const auto& x = P.pos[i];
+          P.vel[i] = Vec<2>{{0.3 * std::sin(20.0 * x[1]), 0.1 * std::cos(17.0 * x[0])}};
+          P.rho[i] *= 1.0 + 0.001 * std::sin(31.0 * x[0] + 7.0 * x[1]);
+        }
+        s->scheme->initialise(s->S);  // pressure, neighbours, one rates pass (twice for the stress)
+        s->scheme->rates(s->S);
+      }
+      const auto& A = plain.S.particles;
+      const auto& B = por.S.particles;
+      ASSERT_EQ(A.n_owned(), B.n_owned());
+      double amax = 0.0, dmax = 0.0, ea = 0.0, ed = 0.0;
+      for (std::size_t i = 0; i < A.n_owned(); ++i) {
+        ASSERT_EQ(A.id[i], B.id[i]);
+        amax = std::max(amax, norm(A.acc[i]));
+        dmax = std::max(dmax, std::abs(A.drho[i]));
+        ea = std::max(ea, norm(A.acc[i] - B.acc[i]));
+        ed = std::max(ed, std::abs(A.drho[i] - B.drho[i]));
+      }
+      // the same single-precision sums in the same order: identical up to float round-off
+      EXPECT_LE(ea, 1e-6 * amax) << visc << ", " << turb;
+      EXPECT_LE(ed, 1e-6 * dmax) << visc << ", " << turb;
+    }
+  }
+}
+
+namespace {
+// a fully porous, doubly periodic block driven by a body force (uniform: no pressure gradient)
+const char* kPeriodicPorous = R"(
+dimension: 2
+gravity: [2.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 10.0, hydrostatic_init: false}
+scheme: {density_diffusion: none, viscosity: laminar}
+domain: {min: [0.0, 0.0], max: [0.2, 0.2], periodic: [x, z]}
+porous:
+  field: sharp
+  regions:
+    - {shape: box, min: [-1.0, -1.0], max: [1.0, 1.0], porosity: 0.4, diameter: 0.00008}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.2, 0.2]}
+time: {end: 1.0}
+)";
+}  // namespace
+
+// Fine grains (d = 0.08 mm, silt) make the drag stiff: a dt ≈ 16 at the fluid's time step. The
+// point-implicit update stays stable with every integrator and lands on the Ergun balance
+// g = a u + b u² (here the Darcy part dominates) to round-off.
+TEST(Porous, PointImplicitDragReachesTheErgunBalance) {
+  for (const char* integ : {"symplectic", "predictor_corrector", "verlet"}) {
+    test::Setup<2> s(kPeriodicPorous, {std::string("scheme.integrator=") + integ});
+    s.scheme->initialise(s.S);
+    const double dt = s.scheme->time_step(s.S);
+    const auto [K1, M] = PorousMedia<2>::closure(s.c.porous.regions[0].closure, 0.4, 1.0, 1e-6, 0.00008);
+    const double a = PorousMedia<2>::closure(s.c.porous.regions[0].closure, 0.4, 0.0, 1e-6, 0.00008).first;
+    const double b = K1 - a;
+    EXPECT_GT(a * dt, 10.0);  // explicit Euler would blow up
+    for (int k = 0; k < 200; ++k) s.scheme->step(s.S, dt);
+    const double u = (-a + std::sqrt(a * a + 4.0 * b * 2.0)) / (2.0 * b);
+    const auto& P = s.S.particles;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      ASSERT_NEAR(P.vel[i][0], u, 1e-9 * u) << integ;
+      ASSERT_NEAR(P.vel[i][1], 0.0, 1e-9 * u) << integ;
+    }
+  }
+}
