@@ -44,7 +44,7 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     else if (g.type == "pressure") *f << ",pressure";
     else if (g.type == "front") *f << ",front";
     else if (g.type == "energy") *f << ",kinetic,potential,total";
-    else if (g.type == "water_volume") *f << ",volume";
+    else if (g.type == "water_volume") *f << ",water,bulk";
     else if (g.type == "flux") *f << ",flux";
     else if (g.type == "boundary_volume") *f << ",inflow,outflow,backflow";
     else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile") {
@@ -200,16 +200,18 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     }
     return {nan};
   }
-  if (g.type == "water_volume") {  // Σ m/(φρ) of the fluid particles (in the box)
+  if (g.type == "water_volume") {  // Σ m/ρ (the water) and Σ m/(φρ) (the space it fills) of the fluid
     const double* phi = porosity_field(S);
-    double v = 0.0;
+    double v = 0.0, w = 0.0;
     for (std::size_t i = 0; i < P.n_owned(); ++i) {
       if (P.kind[i] != Kind::Fluid) continue;
       bool in = true;
       for (std::size_t d = 0; d < g.start.size(); ++d) in &= P.pos[i][d] >= g.start[d] && P.pos[i][d] < g.end[d];
-      if (in) v += P.mass[i] / (P.rho[i] * (phi ? phi[i] : 1.0));
+      if (!in) continue;
+      w += P.mass[i] / P.rho[i];
+      v += P.mass[i] / (P.rho[i] * (phi ? phi[i] : 1.0));
     }
-    return {v};
+    return {w, v};
   }
   if (g.type == "energy") {
     double ek = 0.0, ep = 0.0;

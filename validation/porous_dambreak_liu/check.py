@@ -1,0 +1,179 @@
+#!/usr/bin/python3
+"""Dam break through a porous dam, Liu et al. (1999) (cases/porous_dambreak_liu.yaml; issue: porous media,
+validation 3), and Kazemi's 25 cm crushed-rock and 15 cm glass-bead variants (cases/porous_dambreak_kazemi_*.yaml).
+
+Liu: tank 0.892 m, crushed-rock dam x = 0.30-0.59 m (d50 = 15.9 mm, porosity 0.49), reservoir 0.3534 m deep
+over x <= 0.2945 m, a 0.025 m layer of water elsewhere (shared/validation/porous_dambreak_liu1999/README.md).
+SPHAM with Ergun's textbook constants (c1 = 150, c2 = 1.75: not fitted), Kazemi's smoothed porosity.
+Metrics:
+  1. (Liu) free-surface RMSE against the measured surface at t = 0.35, 0.75, 1.15, 1.55, 1.95 s <= 8 mm at
+     each time (issue; the theses report ~6 mm on their 25 cm variant, Kazemi Table 5-1). The simulated surface
+     is the depth_profile gauge (the height where the fluid fraction sum m/(phi rho) W falls to 0.5 on the
+     vertical through each of 88 points, 1 cm apart), interpolated linearly at the measured x; no time shift.
+  2. (all variants) water volume within 1 % of its initial value at every output (issue), two ways:
+     the water itself, sum m/rho (gauge volume, column water: changes only through the density), and
+     Kazemi's measure from the free surface (§5.3.1: Vol_left + phi0 Vol_dam + Vol_right), the integral
+     of phi(x) eta(x) over the surface gauge (eta held constant over the 1 cm next to each wall), against
+     the same measure at t = 0 (its offset from the exact initial volume is printed: the surface gauge
+     reads the 0.5 level of the fluid fraction). The bulk sum m/(phi rho) grows as water enters the dam
+     (a particle's volume there holds pores and grains) and is printed only.
+  3. (all variants) pressure continuous across the upstream dam face: the pressure gauges at z = 0.05 m (0.10 m
+     for Liu) at x = face - 0.02, face, face + 0.02 m; the kink |p_face - (p_out + p_in)/2| / p_face, time mean
+     over the outputs with t >= 0.5 s where the face is wet, <= 3 % (a jump J at the face gives a kink ~J/2;
+     the hydrostatic variation across 4 cm is linear, so no kink is expected: 3 % allows the kernel-scale
+     curvature of the surface drawdown).
+Modes: fine = the three variants at dx = 0.005 m (the theses' resolution class: l0 = 3-5 mm), every metric
+gated; coarse (CTest) = Liu only at dx = 0.01 m: the run and the water sum m/rho are gated; the RMSE (against
+2 x 8 mm: a first-order error doubles with dx), the surface volume and the pressure kink, which the fine runs do
+not all meet yet (validation/README.md), are printed (info).
+Usage: /usr/bin/python3 validation/porous_dambreak_liu/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
+"""
+import csv
+import os
+import sys
+
+import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from common import Report, parse_sets, run_case, validation_args  # noqa: E402
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CASES = os.path.normpath(os.path.join(HERE, "..", "..", "cases"))
+DATA_DIRS = [os.path.join(HERE, "data"), "/work/shared/validation/porous_dambreak_liu1999"]
+NAME = "porous_dambreak_liu"
+TIMES = [0.35, 0.75, 1.15, 1.55, 1.95]
+VARIANTS = {  # name -> case file, end time
+    "liu1999": ("porous_dambreak_liu.yaml", 2.0),
+    "kazemi_rock_25cm": ("porous_dambreak_kazemi_rock.yaml", 2.0),
+    "kazemi_beads_15cm": ("porous_dambreak_kazemi_beads.yaml", 4.0),
+}
+MODES = {
+    "coarse": {"dx": 0.01, "variants": ["liu1999"], "rmse": 0.016},
+    "fine": {"dx": 0.005, "variants": list(VARIANTS), "rmse": 0.008},
+}
+RHO, G = 1000.0, 9.81
+TANK = 0.892
+DAMS = {"liu1999": (0.30, 0.59, 0.49), "kazemi_rock_25cm": (0.301, 0.591, 0.49), "kazemi_beads_15cm": (0.301, 0.591, 0.39)}
+V_TOL, KINK_TOL = 0.01, 0.03
+
+
+def read_rows(path):
+    with open(path) as f:
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
+
+
+def data_file(t):
+    fname = f"free_surface_t{t:.2f}s.csv"
+    for d in DATA_DIRS:
+        p = os.path.join(d, fname)
+        if os.path.exists(p):
+            return p
+    raise FileNotFoundError(fname)
+
+
+def info(name, value, ok, threshold, source):
+    print(f"  (info) {name} = {value} ({'meets' if ok else 'misses'} {threshold}; {source})")
+
+
+def main():
+    a = validation_args(NAME, __doc__, MODES)
+    m = MODES[a.mode]
+    os.makedirs(a.out, exist_ok=True)
+    rep = Report()
+    print(f"\n== {NAME} ({a.mode}: dx = {m['dx']} m)")
+    figs = {}
+    for v in m["variants"]:
+        case, end = VARIANTS[v]
+        out = os.path.join(a.out, f"{v}_dx{m['dx']:g}")
+        s, wall, rc = run_case(a.sphflume, os.path.join(CASES, case), out,
+                               {"particles.dx": m["dx"], "time.end": end, **parse_sets(a.set)}, a.threads, a.reuse)
+        if s is None:
+            rep.metric(f"{v}: run", f"exit code {rc}", False, "0", "run")
+            continue
+        print(f"  {v}: {s['particles']['fluid']} fluid particles, {s['steps']} steps, wall {wall:.1f} s, "
+              f"{s['particle_steps_per_second']:.3g} particle-steps/s")
+        rep.metric(f"{v}: run reached t_end (s)", f"{s['simulated_time']:.3f}", s["simulated_time"] >= end * (1 - 1e-6),
+                   f">= {end}", "run")
+        g = os.path.join(out, "gauges")
+        # 2. volume
+        hv, vol = read_rows(os.path.join(g, "volume.csv"))
+        w, bulk = vol[:, hv.index("water")], vol[:, hv.index("bulk")]
+        dv = float(np.max(np.abs(w - w[0])) / w[0])
+        rep.metric(f"{v}: water volume sum m/rho, max |V - V0| / V0", f"{100 * dv:.3f} % (V0 = {w[0]:.5f} m2)",
+                   dv <= V_TOL, f"<= {100 * V_TOL:g} %", "issue")
+        print(f"    (info) bulk volume sum m/(phi rho): {bulk[0]:.5f} -> {bulk[-1]:.5f} m2 (water entering the dam)")
+        hs, surf = read_rows(os.path.join(g, "surface.csv"))
+        _, pts = read_rows(os.path.join(g, "surface.points.csv"))
+        xs = np.concatenate([[0.0], pts[:, 1], [TANK]])
+        phix = np.where((xs >= DAMS[v][0]) & (xs <= DAMS[v][1]), DAMS[v][2], 1.0)
+        geo = []
+        for row in surf:
+            eta = np.nan_to_num(row[1:], nan=0.0)
+            geo.append(np.trapz(np.concatenate([[eta[0]], eta, [eta[-1]]]) * phix, xs))
+        geo = np.array(geo)
+        dg = float(np.max(np.abs(geo - geo[0])) / geo[0])
+        gate = rep.metric if a.mode == "fine" else info
+        gate(f"{v}: water volume from the free surface (Kazemi), max |V - V0| / V0", f"{100 * dg:.2f} % "
+                   f"(V0 = {geo[0]:.5f} m2; exact initial {w[0]:.5f}: {100 * (geo[0] / w[0] - 1):+.1f} %)",
+             dg <= V_TOL, f"<= {100 * V_TOL:g} %", "issue (Kazemi: 0.0212 -> 0.0214 m3 for the beads)")
+        # 3. pressure continuity across the upstream face
+        _, po = read_rows(os.path.join(g, "p_out_low.csv"))
+        _, pf = read_rows(os.path.join(g, "p_face_low.csv"))
+        _, pi = read_rows(os.path.join(g, "p_in_low.csv"))
+        sel = (pf[:, 0] >= 0.5) & np.isfinite(pf[:, 1]) & np.isfinite(po[:, 1]) & np.isfinite(pi[:, 1]) & (pf[:, 1] > 200.0)
+        if sel.sum() > 0:
+            kink = np.abs(pf[sel, 1] - 0.5 * (po[sel, 1] + pi[sel, 1])) / pf[sel, 1]
+            gate(f"{v}: pressure kink at the upstream face, time mean t >= 0.5 s", f"{100 * kink.mean():.2f} % "
+                 f"(max {100 * kink.max():.2f} %, {sel.sum()} outputs)", kink.mean() <= KINK_TOL,
+                 f"<= {100 * KINK_TOL:g} %", "issue (continuous pressure across the dam faces)")
+            jump = np.mean(pi[sel, 1] - po[sel, 1])
+            print(f"    (info) mean p(face + 2 cm) - p(face - 2 cm) = {jump:.1f} Pa (rho g x 1 cm = 98 Pa)")
+        else:
+            rep.metric(f"{v}: pressure at the upstream face", "face dry at every output", False, "wet", "issue")
+        # 1. free surface (Liu only: the measured data)
+        xs = pts[:, 1]
+        figs[v] = (surf, xs)
+        if v != "liu1999":
+            continue
+        for t in TIMES:
+            i = int(np.argmin(np.abs(surf[:, 0] - t)))
+            if abs(surf[i, 0] - t) > 1e-6:
+                rep.metric(f"free surface at t = {t} s", "no output row", False, "an output at t", "script")
+                continue
+            _, e = read_rows(data_file(t))
+            eta = np.nan_to_num(surf[i, 1:], nan=0.0)  # a dry vertical: the surface is the bed
+            sim = np.interp(e[:, 0], xs, eta)
+            rmse = float(np.sqrt(np.mean((sim - e[:, 1]) ** 2)))
+            bias = float(np.mean(sim - e[:, 1]))
+            gate = rep.metric if a.mode == "fine" else info
+            gate(f"free-surface RMSE at t = {t:.2f} s", f"{1000 * rmse:.1f} mm (bias {1000 * bias:+.1f} mm)",
+                 rmse <= m["rmse"], f"<= {1000 * m['rmse']:g} mm",
+                       "issue" if a.mode == "fine" else "issue 8 mm at the theses' resolution, x2 at dx = 0.01")
+    if "liu1999" in figs:
+        surf, xs = figs["liu1999"]
+        fig, axs = plt.subplots(len(TIMES), 1, figsize=(8, 2.3 * len(TIMES)), sharex=True)
+        for ax, t in zip(axs, TIMES):
+            i = int(np.argmin(np.abs(surf[:, 0] - t)))
+            _, e = read_rows(data_file(t))
+            ax.axvspan(0.30, 0.59, color="0.88", label="porous dam")
+            ax.plot(e[:, 0], e[:, 1], "ko", ms=3, label="Liu et al. (1999)")
+            ax.plot(xs, surf[i, 1:], "b-", label=f"SPHAM, dx = {m['dx']} m")
+            ax.set_ylabel("eta (m)")
+            ax.set_ylim(0, 0.38)
+            ax.set_title(f"t = {t:.2f} s", fontsize=9)
+        axs[0].legend(fontsize=7, loc="upper right")
+        axs[-1].set_xlabel("x (m)")
+        fig.tight_layout()
+        png = os.path.join(HERE if a.mode == "fine" else a.out, f"{NAME}.png")
+        fig.savefig(png, dpi=100)
+        print(f"  plot: {png}")
+    rep.finish(NAME, a.mode)
+
+
+if __name__ == "__main__":
+    main()
