@@ -279,7 +279,7 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
 
 PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"shape", "min", "max", "vertices", "porosity", "diameter", "layer", "closure", "x", "z", "phi"});
+  r.valid({"shape", "min", "max", "vertices", "porosity", "diameter", "layer", "closure", "upper", "x", "z", "phi"});
   PorousRegionConfig g;
   g.line = n.Mark().line + 1;
   g.shape = r.choice("shape", "box", {"box", "polygon", "profile"});
@@ -330,9 +330,9 @@ PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& fi
   }
   g.diameter = r.positive("diameter", 0.0, true);
   g.layer = r.in_range("layer", 0.0, 0.0, 1e6);
-  if (r.has("closure")) {
-    Reader c(r.get("closure"), file, r.key_path("closure"));
-    auto& k = g.closure;
+  auto closure = [&](const YAML::Node& cn, const std::string& path) {
+    Reader c(cn, file, path);
+    PorousClosureConfig k;
     k.type = c.choice("type", "ergun", {"ergun", "tsurudome", "van_gent", "roughness"});
     if (k.type == "van_gent") {
       k.c1 = c.in_range("alpha", 1000.0, 0.0, 1e9);
@@ -347,6 +347,18 @@ PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& fi
       k.c2 = c.in_range("c2", 1.75, 0.0, 1e9);
     }
     c.finish();
+    return k;
+  };
+  if (r.has("closure")) g.closure = closure(r.get("closure"), r.key_path("closure"));
+  if (r.has("upper")) {
+    Reader u(r.get("upper"), file, r.key_path("upper"));
+    g.has_upper = true;
+    g.upper_z = u.required<double>("z", "the level above which the upper closure applies, in m");
+    g.upper_x = u.scalar<double>("x", -1e300);
+    if (!u.has("closure")) u.misspelt("closure");
+    if (!u.has("closure")) u.fail_at(r.get("upper"), r.key_path("upper.closure"), "the upper closure, e.g. {type: roughness, cd: 0.9}");
+    g.upper = closure(u.get("closure"), r.key_path("upper.closure"));
+    u.finish();
   }
   r.finish();
   return g;

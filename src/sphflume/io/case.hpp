@@ -166,6 +166,11 @@ struct PorousRegionConfig {
   double diameter = 0.0;      // grain diameter d_s [m]
   double layer = 0.0;         // field smoothed: thickness of the transition layer [m]; 0 = the diameter
   PorousClosureConfig closure;
+  // Kazemi eq 6.3/6.9: a second closure above a level (the roughness layer above the trough z_t)
+  // and downstream of a station (X2 of the porous inflow's transition); the first one elsewhere
+  bool has_upper = false;
+  double upper_z = 0.0, upper_x = -1e300;
+  PorousClosureConfig upper;
   std::vector<double> x, z;                // profile: stations (x optional) and heights
   std::vector<std::vector<double>> phi;    // profile: phi[ix][iz] (one row without x)
   int line = 0;

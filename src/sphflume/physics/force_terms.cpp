@@ -111,6 +111,71 @@ class RoughBed final : public ForceTerm<D> {
   bool point_ = false;
 };
 
+/// Kazemi's outlet "imaginary wall" (ch. 6, eqs 6.10-6.12; digest kazemi.md §5.5): `layers`
+/// columns of fixed particles (spacing dx, volume dx^2, phi = 1) just downstream of the outlet
+/// line X_o, from the bed up to bed + H_ow, with the hydrostatic pressure of that tailwater
+/// level. They act only on the pressure gradient of the fluid within one kernel support
+/// upstream of X_o:  O_a = - Σ_o F_o V_o (p_a + p_o)/ρ_a ∇_a W_ao,  F_o = (X_o - x_a)/(support)
+/// (Kazemi: falls linearly to 0 at X_o), and in no other sum. Fluid reaching X_o leaves through the
+/// domain's face there (set domain.max x = X_o; the run removes and counts it). 2D.
+template <int D>
+class ImaginaryWall final : public ForceTerm<D> {
+ public:
+  ImaginaryWall(const YAML::Node& n, const std::string& where) {
+    for (const auto& kv : n) {
+      const auto k = kv.first.as<std::string>();
+      if (k != "type" && k != "x" && k != "bed" && k != "height" && k != "layers")
+        throw InputError(fmt::format("{}: unknown key '{}' for imaginary_wall (known: x, bed, height, layers)", where, k));
+    }
+    if constexpr (D != 2) throw InputError(fmt::format("{}: imaginary_wall is 2D in this version", where));
+    if (!n["x"] || !n["height"]) throw InputError(fmt::format("{}: imaginary_wall needs 'x' (the outlet line X_o) and 'height' (H_ow above the bed)", where));
+    xo_ = n["x"].as<double>();
+    bed_ = n["bed"] ? n["bed"].as<double>() : 0.0;
+    how_ = n["height"].as<double>();
+    layers_ = n["layers"] ? n["layers"].as<int>() : 3;
+    if (!(how_ > 0.0)) throw InputError(fmt::format("{}: imaginary_wall.height: expected H_ow > 0 in m", where));
+    if (layers_ < 1 || layers_ > 10) throw InputError(fmt::format("{}: imaginary_wall.layers: expected 1 to 10", where));
+  }
+  const char* name() const override { return "imaginary_wall"; }
+  void add(System<D>& S) override {
+    auto& P = S.particles;
+    const double dx = S.dx, vol = dx * dx, g = std::abs(S.gravity[D - 1]), rho0 = S.eos.rho0;
+    if (xo_pos_.empty())
+      for (int k = 0; k < layers_; ++k)
+        for (double z = bed_ + 0.5 * dx; z < bed_ + how_; z += dx) {
+          Vec<D> x{};
+          x[0] = xo_ + (k + 0.5) * dx;
+          x[D - 1] = z;
+          xo_pos_.push_back(x);
+          xo_p_.push_back(rho0 * g * (bed_ + how_ - z));
+        }
+    const std::size_t n = P.n_owned();
+    S.with_kernel([&](const auto& K) {
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        if (P.kind[i] != Kind::Fluid) continue;
+        const double gap = xo_ - P.pos[i][0];
+        if (gap >= K.support || gap < 0.0) continue;
+        const double F = gap / K.support;
+        Vec<D> a{};
+        for (std::size_t o = 0; o < xo_pos_.size(); ++o) {
+          const Vec<D> r = P.pos[i] - xo_pos_[o];
+          const double r2 = dot(r, r);
+          if (r2 >= K.support2 || r2 == 0.0) continue;
+          a -= (F * vol * (P.p[i] + xo_p_[o]) / P.rho[i] * K.F(std::sqrt(r2))) * r;
+        }
+        P.acc[i] += a;
+      }
+    });
+  }
+
+ private:
+  double xo_ = 0.0, bed_ = 0.0, how_ = 0.0;
+  int layers_ = 3;
+  std::vector<Vec<D>> xo_pos_;
+  std::vector<double> xo_p_;
+};
+
 }  // namespace
 
 double rough_bed_shape(double z, double z_centre, double d_s, double l0) {
@@ -134,6 +199,7 @@ Registry<ForceTerm<D>, const YAML::Node&, const std::string&>& force_registry() 
     Registry<ForceTerm<D>, const YAML::Node&, const std::string&> reg;
     reg.add("body_force", [](const YAML::Node& n, const std::string& w) { return std::make_unique<BodyForce<D>>(n, w); });
     reg.add("rough_bed", [](const YAML::Node& n, const std::string& w) { return std::make_unique<RoughBed<D>>(n, w); });
+    reg.add("imaginary_wall", [](const YAML::Node& n, const std::string& w) { return std::make_unique<ImaginaryWall<D>>(n, w); });
     return reg;
   }();
   return r;

@@ -187,7 +187,9 @@ void PorousMedia<D>::drag(System<D>& S) {
     const int r = region_of_[i];
     if (P.kind[i] != Kind::Fluid || r < 0) continue;
     const auto& c = regions_[static_cast<std::size_t>(r)].cfg;
-    const auto [K, M] = closure(c.closure, phi[i], norm(P.vel[i]), S.nu, c.diameter);
+    const auto& x = P.pos[i];
+    const bool upper = c.has_upper && x[D - 1] > c.upper_z && x[0] > c.upper_x;
+    const auto [K, M] = closure(upper ? c.upper : c.closure, phi[i], norm(P.vel[i]), S.nu, c.diameter);
     rate[i] = K / M;
     inertia[i] = 1.0 / M;
   }
