@@ -273,3 +273,39 @@ TEST(Porous, PointImplicitDragReachesTheErgunBalance) {
     }
   }
 }
+
+// Kazemi's outlet imaginary wall (eqs 6.10-6.12): hydrostatic particles beyond X_o push the fluid
+// within one kernel support upstream of X_o back upstream, weighted by F_o = (X_o - x)/support
+// (0 at X_o), and nothing farther upstream.
+TEST(ImaginaryWall, PushesUpstreamWithinOneSupportOnly) {
+  const char* yaml = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 10.0}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+forces:
+  - {type: imaginary_wall, x: 0.3, bed: 0.0, height: 0.1}
+time: {end: 1.0}
+)";
+  test::Setup<2> s(yaml);
+  s.scheme->initialise(s.S);  // pressures, neighbours
+  auto& P = s.S.particles;
+  for (auto& a : P.acc) a = Vec<2>{};
+  ASSERT_EQ(s.S.forces.size(), 1u);
+  s.S.forces[0]->add(s.S);
+  const double support = s.S.support;
+  int pushed = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    const double gap = 0.3 - P.pos[i][0];
+    if (gap >= support) {
+      EXPECT_EQ(P.acc[i][0], 0.0);
+      EXPECT_EQ(P.acc[i][1], 0.0);
+    } else {
+      EXPECT_LT(P.acc[i][0], 0.0) << "x = " << P.pos[i][0];
+      ++pushed;
+    }
+  }
+  EXPECT_EQ(pushed, 10 * static_cast<int>(std::ceil(support / 0.01 - 0.5)));  // the columns within a support
+}

@@ -702,6 +702,22 @@ Case build_case(YAML::Node root, const std::string& file) {
                 "a list of porous regions, e.g. [{shape: box, min: [0.3, 0], max: [0.59, 0.58], porosity: 0.49, diameter: 0.0159}]");
     for (std::size_t i = 0; i < regs.size(); ++i)
       p.regions.push_back(read_porous_region(regs[i], file, fmt::format("porous.regions.{}", i), c.dimension));
+    if (r.has("fill")) {
+      const YAML::Node fl = r.get("fill");
+      if (!fl.IsSequence()) r.fail_at(fl, "porous.fill", "a list of boxes, e.g. [{min: [0, 0], max: [1, 0.09], porosity: 0.22}]");
+      for (std::size_t i = 0; i < fl.size(); ++i) {
+        Reader f(fl[i], file, fmt::format("porous.fill.{}", i));
+        PorousConfig::Fill b;
+        b.min = f.vec("min", static_cast<std::size_t>(c.dimension));
+        b.max = f.vec("max", static_cast<std::size_t>(c.dimension));
+        if (b.min.empty() || b.max.empty()) f.fail_at(fl[i], fmt::format("porous.fill.{}", i), "'min' and 'max' corners");
+        for (std::size_t d = 0; d < b.min.size(); ++d)
+          if (!(b.max[d] > b.min[d])) f.fail_at(f.get("max"), fmt::format("porous.fill.{}.max", i), "max > min in every coordinate");
+        b.porosity = f.in_range("porosity", 1.0, 1e-3, 1.0);
+        f.finish();
+        p.fill.push_back(b);
+      }
+    }
     r.finish();
   }
   if (top.has("forces")) {

@@ -184,6 +184,10 @@ struct PorousConfig {
   bool literal_normalisation = false;  // particles: Tsurudome's rho_p / rho_w as printed (gives 1-(1-phi)phi inside)
   double mesh_ratio = 1.2;             // smoothed: background mesh spacing = h_Omega / mesh_ratio (Kazemi: 1.2)
   std::vector<PorousRegionConfig> regions;
+  // boxes whose initial fluid is placed at the spacing of a given porosity (e.g. Kazemi ch. 6:
+  // the bed below the crest and the porous inflow's region), after the shape regions
+  struct Fill { std::vector<double> min, max; double porosity = 1.0; };
+  std::vector<Fill> fill;
   int line = 0;
   bool on() const { return !regions.empty(); }
 };

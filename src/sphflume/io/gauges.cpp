@@ -147,7 +147,10 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
   }
   if (g.type == "flux") {
     // volume flux through the line (per unit width, m2/s): u·n integrated over the wet part
-    // (fluid fraction >= 0.5), n the line's normal (for a line going up, n = +x)
+    // (fluid fraction >= 0.5), n the line's normal (for a line going up, n = +x); in porous
+    // media the superficial velocity φu (the intrinsic velocity carries water through the pores
+    // only)
+    const double* phi = porosity_field(S);
     Vec<D> t{};
     double len2 = 0.0;
     for (int d = 0; d < D; ++d) { t[d] = g.end[d] - g.start[d]; len2 += t[d] * t[d]; }
@@ -164,7 +167,7 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
       f[i] = fluid_fraction(S, x);
       if (f[i] <= 0.0) continue;
       for (int d = 0; d < D; ++d) {
-        auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d]; });
+        auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d] * (phi ? phi[b] : 1.0); });
         un[i] += (v ? *v : 0.0) * nrm[d];
       }
     }

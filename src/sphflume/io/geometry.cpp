@@ -303,13 +303,37 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
                                  c.file, dx, c.fluid.density, m, S.h));
   check_geometry<D>(c, limits, S.support, layers);
 
-  // porous regions: the fluid inside region r starts on a lattice dx / phi0^(1/D) (Kazemi eq 5.1),
-  // so that every particle keeps the mass rho0 dx^D and the volume m / (phi rho)
+  // porous media: the fluid inside a porous region (or a `porous.fill` box) starts on a lattice
+  // dx / phi0^(1/D) (Kazemi eq 5.1), so that every particle keeps the mass rho0 dx^D and the
+  // volume m / (phi rho). Fill zones: the shape regions with phi0 < 1, then the fill boxes.
   if (c.porous.on()) S.porous = std::make_shared<PorousMedia<D>>(c.porous, c.kernel, S.h, dx);
-  auto porous_region_of = [&](const Vec<D>& x) -> int {
-    if (!S.porous) return -1;
-    for (std::size_t r = 0; r < S.porous->size(); ++r)
-      if (S.porous->fill_spacing(r) > 0.0 && S.porous->region(r).porosity < 1.0 && S.porous->inside(r, x)) return static_cast<int>(r);
+  struct FillZone { int region; Vec<D> lo, hi; double spacing; };
+  std::vector<FillZone> zones;
+  if (S.porous) {
+    for (std::size_t r = 0; r < S.porous->size(); ++r) {
+      const auto& rc = S.porous->region(r);
+      if (!(S.porous->fill_spacing(r) > 0.0) || !(rc.porosity < 1.0)) continue;
+      FillZone z{static_cast<int>(r), {}, {}, S.porous->fill_spacing(r)};
+      if (rc.shape == "box") { z.lo = to_vec<D>(rc.min); z.hi = to_vec<D>(rc.max); }
+      else {
+        for (int d = 0; d < D; ++d) { z.lo[d] = 1e300; z.hi[d] = -1e300; }
+        for (const auto& v : rc.vertices)
+          for (int d = 0; d < D && d < 2; ++d) { z.lo[d] = std::min(z.lo[d], v[d]); z.hi[d] = std::max(z.hi[d], v[d]); }
+      }
+      zones.push_back(z);
+    }
+    for (const auto& f : c.porous.fill)
+      zones.push_back({-1, to_vec<D>(f.min), to_vec<D>(f.max), PorousMedia<D>::fill_spacing_of(f.porosity, dx)});
+  }
+  auto zone_of = [&](const Vec<D>& x) -> int {
+    for (std::size_t k = 0; k < zones.size(); ++k) {
+      const auto& z = zones[k];
+      bool in = true;
+      if (z.region >= 0) in = S.porous->inside(static_cast<std::size_t>(z.region), x);
+      else
+        for (int d = 0; d < D; ++d) in &= x[d] >= z.lo[d] && x[d] <= z.hi[d];
+      if (in) return static_cast<int>(k);
+    }
     return -1;
   };
 
@@ -321,7 +345,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     const Vec<D> v0 = to_vec<D>(s.velocity);
     auto emit = [&](const Vec<D>& x) {
       if (s.fill == "fluid") {
-        if (porous_region_of(x) >= 0) return;  // filled at the region's spacing below
+        if (zone_of(x) >= 0) return;  // filled at the zone's spacing below
         fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si));
         fluid_half.push_back(0.5 * dx);
       } else { wall_x.push_back(x); wall_s.push_back(surface_point<D>(s, x)); }
@@ -350,41 +374,31 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     }
   }
 
-  if (S.porous)  // each porous region's share of each fluid shape, at the region's spacing
-    for (std::size_t r = 0; r < S.porous->size(); ++r) {
-      const double sp = S.porous->fill_spacing(r);
-      if (!(sp > 0.0) || !(S.porous->region(r).porosity < 1.0)) continue;
-      const auto& rc = S.porous->region(r);
-      Vec<D> rlo, rhi;
-      if (rc.shape == "box") { rlo = to_vec<D>(rc.min); rhi = to_vec<D>(rc.max); }
-      else {
-        for (int d = 0; d < D; ++d) { rlo[d] = 1e300; rhi[d] = -1e300; }
-        for (const auto& v : rc.vertices)
-          for (int d = 0; d < D; ++d) { rlo[d] = std::min(rlo[d], v[d]); rhi[d] = std::max(rhi[d], v[d]); }
+  for (std::size_t k = 0; k < zones.size(); ++k) {  // each fill zone's share of each fluid shape
+    const auto& zn = zones[k];
+    for (std::size_t si = 0; si < c.shapes.size(); ++si) {
+      const auto& s = c.shapes[si];
+      if (s.fill != "fluid" || (s.type != "box" && s.type != "polygon")) continue;
+      Vec<D> lo, hi;
+      shape_box<D>(s, dx, layers, lo, hi);
+      bool empty = false;
+      for (int d = 0; d < D; ++d) {
+        lo[d] = std::max(lo[d], zn.lo[d]);
+        hi[d] = std::min(hi[d], zn.hi[d]);
+        empty |= !(hi[d] > lo[d]);
       }
-      for (std::size_t si = 0; si < c.shapes.size(); ++si) {
-        const auto& s = c.shapes[si];
-        if (s.fill != "fluid" || (s.type != "box" && s.type != "polygon")) continue;
-        Vec<D> lo, hi;
-        shape_box<D>(s, dx, layers, lo, hi);
-        bool empty = false;
-        for (int d = 0; d < D; ++d) {
-          lo[d] = std::max(lo[d], rlo[d]);
-          hi[d] = std::min(hi[d], rhi[d]);
-          empty |= !(hi[d] > lo[d]);
+      if (empty) continue;
+      const Vec<D> v0 = to_vec<D>(s.velocity);
+      lattice<D>(lo, hi, zn.spacing, [&](const Vec<D>& x) {
+        if (zone_of(x) != static_cast<int>(k)) return;  // outside the zone, or in an earlier one
+        if (s.type == "polygon") {
+          if constexpr (D == 2) { if (!inside_polygon(s.vertices, x[0], x[1])) return; }
         }
-        if (empty) continue;
-        const Vec<D> v0 = to_vec<D>(s.velocity);
-        lattice<D>(lo, hi, sp, [&](const Vec<D>& x) {
-          if (porous_region_of(x) != static_cast<int>(r)) return;  // outside r, or in an earlier region
-          if (s.type == "polygon") {
-            if constexpr (D == 2) { if (!inside_polygon(s.vertices, x[0], x[1])) return; }
-          }
-          fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si));
-          fluid_half.push_back(0.5 * sp);
-        });
-      }
+        fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si));
+        fluid_half.push_back(0.5 * zn.spacing);
+      });
     }
+  }
 
   // Drop fluid lattice points that fall inside the walls (closer than dx/2 to a wall particle),
   // e.g. a fluid box drawn over a sloping bed.
