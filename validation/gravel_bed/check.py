@@ -146,7 +146,8 @@ def main():
     above = (z > Z_C + 0.01) & (z < Z_WS - 0.02) & np.isfinite(tau_t) & np.isfinite(tau_r)
     if above.any():
         print(f"  (info) above the crest at X2: mean tau_r / tau_t = {np.mean(tau_r[above]) / np.mean(tau_t[above]):.3f} "
-              f"(thesis: tau_r << tau_l); tau_t / (rho g S0 (z_ws - z)) mean {np.mean(tau_t[above] / (1000 * G * S0 * (Z_WS - z[above]))):.2f}")
+              f"(thesis: tau_r << tau_l); tau_t / (g S0 (z_ws - z)) mean {np.mean(tau_t[above] / (G * S0 * (Z_WS - z[above]))):.2f} "
+              f"(the stress gauge is kinematic, tau/rho)")
     # figure
     fig, ax = plt.subplots(1, 3, figsize=(14, 5))
     umean = np.nanmean(np.array(list(prof.values())), axis=0)
