@@ -13,7 +13,8 @@ Metrics:
      the two halves of the averaging window (Kazemi's steadiness criterion, 1 %);
   2. the imposed discharge is conserved: the time-mean water flux through X1, X2 and X3 within 1 % of the
      delivered inflow (the boundary_volume gauge's inflow volume over the window / its length; the imposed
-     q = U0 phi_in H_t^in = 0.0667 m2/s is delivered by whole rows of the inflow lattice) (issue). The flux at a
+     q = Q/B_w = 0.0667 m2/s, which the case's U0 delivers on the inflow lattice's depth, is printed beside it)
+     (issue). The flux at a
      section is taken from the particles, sum (m/rho) u_x / w over a slab w = 0.1 m wide centred on it, at each
      snapshot of the window: the flux gauge's kernel interpolation of phi u under-reads by ~20 % at dx = 0.01,
      where the bed's particles are 2.1 dx apart, more than the kernel's h;
@@ -44,8 +45,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "gravel_bed_B1Q60.yaml"))
 NAME = "gravel_bed"
 Z_T, Z_C, Z_WS, S0, G = 0.0366, 0.0876, 0.184, 0.0026, 9.81
-PHI_IN, H_IN, U0 = 0.75, 0.2577, 0.345
-Q = U0 * PHI_IN * H_IN
+PHI_IN = 0.75
+Q = 0.060 / 0.90  # Q / B_w (B_w: the flume's width, assumed; see the case file)
 SECTIONS = {"x1": 0.772, "x2": 1.288, "x3": 1.804}
 SLAB = 0.1  # m, width of the particle slab the section flux is taken from
 MODES = {
@@ -97,7 +98,7 @@ def main():
     i0, i1 = int(np.argmin(np.abs(ti - m["from"]))), len(ti) - 1
     vin = bv[i1, hv.index("inflow")] - bv[i0, hv.index("inflow")]
     q_in = vin / (ti[i1] - ti[i0])
-    print(f"  inflow: {vin:.4f} m2 over [{ti[i0]:g}, {ti[i1]:g}] s, q_in = {q_in:.5f} m2/s (design U0 phi_in H_t^in = {Q:.5f})")
+    print(f"  inflow: {vin:.4f} m2 over [{ti[i0]:g}, {ti[i1]:g}] s, q_in = {q_in:.5f} m2/s (Q/B_w = {Q:.5f}: {100 * (q_in / Q - 1):+.2f} %)")
     snaps = sorted(os.listdir(os.path.join(out, "snapshots")))
     slab = {k: [] for k in SECTIONS}
     for sn in snaps:
