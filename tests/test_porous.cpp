@@ -309,6 +309,27 @@ time: {end: 1.0}
     }
   }
   EXPECT_EQ(pushed, 10 * static_cast<int>(std::ceil(support / 0.01 - 0.5)));  // the columns within a support
+  // relaxed (Kazemi): the push grows with the distance from X_o inside the support, per unit of
+  // the kernel sum; unrelaxed: the last column (nearest the wall) is pushed hardest
+  auto last_column_push = [&](bool relax) {
+    test::Setup<2> t(yaml, {std::string("forces.0.relax=") + (relax ? "true" : "false")});
+    t.scheme->initialise(t.S);
+    auto& Q = t.S.particles;
+    for (auto& a : Q.acc) a = Vec<2>{};
+    t.S.forces[0]->add(t.S);
+    double last = 0.0, mid = 0.0;
+    for (std::size_t i = 0; i < Q.n_owned(); ++i) {
+      if (std::abs(Q.pos[i][1] - 0.055) > 1e-9) continue;
+      if (std::abs(Q.pos[i][0] - 0.295) < 1e-9) last = -Q.acc[i][0];
+      if (std::abs(Q.pos[i][0] - 0.285) < 1e-9) mid = -Q.acc[i][0];
+    }
+    return std::make_pair(last, mid);
+  };
+  const auto [rl, rm] = last_column_push(true);
+  const auto [ul, um] = last_column_push(false);
+  EXPECT_GT(ul, rl * 2.0);  // F_o = 1 against (X_o - x)/support = 1/6 at the last column
+  EXPECT_GT(ul, um);
+  EXPECT_GT(um, rm);
 }
 
 // The flux gauge carries the superficial velocity φu in porous media: a uniform intrinsic

@@ -116,7 +116,7 @@ class RoughBed final : public ForceTerm<D> {
 /// line X_o, from the bed up to bed + H_ow, with the hydrostatic pressure of that tailwater
 /// level. They act only on the pressure gradient of the fluid within one kernel support
 /// upstream of X_o:  O_a = - Σ_o F_o V_o (p_a + p_o)/ρ_a ∇_a W_ao,  F_o = (X_o - x_a)/(support)
-/// (Kazemi: falls linearly to 0 at X_o), and in no other sum. Fluid reaching X_o leaves through the
+/// (Kazemi: falls linearly to 0 at X_o; relax: false keeps F_o = 1), and in no other sum. Fluid reaching X_o leaves through the
 /// domain's face there (set domain.max x = X_o; the run removes and counts it). 2D.
 template <int D>
 class ImaginaryWall final : public ForceTerm<D> {
@@ -124,8 +124,8 @@ class ImaginaryWall final : public ForceTerm<D> {
   ImaginaryWall(const YAML::Node& n, const std::string& where) {
     for (const auto& kv : n) {
       const auto k = kv.first.as<std::string>();
-      if (k != "type" && k != "x" && k != "bed" && k != "height" && k != "layers")
-        throw InputError(fmt::format("{}: unknown key '{}' for imaginary_wall (known: x, bed, height, layers)", where, k));
+      if (k != "type" && k != "x" && k != "bed" && k != "height" && k != "layers" && k != "relax")
+        throw InputError(fmt::format("{}: unknown key '{}' for imaginary_wall (known: x, bed, height, layers, relax)", where, k));
     }
     if constexpr (D != 2) throw InputError(fmt::format("{}: imaginary_wall is 2D in this version", where));
     if (!n["x"] || !n["height"]) throw InputError(fmt::format("{}: imaginary_wall needs 'x' (the outlet line X_o) and 'height' (H_ow above the bed)", where));
@@ -133,6 +133,7 @@ class ImaginaryWall final : public ForceTerm<D> {
     bed_ = n["bed"] ? n["bed"].as<double>() : 0.0;
     how_ = n["height"].as<double>();
     layers_ = n["layers"] ? n["layers"].as<int>() : 3;
+    relax_ = n["relax"] ? n["relax"].as<bool>() : true;
     if (!(how_ > 0.0)) throw InputError(fmt::format("{}: imaginary_wall.height: expected H_ow > 0 in m", where));
     if (layers_ < 1 || layers_ > 10) throw InputError(fmt::format("{}: imaginary_wall.layers: expected 1 to 10", where));
   }
@@ -156,7 +157,7 @@ class ImaginaryWall final : public ForceTerm<D> {
         if (P.kind[i] != Kind::Fluid) continue;
         const double gap = xo_ - P.pos[i][0];
         if (gap >= K.support || gap < 0.0) continue;
-        const double F = gap / K.support;
+        const double F = relax_ ? gap / K.support : 1.0;
         Vec<D> a{};
         for (std::size_t o = 0; o < xo_pos_.size(); ++o) {
           const Vec<D> r = P.pos[i] - xo_pos_[o];
@@ -172,6 +173,7 @@ class ImaginaryWall final : public ForceTerm<D> {
  private:
   double xo_ = 0.0, bed_ = 0.0, how_ = 0.0;
   int layers_ = 3;
+  bool relax_ = true;  // Kazemi's linear relaxation of the wall's volume towards X_o (false: full volume)
   std::vector<Vec<D>> xo_pos_;
   std::vector<double> xo_p_;
 };
