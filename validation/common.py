@@ -53,6 +53,20 @@ def run_case(sphflume, case, out, sets, threads, reuse):
     return s, wall, 0
 
 
+def read_rows(path):
+    """A CSV file (lines starting with '#' skipped) -> (header list, float array of the rows)."""
+    import csv
+    import numpy as np
+    with open(path) as f:
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
+
+
+def info(name, value, ok, threshold, source):
+    """A metric printed but not gated: same arguments as Report.metric."""
+    print(f"  (info) {name} = {value} ({'meets' if ok else 'misses'} {threshold}; {source})")
+
+
 class Report:
     """Prints each metric as [PASS]/[FAIL] with its threshold and source; finish() exits 1 on a failure."""
 

@@ -26,7 +26,6 @@ Modes: coarse dx = 0.01 m, 30 s, window [20, 30] s (the thesis finds the flow st
 (Kazemi's l0), 45 s, window [35, 45] s (his averaging window).
 Usage: /usr/bin/python3 validation/gravel_bed/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import csv
 import math
 import os
 import sys
@@ -34,7 +33,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, validation_args  # noqa: E402
+from common import Report, parse_sets, read_rows, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -54,12 +53,6 @@ MODES = {
     "fine": {"dx": 0.005, "end": 45.0, "from": 35.0},
 }
 GAUGES = ["q_x1", "q_x2", "q_x3", "u_x1", "u_x2", "u_x3", "tau_x2", "depth"]  # with average_from, in case order
-
-
-def read(path):
-    with open(path) as f:
-        rows = list(csv.reader(line for line in f if not line.startswith("#")))
-    return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
 
 
 def main():
@@ -84,7 +77,7 @@ def main():
                f">= {m['end']}", "run")
     g = os.path.join(out, "gauges")
     # 1. steadiness at X2
-    _, q2 = read(os.path.join(g, "q_x2.csv"))
+    _, q2 = read_rows(os.path.join(g, "q_x2.csv"))
     w = q2[:, 0] >= m["from"] - 1e-9
     tw = q2[w, 0]
     half = tw <= 0.5 * (m["from"] + m["end"])
@@ -93,7 +86,7 @@ def main():
     rep.metric("steadiness: flux at X2, change between the window's halves", f"{100 * steady:.2f} % ({qa:.5f} -> {qb:.5f} m2/s)",
                steady < 0.01, "< 1 %", "Kazemi §6 (steady when < 1 %)")
     # 2. discharge: delivered by the inflow, and through the sections (particle slabs)
-    hv, bv = read(os.path.join(g, "inout.csv"))
+    hv, bv = read_rows(os.path.join(g, "inout.csv"))
     ti = bv[:, 0]
     i0, i1 = int(np.argmin(np.abs(ti - m["from"]))), len(ti) - 1
     vin = bv[i1, hv.index("inflow")] - bv[i0, hv.index("inflow")]
@@ -113,7 +106,7 @@ def main():
             slab[k].append(float(np.sum(vol[sel] * vel[sel, 0]) / SLAB))
     for k in SECTIONS:
         qm = float(np.mean(slab[k])) if slab[k] else float("nan")
-        _, qg = read(os.path.join(g, f"q_{k}.csv"))
+        _, qg = read_rows(os.path.join(g, f"q_{k}.csv"))
         qgm = float(np.mean(qg[qg[:, 0] >= m["from"] - 1e-9, 1]))
         rep.metric(f"time-mean water flux at {k} (x = {SECTIONS[k]} m) / delivered q_in",
                    f"{qm / q_in:.4f} ({qm:.5f} m2/s; {len(slab[k])} snapshots; flux gauge {qgm:.5f})",
@@ -125,23 +118,23 @@ def main():
     # uniformity and profiles
     prof = {}
     for k in SECTIONS:
-        h, mu = read(os.path.join(g, f"u_{k}.mean.csv"))
+        h, mu = read_rows(os.path.join(g, f"u_{k}.mean.csv"))
         ux = np.array([mu[-1, h.index(c)] for c in h if c.startswith("ux_")])
         prof[k] = ux
-    _, pts = read(os.path.join(g, "u_x2.points.csv"))
+    _, pts = read_rows(os.path.join(g, "u_x2.points.csv"))
     z = pts[:, 3]
     ubar = {}
     for k, ux in prof.items():
         wet = np.isfinite(ux) & (z <= Z_WS + 0.02)
         ubar[k] = float(np.trapz(np.nan_to_num(ux[wet]), z[wet]) / (z[wet][-1] - z[wet][0]))
     spread = (max(ubar.values()) - min(ubar.values())) / np.mean(list(ubar.values()))
-    print(f"  (info) depth-averaged u (z = bed .. surface) at X1, X2, X3: "
+    print("  (info) depth-averaged u (z = bed .. surface) at X1, X2, X3: "
           + ", ".join(f"{v:.4f}" for v in ubar.values()) + f" m/s; spread {100 * spread:.2f} % (thesis: < 2 %)")
-    hd, dm = read(os.path.join(g, "depth.mean.csv"))
+    hd, dm = read_rows(os.path.join(g, "depth.mean.csv"))
     depth = np.array([dm[-1, hd.index(c)] for c in hd if c.startswith("depth_")])
     print("  (info) time-mean water level along the channel (x = 0.1 .. 2.0 m): "
           + ", ".join(f"{d:.4f}" for d in depth) + f" m (measured z_ws = {Z_WS} m)")
-    ht, tm = read(os.path.join(g, "tau_x2.mean.csv"))
+    ht, tm = read_rows(os.path.join(g, "tau_x2.mean.csv"))
     tau_t = np.array([tm[-1, ht.index(c)] for c in ht if c.startswith("tau_t_")])
     tau_r = np.array([tm[-1, ht.index(c)] for c in ht if c.startswith("tau_r_")])
     above = (z > Z_C + 0.01) & (z < Z_WS - 0.02) & np.isfinite(tau_t) & np.isfinite(tau_r)

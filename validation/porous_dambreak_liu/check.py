@@ -28,13 +28,12 @@ gated; coarse (CTest) = Liu only at dx = 0.01 m: the run and the water sum m/rho
 not all meet yet (validation/README.md), are printed (info).
 Usage: /usr/bin/python3 validation/porous_dambreak_liu/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
-import csv
 import os
 import sys
 
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, validation_args  # noqa: E402
+from common import Report, info, parse_sets, read_rows, run_case, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -61,12 +60,6 @@ DAMS = {"liu1999": (0.30, 0.59, 0.49), "kazemi_rock_25cm": (0.301, 0.591, 0.49),
 V_TOL, KINK_TOL = 0.01, 0.03
 
 
-def read_rows(path):
-    with open(path) as f:
-        rows = list(csv.reader(line for line in f if not line.startswith("#")))
-    return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
-
-
 def data_file(t):
     fname = f"free_surface_t{t:.2f}s.csv"
     for d in DATA_DIRS:
@@ -74,10 +67,6 @@ def data_file(t):
         if os.path.exists(p):
             return p
     raise FileNotFoundError(fname)
-
-
-def info(name, value, ok, threshold, source):
-    print(f"  (info) {name} = {value} ({'meets' if ok else 'misses'} {threshold}; {source})")
 
 
 def main():
