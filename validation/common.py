@@ -67,6 +67,15 @@ def info(name, value, ok, threshold, source):
     print(f"  (info) {name} = {value} ({'meets' if ok else 'misses'} {threshold}; {source})")
 
 
+def save_figure(fig, here, name, mode, out, dpi=110):
+    """The fine run's figure goes next to the script (committed), any other mode's into --out."""
+    png = os.path.join(here if mode == "fine" else out, f"{name}.png")
+    os.makedirs(os.path.dirname(png), exist_ok=True)
+    fig.savefig(png, dpi=dpi)
+    print(f"figure: {png}")
+    return png
+
+
 class Report:
     """Prints each metric as [PASS]/[FAIL] with its threshold and source; finish() exits 1 on a failure."""
 

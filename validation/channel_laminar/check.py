@@ -27,7 +27,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, validation_args  # noqa: E402
+from common import Report, parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -158,10 +158,7 @@ def main():
     ax[1].set_ylabel("volume flux (m2/s)")
     ax[1].legend(fontsize=8)
     fig.tight_layout()
-    png = os.path.join(HERE if a.mode == "fine" else a.out, f"{NAME}.png")
-    os.makedirs(os.path.dirname(png), exist_ok=True)
-    fig.savefig(png, dpi=110)
-    print("figure:", png)
+    save_figure(fig, HERE, NAME, a.mode, a.out)
     rep.finish(NAME, a.mode)
 
 

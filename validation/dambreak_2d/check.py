@@ -28,7 +28,7 @@ import sys
 
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import parse_sets, run_case, validation_args  # noqa: E402
+from common import parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -192,9 +192,7 @@ def main():
     ax.set_title(f"2D dam break, surge front (a = {A} m, {a.mode})")
     ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
-    png = os.path.join(HERE if a.mode == "fine" else a.out, f"{NAME}.png")
-    fig.savefig(png, dpi=110)
-    print(f"figure: {png}")
+    save_figure(fig, HERE, NAME, a.mode, a.out)
     print("run wall times: " + ", ".join(f"{r} {w:.1f} s" for r, w in walls.items()))
 
     if run_failed or failed:

@@ -27,7 +27,7 @@ import h5py
 import numpy as np
 import yaml
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import parse_sets, run_case, validation_args  # noqa: E402
+from common import parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -175,9 +175,7 @@ def main():
     ax[1].set_title(f"3D dam break, dx = {m['dx']} m: max KE {ke[i] / bound:.3f} of the bound")
     ax[1].legend(fontsize=8)
     fig.tight_layout()
-    png = os.path.join(HERE if a.mode == "fine" else a.out, f"{NAME}.png")
-    fig.savefig(png, dpi=110)
-    print(f"figure: {png}")
+    save_figure(fig, HERE, NAME, a.mode, a.out)
 
     if failed:
         print(f"\n{NAME} {a.mode}: FAILED: {', '.join(failed)}")

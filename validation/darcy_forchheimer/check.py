@@ -19,14 +19,13 @@ fluid's (dt reported beside K dt), mass conserved.
 Usage: /usr/bin/python3 validation/darcy_forchheimer/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import csv
-import json
 import math
 import os
 import sys
 
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, validation_args  # noqa: E402
+from common import Report, parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -107,9 +106,7 @@ def main():
         ax[1].set_ylabel("error (%)")
         ax[1].legend(fontsize=8)
         fig.tight_layout()
-        png = os.path.join(HERE if a_.mode == "fine" else a_.out, f"{NAME}.png")
-        fig.savefig(png, dpi=110)
-        print(f"  plot: {png}")
+        save_figure(fig, HERE, NAME, a_.mode, a_.out)
     rep.finish(NAME, a_.mode)
 
 

@@ -21,7 +21,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, validation_args  # noqa: E402
+from common import Report, parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -136,9 +136,7 @@ def main():
     ax[1].set_title(f"pressure vs depth; max |u| = {umax:.2e} m/s")
     ax[1].legend(fontsize=8)
     fig.tight_layout()
-    png = os.path.join(HERE if a.mode == "fine" else a.out, f"{NAME}.png")
-    fig.savefig(png, dpi=110)
-    print(f"figure: {png}")
+    save_figure(fig, HERE, NAME, a.mode, a.out)
 
     if rep.failed:
         print(f"\n{NAME} {a.mode}: FAILED: {', '.join(rep.failed)}")

@@ -33,7 +33,7 @@ import sys
 
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, validation_args  # noqa: E402
+from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -158,9 +158,7 @@ def main():
         axs[0].legend(fontsize=7, loc="upper right")
         axs[-1].set_xlabel("x (m)")
         fig.tight_layout()
-        png = os.path.join(HERE if a.mode == "fine" else a.out, f"{NAME}.png")
-        fig.savefig(png, dpi=100)
-        print(f"  plot: {png}")
+        save_figure(fig, HERE, NAME, a.mode, a.out, dpi=100)
     rep.finish(NAME, a.mode)
 
 

@@ -26,7 +26,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, validation_args  # noqa: E402
+from common import Report, parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -135,9 +135,7 @@ def main():
     ax[1].legend(fontsize=7)
     ax[1].set_title(f"max |u| = {speed[i]:.2e} m/s; volume drift {100 * dv:.3f} %")
     fig.tight_layout()
-    png = os.path.join(HERE if a.mode == "fine" else a.out, f"{NAME}.png")
-    fig.savefig(png, dpi=110)
-    print(f"  plot: {png}")
+    save_figure(fig, HERE, NAME, a.mode, a.out)
     rep.finish(NAME, a.mode)
 
 
