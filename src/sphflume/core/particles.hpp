@@ -83,6 +83,11 @@ class ParticleStore {
     return it->second;
   }
   bool has_scalar(const std::string& name) const { return scalar_fields_.count(name) != 0; }
+  /// Read-only lookup: null when the field does not exist.
+  const std::vector<double>* find_scalar(const std::string& name) const {
+    auto it = scalar_fields_.find(name);
+    return it == scalar_fields_.end() ? nullptr : &it->second;
+  }
   const std::map<std::string, std::vector<double>>& scalar_fields() const { return scalar_fields_; }
   const std::map<std::string, std::vector<V>>& vector_fields() const { return vector_fields_; }
 

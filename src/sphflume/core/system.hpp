@@ -18,6 +18,7 @@ namespace sph {
 template <int D> class WallModel;
 template <int D> class ForceTerm;
 template <int D> class PorousMedia;
+template <int D> class ScalarTransport;
 
 template <int D>
 struct System {
@@ -35,6 +36,18 @@ struct System {
   /// Porous regions (null without a `porous:` section): the porosity field and drag closures
   /// of the SPHAM equations; particles then carry the store field "porosity".
   std::shared_ptr<PorousMedia<D>> porous;
+  /// Transported scalars (null without a `transport:` section): each a store field named after it.
+  std::shared_ptr<ScalarTransport<D>> transport;
+  /// Equations of state of the fluid phases (empty: one phase, `eos`); particles then carry
+  /// the store field "phase" (0 = water, the index into phase_eos; walls 0).
+  std::vector<Eos> phase_eos;
+  std::vector<std::string> phase_names;
+  /// The equation of state of particle i.
+  const Eos& eos_of(std::size_t i) const {
+    if (phase_eos.empty()) return eos;
+    return phase_eos[static_cast<std::size_t>((*phase_field_)[i])];
+  }
+  void bind_phase_field() { phase_field_ = &particles.scalar("phase"); }
   /// Boundary conditions that set imposed particles from the fluid before every rates pass
   /// (e.g. open boundaries with averaged or extrapolated states); called before the walls.
   std::function<void(System&)> before_rates;
@@ -62,6 +75,9 @@ struct System {
 
   template <class Fn>
   decltype(auto) with_kernel(Fn&& f) const { return sph::with_kernel<D>(kernel, h, std::forward<Fn>(f)); }
+
+  /// (the "phase" field's vector: its address stays put while particles are added or sorted)
+  std::vector<double>* phase_field_ = nullptr;
 
   double total_mass(Kind k) const {
     double m = 0.0;

@@ -8,149 +8,13 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/io/case_reader.hpp"
+
 namespace sph {
 namespace {
+using caseio::Reader;
+using caseio::read_vertices;
 
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
-/// Reads one YAML mapping strictly: every key must be read or is reported as unknown.
-class Reader {
- public:
-  Reader(const YAML::Node& node, std::string file, std::string path)
-      : node_(node), file_(std::move(file)), path_(std::move(path)) {
-    if (!node_.IsMap()) fail_at(node_, path_.empty() ? "the document" : path_, "a mapping (key: value lines)");
-  }
-
-  [[noreturn]] void fail_at(const YAML::Node& n, const std::string& key, const std::string& expected) const {
-    throw InputError(fmt::format("{}: {}: '{}': expected {}", file_, where(n), key, expected));
-  }
-  std::string where(const YAML::Node& n) const {
-    const auto m = n.Mark();
-    if (m.line < 0 || n.Tag() == "!set") return "(value given with --set)";
-    return fmt::format("line {}", m.line + 1);
-  }
-  std::string key_path(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
-  const std::string& file() const { return file_; }
-
-  bool has(const std::string& k) { seen_.insert(k); return node_[k].IsDefined() && !node_[k].IsNull(); }
-  YAML::Node get(const std::string& k) { seen_.insert(k); return node_[k]; }
-
-  template <class T>
-  T scalar(const std::string& k, T def) {
-    if (!has(k)) return def;
-    return as<T>(node_[k], k);
-  }
-  template <class T>
-  T required(const std::string& k, const std::string& expected) {
-    if (!has(k)) misspelt(k);
-    if (!has(k))
-      throw InputError(fmt::format("{}: {}: missing required key '{}': expected {}", file_, where(node_), key_path(k),
-                                   expected));
-    return as<T>(node_[k], k);
-  }
-  template <class T>
-  T as(const YAML::Node& n, const std::string& k) {
-    try {
-      if (!n.IsScalar()) throw YAML::Exception(n.Mark(), "not a scalar");
-      const T v = n.as<T>();
-      if constexpr (std::is_same_v<T, double>)
-        if (!std::isfinite(v)) fail_at(n, key_path(k), fmt::format("a finite number (got {})", n.Scalar()));
-      return v;
-    } catch (const YAML::Exception&) {
-      if constexpr (std::is_same_v<T, double>) fail_at(n, key_path(k), "a number");
-      else if constexpr (std::is_same_v<T, int>) fail_at(n, key_path(k), "an integer");
-      else if constexpr (std::is_same_v<T, bool>) fail_at(n, key_path(k), "true or false");
-      else fail_at(n, key_path(k), "a text value");
-    }
-  }
-  std::vector<double> vec(const std::string& k, std::size_t n_expected, std::vector<double> def = {}) {
-    if (!has(k)) return def;
-    const YAML::Node v = node_[k];
-    const std::string what = fmt::format("a list of {} numbers, e.g. [{}]", n_expected, n_expected == 2 ? "0.0, 1.0" : "0.0, 0.0, 1.0");
-    if (!v.IsSequence() || v.size() != n_expected) fail_at(v, key_path(k), what);
-    std::vector<double> out;
-    for (const auto& e : v) {
-      try { out.push_back(e.as<double>()); } catch (const YAML::Exception&) { fail_at(e, key_path(k), what); }
-      if (!std::isfinite(out.back())) fail_at(e, key_path(k), fmt::format("finite numbers (got {})", e.Scalar()));
-    }
-    return out;
-  }
-  double positive(const std::string& k, double def, bool required_key = false) {
-    const double v = required_key ? required<double>(k, "a positive number") : scalar<double>(k, def);
-    if (!(v > 0.0) || !std::isfinite(v)) fail_at(node_[k], key_path(k), fmt::format("a positive number (got {})", v));
-    return v;
-  }
-  double in_range(const std::string& k, double def, double lo, double hi) {
-    const double v = scalar<double>(k, def);
-    if (!(v >= lo && v <= hi)) fail_at(node_[k], key_path(k), fmt::format("a number in [{}, {}] (got {})", lo, hi, v));
-    return v;
-  }
-  std::string choice(const std::string& k, const std::string& def, std::initializer_list<const char*> options) {
-    const std::string v = scalar<std::string>(k, def);
-    std::string list;
-    for (const char* o : options) {
-      if (v == o) return v;
-      list += (list.empty() ? "" : ", ") + std::string(o);
-    }
-    fail_at(node_[k], key_path(k), "one of " + list + " (got '" + v + "')");
-  }
-
-  /// Report keys that were never read, with the closest known key.
-  void finish() {
-    for (const auto& kv : node_) {
-      if (!kv.first.IsScalar()) fail_at(kv.first, path_.empty() ? "the document" : path_, "keys that are plain names (found a list or mapping used as a key)");
-      const std::string k = kv.first.Scalar();
-      if (seen_.count(k)) continue;
-      std::string best;
-      std::size_t bd = 1000;
-      for (const auto& s : seen_) {
-        const std::size_t d = edit_distance(k, s);
-        if (d < bd) { bd = d; best = s; }
-      }
-      unknown(kv.first, k, close(bd, k) ? best : "", false);
-    }
-  }
-  /// All keys valid here, read or not (so that misspelt() does not take a valid key that is
-  /// read later for a misspelling).
-  void valid(std::initializer_list<const char*> keys) { for (const char* k : keys) valid_.insert(k); }
-  /// Before reporting `k` as missing: a key that is neither read nor valid here and is close
-  /// to `k` is a misspelling of it; report that instead ("did you mean").
-  void misspelt(const std::string& k) {
-    for (const auto& kv : node_) {
-      if (!kv.first.IsScalar()) continue;
-      const std::string u = kv.first.Scalar();
-      if (u == k || seen_.count(u) || valid_.count(u)) continue;
-      if (close(edit_distance(u, k), u)) unknown(kv.first, u, k, true);
-    }
-  }
-
- private:
-  static bool close(std::size_t distance, const std::string& k) { return distance <= std::max<std::size_t>(2, k.size() / 3); }
-  /// `with_valid`: list the valid keys not read yet too (before the reading is done).
-  [[noreturn]] void unknown(const YAML::Node& key, const std::string& k, const std::string& suggestion, bool with_valid) const {
-    std::set<std::string> all = seen_;
-    if (with_valid) all.insert(valid_.begin(), valid_.end());
-    std::string known;
-    for (const auto& s : all) known += (known.empty() ? "" : ", ") + s;
-    throw InputError(fmt::format("{}: {}: unknown key '{}'{}; known keys here: {}", file_, where(key), key_path(k),
-                                 suggestion.empty() ? "" : fmt::format(" (did you mean '{}'?)", key_path(suggestion)),
-                                 known));
-  }
-
-  YAML::Node node_;
-  std::string file_, path_;
-  std::set<std::string> seen_, valid_;
-};
 
 void apply_override(YAML::Node root, const std::string& spec) {
   const auto eq = spec.find('=');
@@ -199,22 +63,6 @@ int axis_index(const std::string& a, int dim) {
   if (a == "y" && dim == 3) return 1;
   if (a == "z") return dim - 1;
   return -1;
-}
-
-std::vector<std::array<double, 2>> read_vertices(Reader& r, const YAML::Node& n) {
-  if (!r.has("vertices")) r.misspelt("vertices");
-  const YAML::Node v = r.get("vertices");
-  if (!v.IsSequence() || v.size() < 3) r.fail_at(v.IsDefined() ? v : n, r.key_path("vertices"), "a list of at least 3 [x, z] points");
-  std::vector<std::array<double, 2>> out;
-  for (const auto& p : v) {
-    if (!p.IsSequence() || p.size() != 2) r.fail_at(p, r.key_path("vertices"), "[x, z] pairs");
-    try { out.push_back({p[0].as<double>(), p[1].as<double>()}); } catch (const YAML::Exception&) {
-      r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of numbers");
-    }
-    if (!std::isfinite(out.back()[0]) || !std::isfinite(out.back()[1]))
-      r.fail_at(p, r.key_path("vertices"), "[x, z] pairs of finite numbers");
-  }
-  return out;
 }
 
 /// A list of numbers, strictly increasing when `increasing`.
@@ -366,16 +214,19 @@ PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& fi
 
 GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from"});
+  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field"});
   GaugeConfig g;
   g.line = n.Mark().line + 1;
   g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume or water_volume");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume"});
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume, water_volume, scalar, scalar_profile, scalar_mass, scalar_flux or phase");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume", "scalar", "scalar_profile", "scalar_mass", "scalar_flux", "phase"});
   const std::size_t d = static_cast<std::size_t>(dim);
+  const bool scalar_gauge = g.type.rfind("scalar", 0) == 0;
+  if (scalar_gauge) g.field = r.required<std::string>("field", "the name of a transported scalar (transport.scalars)");
+  if (g.type == "phase") g.field = r.required<std::string>("field", "the name of a phase (multiphase.phases)");
   if (g.type == "water_level") {
     g.point = r.vec("point", d);
     if (g.point.empty()) {
@@ -383,12 +234,13 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
       g.point.assign(d, 0.0);
       g.point[0] = g.x;
     }
-  } else if (g.type == "pressure") {
+  } else if (g.type == "pressure" || g.type == "scalar") {
     g.point = r.vec("point", d);
     if (g.point.empty()) r.misspelt("point");
     if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
-  } else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" || g.type == "flux") {
-    if (g.type == "flux" && dim != 2) r.fail_at(n, path, "a 2D case (flux gauges are 2D in this version)");
+  } else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" || g.type == "flux" ||
+             g.type == "scalar_profile" || g.type == "scalar_flux") {
+    if ((g.type == "flux" || g.type == "scalar_flux") && dim != 2) r.fail_at(n, path, "a 2D case (flux gauges are 2D in this version)");
     g.start = r.vec("start", d);
     g.end = r.vec("end", d);
     for (const char* k : {"start", "end"})
@@ -397,7 +249,7 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
     g.points = r.scalar<int>("points", 20);
     if (g.points < 2 || g.points > 10000) r.fail_at(r.get("points"), r.key_path("points"), "an integer in [2, 10000]");
     g.average_from = r.scalar<double>("average_from", g.average_from);
-  } else if (g.type == "water_volume") {  // optional box [start, end]; default: everywhere
+  } else if (g.type == "water_volume" || g.type == "scalar_mass") {  // optional box [start, end]; default: everywhere
     g.start = r.vec("start", d);
     g.end = r.vec("end", d);
     if (g.start.empty() != g.end.empty()) r.fail_at(n, path, "both 'start' and 'end' corners of the box, or neither");
@@ -495,7 +347,7 @@ Case build_case(YAML::Node root, const std::string& file) {
   c.raw = root;
   Reader top(root, file, "");
   top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
-             "gauges", "forces", "turbulence", "porous"});
+             "gauges", "forces", "turbulence", "porous", "transport", "multiphase"});
   for (const char* k : {"particles", "fluid", "geometry", "time"})
     if (!top.has(k)) top.misspelt(k);
   c.name = top.scalar<std::string>("name", "case");
@@ -585,6 +437,7 @@ Case build_case(YAML::Node root, const std::string& file) {
     c.scheme.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
     c.scheme.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
     c.scheme.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);
+    c.scheme.frozen = r.scalar<bool>("frozen", false);
     r.finish();
   }
   if (top.has("walls")) {
@@ -720,6 +573,24 @@ Case build_case(YAML::Node root, const std::string& file) {
     }
     r.finish();
   }
+  if (top.has("transport")) caseio::read_transport(top.get("transport"), file, c);
+  if (top.has("multiphase")) caseio::read_multiphase(top.get("multiphase"), file, c);
+  if (c.scheme.frozen && !c.transport.on())
+    top.fail_at(top.get("scheme"), "scheme.frozen", "a 'transport:' section too (a frozen flow only transports scalars)");
+  for (const auto& g : c.gauges)
+    if (g.type == "phase") {
+      bool known = false;
+      for (const auto& ph : c.multiphase.phases) known |= ph.name == g.field;
+      if (!known)
+        throw InputError(fmt::format("{}: line {}: gauge '{}': field '{}' is not a phase (define it under "
+                                     "multiphase.phases)", file, g.line, g.name, g.field));
+    } else if (!g.field.empty()) {
+      bool known = false;
+      for (const auto& sc : c.transport.scalars) known |= sc.name == g.field;
+      if (!known)
+        throw InputError(fmt::format("{}: line {}: gauge '{}': field '{}' is not a transported scalar (define it under "
+                                     "transport.scalars)", file, g.line, g.name, g.field));
+    }
   if (top.has("forces")) {
     c.forces = top.get("forces");
     if (!c.forces.IsSequence()) top.fail_at(c.forces, "forces", "a list of force terms, each {type: NAME, ...}");

@@ -53,6 +53,7 @@ struct SchemeConfig {
   double viscous_coefficient = 0.125;  // dt <= coef * h^2 / nu
   double force_coefficient = 0.25;     // dt <= coef * sqrt(h / |a|_max)
   double eta2 = 0.01;  // η²/h² regularising 1/(r²+η²) in viscous and diffusion terms (theses: 0.01)
+  bool frozen = false;  // the flow is not integrated (particles fixed): only scalars are transported
 };
 
 /// Eddy-viscosity turbulence (Kazemi ch. 3 and 6): nu_t from the strain rate |S| of the
@@ -112,6 +113,7 @@ struct GaugeConfig {
   double direction = 1.0;  // front: +1 or -1
   // profiles and flux: also write NAME.mean.csv, the mean of the samples at t >= average_from
   double average_from = std::numeric_limits<double>::infinity();
+  std::string field;  // scalar gauges: the transported scalar's name
   int line = 0;
 };
 
@@ -192,6 +194,88 @@ struct PorousConfig {
   bool on() const { return !regions.empty(); }
 };
 
+/// A region of space: box (min, max), circle / sphere (center, radius) or polygon (2D).
+struct RegionConfig {
+  std::string type = "box";
+  std::vector<double> min, max, center;
+  double radius = 0.0;
+  std::vector<std::array<double, 2>> vertices;
+  /// Is x (D coordinates) inside?
+  bool contains(const double* x, int dim) const;
+};
+
+/// How a transported scalar starts: later entries overwrite earlier ones where they apply.
+struct ScalarInitConfig {
+  std::string type = "uniform";  // uniform | region | gaussian | expression
+  double value = 0.0;            // uniform, region: the value; gaussian: the peak
+  RegionConfig region;           // region
+  std::vector<double> center;    // gaussian: C = value exp(-|x - center|² / (2 sigma²)) over `axes`
+  double sigma = 0.0;
+  std::vector<int> axes;         // gaussian: the axes the distance is measured along (all when empty)
+  std::string expression;        // expression of x, y, z (muparser syntax: exp, sin, ^, ...)
+  int line = 0;
+};
+
+/// A prescribed concentration or flux on the wall particles inside a region (a source).
+struct ScalarSourceConfig {
+  RegionConfig region;
+  bool has_value = false;
+  double value = 0.0;  // Dirichlet: the wall particles hold C = value and exchange with the fluid
+  double flux = 0.0;   // Neumann: kg/(m² s) out of the region's wall surface into the fluid
+  int line = 0;
+};
+
+/// One transported scalar (concentration, temperature, ...): DC/Dt = (1/ρ)∇·(ρD∇C) − R (C − C_eq).
+struct ScalarConfig {
+  std::string name;
+  double diffusivity = 0.0;         // molecular D [m²/s]
+  double schmidt_turbulent = 0.0;   // > 0: D += ν_t / Sc_t from the turbulence model
+  double reaction_rate = 0.0;       // first-order rate R [1/s] towards `equilibrium`
+  double equilibrium = 0.0;
+  std::vector<ScalarInitConfig> initial;
+  bool has_inflow = false;          // inflow particles carry `inflow` (between inflow_z[0] and inflow_z[1])
+  double inflow = 0.0;
+  std::array<double, 2> inflow_z{-1e300, 1e300};
+  std::vector<ScalarSourceConfig> sources;
+  int line = 0;
+};
+
+enum class DiffusionOperator { Consistent, Federico, ZhuFox, Tartakovsky, Monaghan };
+enum class ScalarAdvection { Conservative, None, ThesisLiteral };
+
+struct TransportConfig {
+  DiffusionOperator op = DiffusionOperator::Consistent;
+  ScalarAdvection advection = ScalarAdvection::Conservative;
+  // η²/h² of F_ab = r·∇W/(r² + η²) in the diffusion sums: only guards coincident particles;
+  // the thesis's 0.01 weakens the nearest-neighbour terms by ~1-4 % (lattice test in
+  // validation/scalar_diffusion), so the default is 1e-4
+  double eta2 = 1e-4;
+  std::vector<ScalarConfig> scalars;
+  int line = 0;
+  bool on() const { return !scalars.empty(); }
+};
+
+/// A second fluid phase (a pollutant or air) occupying `region` at the start; its particles
+/// carry its own reference density and equation of state (Federico ch. 8, 9).
+struct PhaseConfig {
+  std::string name;
+  double density = 1000.0;
+  double gamma = 7.0;
+  double sound_speed = 0.0;  // 0 = equal B with the water: c0 sqrt(γ ρ_w / (γ_w ρ))
+  RegionConfig region;
+  int line = 0;
+};
+
+struct MultiphaseConfig {
+  std::vector<PhaseConfig> phases;
+  // Grenier et al. (2009) (Federico's System 4): per-phase Shepard density and the Γ-normalised
+  // pressure gradient, with the interface term chi; off: the Colagrossi-Landrini form of the scheme
+  bool grenier = false;
+  double chi = 0.0;          // interface repulsion coefficient (Federico: 0.08 for air)
+  int line = 0;
+  bool on() const { return !phases.empty(); }
+};
+
 struct Case {
   std::string file;  // where it came from (for messages)
   std::string name = "case";
@@ -213,6 +297,8 @@ struct Case {
   std::vector<OpenBoundaryConfig> open_boundaries;
   TurbulenceConfig turbulence;
   PorousConfig porous;
+  TransportConfig transport;
+  MultiphaseConfig multiphase;
   YAML::Node raw;     // the whole document after --set overrides
 
   double h() const { return h_over_dx * dx; }

@@ -47,7 +47,12 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     else if (g.type == "water_volume") *f << ",water,bulk";
     else if (g.type == "flux") *f << ",flux";
     else if (g.type == "boundary_volume") *f << ",inflow,outflow,backflow";
-    else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile") {
+    else if (g.type == "scalar") *f << "," << g.field;
+    else if (g.type == "scalar_mass") *f << (D == 2 ? ",mass,min,max,x,z,source" : ",mass,min,max,x,y,z,source");
+    else if (g.type == "scalar_flux") *f << ",flux";
+    else if (g.type == "phase") *f << ",area,top,x,z";
+    else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" ||
+             g.type == "scalar_profile") {
       std::string pts = "index,x,y,z\n";
       for (int i = 0; i < g.points; ++i) {
         const double s = static_cast<double>(i) / (g.points - 1);
@@ -58,6 +63,8 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
           for (int d = 0; d < D; ++d) *f << fmt::format(",u{}_{}", ax[d], i);
         else if (g.type == "stress_profile")
           *f << fmt::format(",ux_{0},tau_t_{0},tau_r_{0},nu_t_{0}", i);
+        else if (g.type == "scalar_profile")
+          *f << fmt::format(",{}_{}", g.field, i);
         else
           *f << fmt::format(",depth_{}", i);
       }
@@ -100,6 +107,94 @@ std::vector<double> GaugeSet<D>::evaluate_stress(const GaugeConfig& g, const Sys
 }
 
 template <int D>
+std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const System<D>& S) {
+  // transported scalars (field = the scalar's name) and phases (field = the phase's name)
+  const auto& P = S.particles;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto point = [&](const std::vector<double>& a, const std::vector<double>& b, double s) {
+    Vec<D> x{};
+    for (int d = 0; d < D; ++d) x[d] = a[d] + s * (b[d] - a[d]);
+    return x;
+  };
+  if (g.type == "phase") {  // area (volume in 3D) Σ m/ρ, top (highest particle), area centroid
+    const auto* ph = P.find_scalar("phase");
+    double k = -1.0;
+    for (std::size_t i = 0; i < S.phase_names.size(); ++i)
+      if (S.phase_names[i] == g.field) k = static_cast<double>(i);
+    double area = 0.0, top = -std::numeric_limits<double>::infinity(), cx = 0.0, cz = 0.0;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid || !ph || (*ph)[i] != k) continue;
+      const double v = P.mass[i] / P.rho[i];
+      area += v;
+      top = std::max(top, P.pos[i][D - 1]);
+      cx += v * P.pos[i][0];
+      cz += v * P.pos[i][D - 1];
+    }
+    if (!(area > 0.0)) return {0.0, nan, nan, nan};
+    return {area, top, cx / area, cz / area};
+  }
+  const auto* Cp = P.find_scalar(g.field);
+  if (!Cp) return {nan};
+  const auto& C = *Cp;
+  if (g.type == "scalar") {
+    auto v = interpolate_shepard(S, point(g.point, g.point, 0.0), [&](std::uint32_t b) { return C[b]; });
+    return {v ? *v : nan};
+  }
+  if (g.type == "scalar_profile") {
+    std::vector<double> out;
+    for (int i = 0; i < g.points; ++i) {
+      auto v = interpolate_shepard(S, point(g.start, g.end, static_cast<double>(i) / (g.points - 1)),
+                                   [&](std::uint32_t b) { return C[b]; });
+      out.push_back(v ? *v : nan);
+    }
+    return out;
+  }
+  if (g.type == "scalar_mass") {  // pollutant mass Σ m C/ρ = Σ V C, extremes of C, mass centroid
+    double m = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    double c[3] = {0.0, 0.0, 0.0};
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      bool in = true;
+      for (std::size_t d = 0; d < g.start.size(); ++d) in &= P.pos[i][d] >= g.start[d] && P.pos[i][d] < g.end[d];
+      if (!in) continue;
+      const double mi = P.mass[i] * C[i] / P.rho[i];
+      m += mi;
+      lo = std::min(lo, C[i]);
+      hi = std::max(hi, C[i]);
+      for (int d = 0; d < D; ++d) c[d] += mi * P.pos[i][d];
+    }
+    auto it = S.counters.find("source_mass." + g.field);
+    const double src = it == S.counters.end() ? 0.0 : it->second;
+    std::vector<double> out = {m, lo, hi};
+    for (int d = 0; d < D; ++d) out.push_back(m != 0.0 ? c[d] / m : nan);
+    out.push_back(src);
+    return out;
+  }
+  // scalar_flux: advective flux ∫ C u·n ds through the line's wet part [kg/s per m in 2D], n
+  // the line's normal (for a line going up, +x); the diffusive flux is not included
+  Vec<D> t{};
+  double len2 = 0.0;
+  for (int d = 0; d < D; ++d) { t[d] = g.end[d] - g.start[d]; len2 += t[d] * t[d]; }
+  const double len = std::sqrt(len2);
+  Vec<D> nrm{};
+  nrm[0] = t[D - 1] / len;
+  nrm[D - 1] = -t[0] / len;
+  const double ds = len / (g.points - 1);
+  double q = 0.0;
+  for (int i = 0; i < g.points; ++i) {
+    const Vec<D> x = point(g.start, g.end, static_cast<double>(i) / (g.points - 1));
+    if (fluid_fraction(S, x) < 0.5) continue;
+    double un = 0.0;
+    for (int d = 0; d < D; ++d) {
+      auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b] * P.vel[b][d]; });
+      un += (v ? *v : 0.0) * nrm[d];
+    }
+    q += (i == 0 || i == g.points - 1 ? 0.5 : 1.0) * ds * un;
+  }
+  return {q};
+}
+
+template <int D>
 std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>& S, double level_top) {
   const auto& P = S.particles;
   constexpr int vz = D - 1;
@@ -127,6 +222,9 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     return out;
   }
   if (g.type == "stress_profile") return evaluate_stress(g, S);
+  if (g.type == "scalar" || g.type == "scalar_profile" || g.type == "scalar_mass" || g.type == "scalar_flux" ||
+      g.type == "phase")
+    return evaluate_scalar(g, S);
   if (g.type == "boundary_volume") {  // cumulative volumes (mass / rho0) through the open boundaries
     auto c = [&](const char* k) { auto it = S.counters.find(k); return it == S.counters.end() ? 0.0 : it->second / S.eos.rho0; };
     return {c("inflow_mass"), c("outflow_mass"), c("backflow_mass")};

@@ -16,6 +16,14 @@
 //                    neighbours (isolated droplets ignored)
 //  energy            kinetic, potential, total: fluid energies [J (per m in 2D)], potential
 //                    -Σ m g·x relative to the origin
+//  scalar            the transported scalar `field` at a point (Shepard average)
+//  scalar_profile    the scalar at points i along the line
+//  scalar_mass       mass Σ m C/ρ of the scalar in the fluid (in the box [start, end] when
+//                    given), min and max of C there, the mass centroid, and source: the
+//                    cumulative mass released by the scalar's wall sources
+//  scalar_flux       advective flux ∫ C u·n ds through the line's wet part [kg/s per m] (2D)
+//  phase             area (volume in 3D) Σ m/ρ of the phase `field`, its top (highest
+//                    particle) and area centroid x, z
 #pragma once
 #include <fstream>
 #include <limits>
@@ -43,6 +51,7 @@ class GaugeSet {
 
  private:
   static std::vector<double> evaluate_stress(const GaugeConfig& g, const System<D>& S);
+  static std::vector<double> evaluate_scalar(const GaugeConfig& g, const System<D>& S);
   void accumulate(std::size_t k, double t, const std::vector<double>& v);
   struct Mean {
     long n = 0;

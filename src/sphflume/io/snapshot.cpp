@@ -72,8 +72,8 @@ void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t
   std::vector<std::int32_t> conn(n);
   for (std::size_t i = 0; i < n; ++i) conn[i] = static_cast<std::int32_t>(i);
   h5::write_dataset(f.id, "connectivity", H5T_NATIVE_INT32, conn.data(), n, 1, tmp);
-  for (const auto& [fname, field] : P.scalar_fields())
-    h5::write_dataset(f.id, fname, H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp);
+  for (const auto& [fname, field] : P.scalar_fields())  // "_name": internal scratch (restart groups keep it)
+    if (fname[0] != '_') h5::write_dataset(f.id, fname, H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp);
   h5::write_attr(f.id, "time", H5T_NATIVE_DOUBLE, &t, tmp);
   h5::write_attr(f.id, "step", H5T_NATIVE_LONG, &step, tmp);
   const int dim = D;
@@ -120,7 +120,8 @@ std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long s
   const std::string path = dir_ + "/" + rel, tmp = path + ".tmp";
   fs::create_directories(dir_ + "/snapshots");
   SnapshotEntry e{rel, t, P.n_owned(), {}};
-  for (const auto& [fname, field] : P.scalar_fields()) e.scalars.push_back(fname);
+  for (const auto& [fname, field] : P.scalar_fields())
+    if (fname[0] != '_') e.scalars.push_back(fname);
   if (rs) {  // the series in the file includes this snapshot
     RunState r = *rs;
     r.snapshots = entries_;

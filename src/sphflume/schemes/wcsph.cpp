@@ -9,6 +9,7 @@
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/porous.hpp"
+#include "sphflume/physics/transport.hpp"
 #include "sphflume/physics/turbulence.hpp"
 
 namespace sph {
@@ -32,7 +33,7 @@ void WCSPH<D>::update_pressure(System<D>& S) const {
       // dynamic walls must push, never pull (SPHysics/DualSPHysics practice)
       if (P.rho[i] < S.eos.rho0) P.rho[i] = S.eos.rho0;
     }
-    P.p[i] = S.eos.pressure(P.rho[i]);
+    P.p[i] = S.eos_of(i).pressure(P.rho[i]);
   }
 }
 
@@ -47,18 +48,22 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     if (b) f(std::true_type{});
     else f(std::false_type{});
   };
-  with_bool(cfg_.xsph > 0.0, [&](auto xs) {
-    with_bool(turb, [&](auto tu) {
-      with_bool(static_cast<bool>(S.porous), [&](auto po) {
-        this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value>(S, ker);
+  if (!S.phase_eos.empty()) {  // several phases (setup refuses them with turbulence or porosity)
+    with_bool(cfg_.xsph > 0.0, [&](auto xs) { this->template sweep<K, decltype(xs)::value, false, false, true>(S, ker); });
+  } else {
+    with_bool(cfg_.xsph > 0.0, [&](auto xs) {
+      with_bool(turb, [&](auto tu) {
+        with_bool(static_cast<bool>(S.porous), [&](auto po) {
+          this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value, false>(S, ker);
+        });
       });
     });
-  });
+  }
   if (turb) turb_.update(S);
 }
 
 template <int D>
-template <class K, bool Xsph, bool Turb, bool Porous>
+template <class K, bool Xsph, bool Turb, bool Porous, bool Multi>
 void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const bool dyn = S.walls->evolves_density();
@@ -90,8 +95,12 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
   const double support2 = ker.support2;
   const Eos eos = S.eos;
-  auto sound = [&](double rh) {  // c(rho)
-    return eos.sound_speed(rh);
+  // phases: each particle's reference density and sound speed from its phase's EOS
+  const double* __restrict phase = Multi ? P.scalar("phase").data() : nullptr;
+  const std::vector<Eos>& peos = S.phase_eos;
+  auto ref_of = [&](std::size_t b) { return Multi ? peos[static_cast<std::size_t>(phase[b])].rho0 : rho0; };
+  auto sound_of = [&](std::size_t b, double rh) {
+    return Multi ? peos[static_cast<std::size_t>(phase[b])].sound_speed(rh) : eos.sound_speed(rh);
   };
 
   const Vec<D>* __restrict pos = P.pos.data();
@@ -116,7 +125,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   // are converted back to double per particle. Particle state and time integration stay in
   // double precision.
   using F32 = float;
-  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, NCOL };
+  enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, REF, PHS, NCOL };
   const F32 fh = F32(h), feta2 = F32(eta2 + tiny), fsupport2 = F32(support2);
   const F32 flam = F32(lam), falpha = F32(alpha), ffour = F32(four);
   const F32 fsym = F32(sym), fvisc_wall = F32(visc_wall * wall_in), fwall_in = F32(wall_in);
@@ -165,11 +174,15 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
             cu[d][m] = F32(vel[b][d]);
             cw[d][m] = fl ? F32(0) : F32(vel[b][d] - wvel[b][d]);  // ghost correction of the viscous velocity
           }
-          crho[m] = F32(rho[b] - rho0);  // deviations: neighbour differences keep full float precision
+          crho[m] = F32(rho[b] - ref_of(b));  // deviations: neighbour differences keep full float precision
           cp[m] = F32(prs[b]);
           cm[m] = F32(mass[b]);
           cf[m] = fl ? F32(1) : F32(0);
-          ccs[m] = F32(sound(rho[b]));  // sound speed c(rho_b) (any EOS)
+          ccs[m] = F32(sound_of(b, rho[b]));  // sound speed c(rho_b) (any EOS)
+          if constexpr (Multi) {
+            B[REF][m] = F32(ref_of(b));
+            B[PHS][m] = F32(phase[b]);
+          }
           if constexpr (Turb)  // τ_b/ρ_b²; walls carry none of their own (see wall factor below)
             for (int t = 0; t < NT; ++t) B[T0 + t][m] = fl ? F32(tau_in[t][b] / rho[b]) : F32(0);
           if constexpr (Porous) {
@@ -183,6 +196,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           if constexpr (Turb)
             for (int t = 0; t < NT; ++t) B[T0 + t][m] = 0;
           if constexpr (Porous) { B[PHI][m] = 1; B[IPHI][m] = 1; }
+          if constexpr (Multi) { B[REF][m] = F32(rho0); B[PHS][m] = F32(-1); }
         }
       }
       const F32* __restrict bx0 = B[X0];
@@ -208,6 +222,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
       const F32* __restrict bt5 = B[T0 + (D == 3 ? 5 : 0)];
       const F32* __restrict bphi = B[PHI];
       const F32* __restrict biphi = B[IPHI];
+      const F32* __restrict bref = B[REF];
+      const F32* __restrict bphs = B[PHS];
 
       for (std::uint32_t ka_k = c0k; ka_k < c1k; ++ka_k) {
         const std::uint32_t a = sorted[ka_k];
@@ -218,9 +234,10 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         const F32 xa2 = F32(pos[a][D - 1] - origin[D - 1]);
         const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
         const double rhoa_d = rho[a];
-        const F32 frho0 = F32(rho0), deva = F32(rhoa_d - rho0);
+        const F32 frho0 = F32(rho0), deva = F32(rhoa_d - ref_of(a));
         const F32 rhoa = F32(rhoa_d), pa = F32(prs[a]);
-        const F32 ca = F32(sound(rhoa_d)), ca2 = ca * ca;
+        const F32 ca = F32(sound_of(a, rhoa_d)), ca2 = ca * ca;
+        const F32 pha = Multi ? F32(phase[a]) : F32(0);
         const F32 pa_r2 = F32(prs[a] / (rhoa_d * rhoa_d));
         const F32 inv_rhoa = F32(1.0 / rhoa_d);
         const F32 wa = ka == Kind::Wall ? F32(0) : F32(1);  // a dynamic wall: continuity from fluid only
@@ -243,7 +260,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           const F32 r = std::sqrt(r2);
           const F32 Fk = ker.F(r) * in;
           const F32 gw0 = Fk * r0, gw1 = Fk * r1, gw2 = Fk * r2c;
-          const F32 devb = brho[k], rhob = frho0 + devb, mb = bm[k], pb = bp[k];
+          const F32 devb = brho[k], rhob = (Multi ? bref[k] : frho0) + devb, mb = bm[k], pb = bp[k];
           const F32 cb = bcs[k];
           const F32 u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : F32(0);
           // one division for the four reciprocals this pair needs
@@ -274,7 +291,9 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           const F32 fr = Fk * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
           // δ-SPH: Fourtakas removes the hydrostatic density difference ρ g·r / c² (pair means)
           const F32 gr = fg0 * r0 + fg1 * r1 + fg2 * r2c;
-          dd += fb * (deva - devb - ffour * rsum * inv_csum * gr) * fr * Vb;
+          // (phases: within a phase only; the density jump between phases is no error to diffuse)
+          const F32 same = Multi ? (bphs[k] == pha ? F32(1) : F32(0)) : F32(1);
+          dd += same * fb * (deva - devb - ffour * rsum * inv_csum * gr) * fr * Vb;
           const F32 pterm = fsym * mbp * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - fsym) * (pa + pb) * Vb * inv_rhoa;
           // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
           const F32 mv = fb + (F32(1) - fb) * fvisc_wall;
@@ -357,6 +376,10 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
 
 template <int D>
 void WCSPH<D>::rates(System<D>& S) {
+  if (cfg_.frozen) {  // only the scalars move
+    if (S.transport) S.transport->rates(S);
+    return;
+  }
   if (S.before_rates) S.before_rates(S);
   if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
   S.walls->prepare(S);
@@ -364,6 +387,7 @@ void WCSPH<D>::rates(System<D>& S) {
   S.walls->add_forces(S);
   for (auto& f : S.forces) f->add(S);
   if (S.porous) S.porous->drag(S);  // the drag rate the integrator applies point-implicitly
+  if (S.transport) S.transport->rates(S);  // after the pair loop: the advection variants use drho
   auto& P = S.particles;
   double amax = 0.0;
   const std::size_t n = P.n_owned();
@@ -393,16 +417,21 @@ void WCSPH<D>::check_finite(const System<D>& S) const {
 template <int D>
 double WCSPH<D>::time_step(const System<D>& S) const {
   const auto& P = S.particles;
-  double umax2 = 0.0, rhomax = S.eos.rho0;
+  if (cfg_.frozen) {  // the scalars' limits only (a long step when nothing diffuses or reacts)
+    const double dts = S.transport ? S.transport->time_step(S, cfg_.viscous_coefficient) : 1.0;
+    return std::min(dts, 1.0);
+  }
+  double umax2 = 0.0, cmax = S.eos.sound_speed(S.eos.rho0);
   const std::size_t n = P.n_owned();
-#pragma omp parallel for schedule(static) reduction(max : umax2, rhomax)
+#pragma omp parallel for schedule(static) reduction(max : umax2, cmax)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
-    rhomax = std::max(rhomax, P.rho[i]);
+    cmax = std::max(cmax, S.eos_of(i).sound_speed(P.rho[i]));
   }
-  const double cmax = S.eos.sound_speed(rhomax);
+  for (const auto& e : S.phase_eos) cmax = std::max(cmax, e.c0);
   double dt = cfg_.cfl * S.h / (cmax + std::sqrt(umax2));
+  if (S.transport) dt = std::min(dt, S.transport->time_step(S, cfg_.viscous_coefficient));
   if (cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0)
     dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / S.nu);
   if (turb_.on() && turb_.nu_t_max() > 0.0)
@@ -412,7 +441,26 @@ double WCSPH<D>::time_step(const System<D>& S) const {
 }
 
 template <int D>
+void WCSPH<D>::frozen_step(System<D>& S, double dt) {
+  // the particles stay where they are: explicit midpoint for the scalars alone
+  S.update_neighbours();
+  if (!S.transport) return;
+  S.transport->begin_step(S);
+  S.transport->rates(S);
+  S.transport->advance(S, 0.5 * dt, false);
+  S.particles.refresh_images();
+  S.transport->rates(S);
+  S.transport->advance(S, dt, true);
+}
+
+template <int D>
 void WCSPH<D>::step(System<D>& S, double dt) {
+  if (cfg_.frozen) {
+    frozen_step(S, dt);
+    S.time += dt;
+    ++S.step;
+    return;
+  }
   if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
   else two_stage_step(S, dt);
   S.periodic.wrap(S.particles);
@@ -446,6 +494,7 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
   // porous drag, point-implicit: u = (u_base + Δt a/M) / (1 + Δt K/M)
   const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
   const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
+  if (S.transport) S.transport->begin_step(S);  // scalars: forward Euler on Y = C/ρ
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const bool fluid = P.kind[i] == Kind::Fluid;
@@ -475,6 +524,7 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
     }
     vprev[i] = v;
   }
+  if (S.transport) S.transport->advance(S, dt, true);
 }
 
 template <int D>
@@ -500,6 +550,7 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
   };
   const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
   const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
+  if (S.transport) S.transport->begin_step(S);  // scalars: explicit midpoint on Y = C/ρ
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     x0[i] = P.pos[i];
@@ -517,6 +568,7 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
       P.rho[i] += hdt * P.drho[i];
     }
   }
+  if (S.transport) S.transport->advance(S, hdt, false);
   update_pressure(S);
   // stage 2: rates at t^{n+1/2}
   S.update_neighbours();
@@ -550,6 +602,7 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
       P.vel[i] = advance(i, v0[i], dt, kr, im);
     }
   }
+  if (S.transport) S.transport->advance(S, dt, true);
 }
 
 template <int D>
@@ -559,6 +612,7 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
   const std::size_t n = P.n_owned();
   std::vector<double> out(n);
   const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;  // volumes m/(φρ)
+  const double* phase = S.phase_eos.empty() ? nullptr : P.scalar("phase").data();  // within a phase
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
@@ -566,7 +620,7 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
       if (P.kind[a] != Kind::Fluid) continue;
       double num = 0.0, den = 0.0;
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-        if (P.kind[b] != Kind::Fluid) return;
+        if (P.kind[b] != Kind::Fluid || (phase && phase[b] != phase[a])) return;
         const double w = K.W(std::sqrt(r2)) * (phi ? 1.0 / phi[b] : 1.0);
         num += P.mass[b] * w;
         den += P.mass[b] / P.rho[b] * w;
@@ -579,6 +633,7 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
     auto& rp = P.scalar("rho_prev");
     for (std::size_t a = 0; a < n; ++a) rp[a] += out[a] - P.rho[a];
   }
+  if (S.transport) S.transport->rescale(S, out);  // keep each particle's pollutant mass m C/ρ
   for (std::size_t a = 0; a < n; ++a) P.rho[a] = out[a];
 }
 

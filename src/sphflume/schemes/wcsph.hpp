@@ -33,7 +33,7 @@ class WCSPH final : public Scheme<D> {
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
-  int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet ? 1 : 2; }
+  int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet && !cfg_.frozen ? 1 : 2; }
   std::size_t bytes() const override;
   std::map<std::string, double> state() const override {
     return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}, {"nu_t_max", turb_.nu_t_max()}};
@@ -50,8 +50,9 @@ class WCSPH final : public Scheme<D> {
  private:
   template <class K>
   void pair_loop(System<D>& S, const K& kernel);
-  template <class K, bool Xsph, bool Turb, bool Porous>
+  template <class K, bool Xsph, bool Turb, bool Porous, bool Multi>
   void sweep(System<D>& S, const K& kernel);
+  void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);
   void update_pressure(System<D>& S) const;

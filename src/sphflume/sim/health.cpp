@@ -19,19 +19,21 @@ template <int D>
 std::optional<std::string> check_health(const System<D>& S, const HealthLimits& lim) {
   const auto& P = S.particles;
   const std::size_t n = P.n_owned();
-  const double rlo = lim.density_min_ratio * S.eos.rho0, rhi = lim.density_max_ratio * S.eos.rho0;
+  // (with several phases, each particle's band is about its own phase's rho0)
   std::size_t first = std::numeric_limits<std::size_t>::max();
 #pragma omp parallel for schedule(static) reduction(min : first)
   for (std::size_t i = 0; i < n; ++i) {
     bool ok = std::isfinite(P.rho[i]) && std::isfinite(P.p[i]);
     for (int d = 0; d < D; ++d) ok = ok && std::isfinite(P.pos[i][d]) && std::isfinite(P.vel[i][d]);
-    if (P.kind[i] == Kind::Fluid) ok = ok && P.rho[i] >= rlo && P.rho[i] <= rhi;
+    const double r0 = S.eos_of(i).rho0;
+    if (P.kind[i] == Kind::Fluid) ok = ok && P.rho[i] >= lim.density_min_ratio * r0 && P.rho[i] <= lim.density_max_ratio * r0;
     if (!ok) first = std::min(first, i);
   }
   if (first == std::numeric_limits<std::size_t>::max()) return std::nullopt;
   const std::size_t i = first;
   bool finite = std::isfinite(P.rho[i]) && std::isfinite(P.p[i]);
   for (int d = 0; d < D; ++d) finite = finite && std::isfinite(P.pos[i][d]) && std::isfinite(P.vel[i][d]);
+  const double rho0 = S.eos_of(i).rho0, rhi = lim.density_max_ratio * rho0;
   std::string what, cause;
   if (!finite) {
     what = fmt::format("a non-finite value (density {}, pressure {}, velocity {}{})", P.rho[i], P.p[i], P.vel[i][0],
@@ -40,13 +42,13 @@ std::optional<std::string> check_health(const System<D>& S, const HealthLimits& 
             "(raise fluid.sound_speed or fluid.reference_velocity), or particles penetrating a wall";
   } else if (P.rho[i] > rhi) {
     what = fmt::format("density {:.6g} kg/m3 = {:.4g} x rho0, above the sane band [{}, {}] x rho0", P.rho[i],
-                       P.rho[i] / S.eos.rho0, lim.density_min_ratio, lim.density_max_ratio);
+                       P.rho[i] / rho0, lim.density_min_ratio, lim.density_max_ratio);
     cause = "compression far beyond weak compressibility: the sound speed is too small for the flow speed (raise "
             "fluid.sound_speed or fluid.reference_velocity), the time step too large (lower scheme.cfl), or "
             "particles pressed into a wall";
   } else {
     what = fmt::format("density {:.6g} kg/m3 = {:.4g} x rho0, below the sane band [{}, {}] x rho0", P.rho[i],
-                       P.rho[i] / S.eos.rho0, lim.density_min_ratio, lim.density_max_ratio);
+                       P.rho[i] / rho0, lim.density_min_ratio, lim.density_max_ratio);
     cause = "strong tension (particles pulled apart: tensile instability, a fluid region torn open), or a time "
             "step too large (lower scheme.cfl)";
   }

@@ -25,6 +25,8 @@
 #include "sphflume/io/restart.hpp"
 #include "sphflume/io/snapshot.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "sphflume/physics/multiphase.hpp"
+#include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/scheme.hpp"
 #include "sphflume/sim/health.hpp"
 
@@ -59,6 +61,20 @@ std::string hms(double s) {
 template <int D>
 void setup(const Case& c, System<D>& S, BuildReport& rep, std::unique_ptr<Scheme<D>>& scheme) {
   rep = build_system<D>(c, S);
+  if (c.multiphase.on()) {
+    if (c.turbulence.model != "none" || c.porous.on())
+      throw InputError(fmt::format("{}: line {}: 'multiphase': several phases with a turbulence model or porous regions "
+                                   "are not supported in this version: remove one of them", c.file, c.multiphase.line));
+    setup_phases<D>(c, S);
+  }
+  if (c.transport.on()) {
+    S.transport = std::make_shared<ScalarTransport<D>>(c.transport, c.transport.eta2, rep.wall_layers);
+    try {
+      S.transport->initialise(S);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", c.file, e.what()));
+    }
+  }
   try {
     S.walls = wall_registry<D>().create(c.walls.type, c.walls);
     scheme = scheme_registry<D>().create(c.scheme.type, c);
@@ -143,6 +159,7 @@ struct Run {
     domain_box(c, S, lo, hi);  // from the case's geometry, so a restart gets the same box
     rs.case_text = case_fingerprint(c.raw);
     open.setup(S, rs.open);  // fluid inside the zones becomes inflow/outflow particles
+    if (S.transport) S.transport->impose(S);  // the inflow particles' prescribed values
     if (open.needs_prepare()) S.before_rates = [this](System<D>& s) { open.prepare(s); };
   }
 
@@ -164,6 +181,14 @@ struct Run {
     S.time = rs.time;
     S.step = rs.step;
     scheme->restore(rs.scheme);
+    if (S.transport) {
+      std::vector<double> m;
+      for (std::size_t k = 0; k < S.transport->count(); ++k) {
+        auto it = rs.scheme.find("source_mass." + S.transport->name(k));
+        m.push_back(it == rs.scheme.end() ? 0.0 : it->second);
+      }
+      S.transport->restore_source_masses(m);
+    }
   }
 
   RunState state() const {
@@ -171,6 +196,8 @@ struct Run {
     r.time = S.time;
     r.step = S.step;
     r.scheme = scheme->state();
+    if (S.transport)
+      for (std::size_t k = 0; k < S.transport->count(); ++k) r.scheme["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
     return r;
   }
 
@@ -366,6 +393,8 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     S.counters["inflow_mass"] = R.rs.open.inflow_mass;
     S.counters["outflow_mass"] = R.rs.open.outflow_mass;
     S.counters["backflow_mass"] = R.rs.open.backflow_mass;
+    if (S.transport)
+      for (std::size_t k = 0; k < S.transport->count(); ++k) S.counters["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
     gauges->sample(S);
     last_snapshot_step = S.step;
     restart_point = snaps.last_path();
