@@ -10,6 +10,7 @@
 
 #include "sphflume/core/interpolate.hpp"
 #include "sphflume/io/snapshot.hpp"
+#include "sphflume/physics/transport.hpp"
 
 namespace sph {
 
@@ -170,8 +171,13 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
     out.push_back(src);
     return out;
   }
-  // scalar_flux: advective flux ∫ C u·n ds through the line's wet part [kg/s per m in 2D], n
-  // the line's normal (for a line going up, +x); the diffusive flux is not included
+  double diffusivity = 0.0;
+  if (S.transport)
+    for (const auto& sc : S.transport->config().scalars)
+      if (sc.name == g.field) diffusivity = sc.diffusivity;
+  // scalar_flux: flux ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m in 2D], n the
+  // line's normal (for a line going up, +x); D the scalar's molecular diffusivity (the turbulent
+  // part is not included), ∇C the first-order consistent kernel gradient
   Vec<D> t{};
   double len2 = 0.0;
   for (int d = 0; d < D; ++d) { t[d] = g.end[d] - g.start[d]; len2 += t[d] * t[d]; }
@@ -189,6 +195,10 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
       auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b] * P.vel[b][d]; });
       un += (v ? *v : 0.0) * nrm[d];
     }
+    if constexpr (D == 2)
+      if (diffusivity > 0.0)
+        if (auto gr = interpolate_gradient(S, x, [&](std::uint32_t b) { return C[b]; }))
+          un -= diffusivity * dot(*gr, nrm);
     q += (i == 0 || i == g.points - 1 ? 0.5 : 1.0) * ds * un;
   }
   return {q};
@@ -349,7 +359,9 @@ void GaugeSet<D>::sample(const System<D>& S) {
     auto& f = *files_[k];
     f << fmt::format("{:.9g}", S.time);
     const auto v = evaluate(cfg_[k], S, top);
-    for (double x : v) f << fmt::format(",{:.9g}", x);
+    // budgets (scalar and water masses) are checked to round-off: full precision for them
+    const bool exact = cfg_[k].type == "scalar_mass" || cfg_[k].type == "water_volume" || cfg_[k].type == "phase";
+    for (double x : v) f << (exact ? fmt::format(",{:.17g}", x) : fmt::format(",{:.9g}", x));
     f << "\n";
     f.flush();
     if (!f) throw IoError(fmt::format("writing gauge '{}' failed (disk full?)", cfg_[k].name));

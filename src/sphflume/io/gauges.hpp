@@ -21,7 +21,8 @@
 //  scalar_mass       mass Σ m C/ρ of the scalar in the fluid (in the box [start, end] when
 //                    given), min and max of C there, the mass centroid, and source: the
 //                    cumulative mass released by the scalar's wall sources
-//  scalar_flux       advective flux ∫ C u·n ds through the line's wet part [kg/s per m] (2D)
+//  scalar_flux       flux ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m] (2D;
+//                    D molecular)
 //  phase             area (volume in 3D) Σ m/ρ of the phase `field`, its top (highest
 //                    particle) and area centroid x, z
 #pragma once
