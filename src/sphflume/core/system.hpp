@@ -42,6 +42,11 @@ struct System {
   /// the store field "phase" (0 = water, the index into phase_eos; walls 0).
   std::vector<Eos> phase_eos;
   std::vector<std::string> phase_names;
+  /// Grenier et al. (2009) two-phase formulation (Federico's System 4): density by a per-phase
+  /// Shepard sum, pressure gradient Σ (p_a/Γ_a + p_b/Γ_b) ∇W V_b (store field "_gamma" = Γ);
+  /// chi: the interface repulsion between phases (either formulation).
+  bool grenier = false;
+  double chi = 0.0;
   /// The equation of state of particle i.
   const Eos& eos_of(std::size_t i) const {
     if (phase_eos.empty()) return eos;

@@ -11,6 +11,8 @@ void setup_phases(const Case& c, System<D>& S) {
   if (!c.multiphase.on()) return;
   auto& P = S.particles;
   S.phase_eos = {S.eos};
+  S.grenier = c.multiphase.grenier;
+  S.chi = c.multiphase.chi;
   S.phase_names = {"water"};
   auto& phase = P.scalar("phase");
   S.bind_phase_field();
@@ -40,7 +42,28 @@ void setup_phases(const Case& c, System<D>& S) {
   }
 }
 
+template <int D>
+void grenier_gamma(System<D>& S) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  auto& gam = P.scalar("_gamma");
+  S.with_kernel([&](const auto& K) {
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t a = 0; a < n; ++a) {
+      if (P.kind[a] != Kind::Fluid) { gam[a] = 1.0; continue; }
+      double g = 0.0;
+      S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
+        g += P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+      });
+      gam[a] = g;
+    }
+  });
+  P.refresh_images();
+}
+
 template void setup_phases<2>(const Case&, System<2>&);
 template void setup_phases<3>(const Case&, System<3>&);
+template void grenier_gamma<2>(System<2>&);
+template void grenier_gamma<3>(System<3>&);
 
 }  // namespace sph

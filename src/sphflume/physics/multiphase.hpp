@@ -8,6 +8,16 @@
 // −(1/ρ_a) Σ (p_a + p_b) V_b ∇W: both smooth across density jumps), and restricts δ-SPH
 // density diffusion and the Shepard filter to pairs of the same phase (a density jump is no
 // error to diffuse).
+//
+// multiphase.formulation: grenier switches to Grenier et al. (2009), Federico's System 4 (§2.7):
+// Γ_a = Σ_b V_b W_ab over all particles (< 1 near the free surface) and the pressure gradient
+// Σ_b (p_a/Γ_a + p_b/Γ_b) ∇_a W V_b (eq 3.26). The density: eq 3.24 (a per-phase Shepard sum
+// with V = m/ρ) is a fixed point of any uniform compression, so by itself it cannot evolve the
+// density; the density is evolved by continuity and eq 3.24 is applied as the per-phase
+// Shepard re-initialisation (scheme.shepard_every).
+// multiphase.chi adds the interface term (3.35) with the digest's correction (1/ρ_a,
+// repulsive): −(χ/ρ_a) Σ_{b∉X} (|p_a|/Γ_a + |p_b|/Γ_b) ∇_a W V_b (Γ = 1 in the
+// Colagrossi–Landrini formulation).
 #pragma once
 #include "sphflume/core/system.hpp"
 #include "sphflume/io/case.hpp"
@@ -18,5 +28,10 @@ namespace sph {
 /// mass, and their density at the water's (hydrostatic) pressure from their own equation of state.
 template <int D>
 void setup_phases(const Case& c, System<D>& S);
+
+/// Grenier's Γ at the current positions (cell list and images up to date) into the store
+/// field "_gamma"; the images are refreshed afterwards.
+template <int D>
+void grenier_gamma(System<D>& S);
 
 }  // namespace sph

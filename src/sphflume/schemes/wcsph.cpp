@@ -8,6 +8,7 @@
 
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/porous.hpp"
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/physics/turbulence.hpp"
@@ -125,6 +126,10 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   // are converted back to double per particle. Particle state and time integration stay in
   // double precision.
   using F32 = float;
+  // Grenier: pressures enter as p/Γ (walls Γ = 1); chi: interface repulsion
+  const double* __restrict gam = (Multi && S.grenier) ? P.scalar("_gamma").data() : nullptr;
+  auto p_of = [&](std::size_t b) { return gam && fluid_like(kind[b]) ? prs[b] / gam[b] : prs[b]; };
+  const F32 fchi = F32(Multi ? S.chi : 0.0);
   enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, REF, PHS, NCOL };
   const F32 fh = F32(h), feta2 = F32(eta2 + tiny), fsupport2 = F32(support2);
   const F32 flam = F32(lam), falpha = F32(alpha), ffour = F32(four);
@@ -175,7 +180,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
             cw[d][m] = fl ? F32(0) : F32(vel[b][d] - wvel[b][d]);  // ghost correction of the viscous velocity
           }
           crho[m] = F32(rho[b] - ref_of(b));  // deviations: neighbour differences keep full float precision
-          cp[m] = F32(prs[b]);
+          cp[m] = F32(p_of(b));
           cm[m] = F32(mass[b]);
           cf[m] = fl ? F32(1) : F32(0);
           ccs[m] = F32(sound_of(b, rho[b]));  // sound speed c(rho_b) (any EOS)
@@ -235,7 +240,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
         const double rhoa_d = rho[a];
         const F32 frho0 = F32(rho0), deva = F32(rhoa_d - ref_of(a));
-        const F32 rhoa = F32(rhoa_d), pa = F32(prs[a]);
+        const F32 rhoa = F32(rhoa_d), pa = F32(p_of(a));
         const F32 ca = F32(sound_of(a, rhoa_d)), ca2 = ca * ca;
         const F32 pha = Multi ? F32(phase[a]) : F32(0);
         const F32 pa_r2 = F32(prs[a] / (rhoa_d * rhoa_d));
@@ -300,7 +305,11 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           const F32 w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : F32(0);
           const F32 vr = std::min(w0 * r0 + w1 * r1 + w2 * r2c, F32(0));
           const F32 pi_ab = -falpha * (ca + cb) * fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
-          const F32 gcoef = pterm + mv * mbp * pi_ab;
+          F32 gcoef = pterm + mv * mbp * pi_ab;
+          if constexpr (Multi) {  // interface repulsion −(χ/ρ_a) Σ_{b∉X} (|p_a|/Γ_a + |p_b|/Γ_b) ∇W V_b
+            const F32 other = fb * (bphs[k] != pha ? F32(1) : F32(0));
+            gcoef += fchi * other * (std::abs(pa) + std::abs(pb)) * Vb * inv_rhoa;
+          }
           if constexpr (Porous) {
             // Kazemi eq 4.57: μ m_b/(φ_a φ_b) [2 (φu)_ab + φ_ab u_ab] ... = the plain term on
             // (φ_a − φ_b) u_a + (φ_a + φ_b)/2 (u_a − u_b), φ_b the flow porosity above
@@ -382,6 +391,7 @@ void WCSPH<D>::rates(System<D>& S) {
   }
   if (S.before_rates) S.before_rates(S);
   if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
+  if (S.grenier) grenier_gamma(S);  // Γ of Grenier's pressure gradient
   S.walls->prepare(S);
   S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
   S.walls->add_forces(S);

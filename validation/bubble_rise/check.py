@@ -1,0 +1,172 @@
+#!/usr/bin/python3
+"""Rising pollutant bubble, rho2/rho1 = 0.5 (cases/bubble_pollutant.yaml): issue 6 (transported scalars and
+phases), validation 5; Federico §8.1; digest federico.md §7 and §13 B9.
+
+Set-up: a tank 1.44 m x 2.4 m full of water (1000 kg/m3); a circular bubble of a lighter pollutant phase
+(500 kg/m3, Tait gamma 7 in both phases, equal B), radius R = 0.24 m, centred at (0.72, 0.48), so its top starts at
+z_s = 0.72 m. Artificial viscosity alpha = 0.01, XSPH 0.3, free-slip dummy walls, c0 = 10 sqrt(g H) = 48.5 m/s in
+the water (the case's default; the thesis's 14 sqrt(g R) = 21.48 m/s lets the pollutant expand by ~1 % as it
+rises, see the case file). The run goes to t = 1.5 s.
+
+Reference: Batchelor's law for a (2D, cylindrical) cap bubble, Federico (8.1) with the root corrected (digest
+§7, §12 no. 21: R inside the root):
+    z_top(t) = z_s + V t,   V = 1/2 sqrt(g (rho1 - rho2) R / rho1) = 0.5425 m/s,   z_top(1.5 s) = 1.534 m.
+The law describes the steady rise of a developed cap; the thesis reports the simulated top "underestimated at
+first, then progressively" in agreement, so the speed is judged late in the run.
+
+Data: gauge `bubble` (type phase): area = sum m/rho of the pollutant particles, top = the highest pollutant
+particle's z (a particle centre: it starts dx/2 below z_s), area centroid x, z; every 0.05 s.
+Metrics (issue 6 validation 5, digest B9):
+  (a) mean rise speed of the top over t in [0.75, 1.5] s, the least-squares slope of `top` over the output rows
+      in that window, within +-15 % of V;
+  (b) pollutant area conserved: max over the outputs of |area / area(0) - 1| <= 1 %;
+  (c) the run completes (exit code 0, t = 1.5 s).
+Information (not gated): z_top(1.5 s) against 1.534 m (digest B9: within 10 %, an early lag allowed), the same
+with the top particle's half spacing added (the bubble's surface); the rise speed of the area centroid over the
+same window against V; the bubble's width and height at 1.5 s (the umbrella).
+Figure: top and centroid z against t with Batchelor's line (and the centroid line z_c(0) + V t), and the particles
+at t = 0, 0.5, 1.0, 1.5 s (the thesis's snapshots) coloured by phase.
+Modes: coarse (CTest) dx = 0.02 (digest B9's resolution, 9,654 particles, ~2 min single-threaded); fine
+dx = 0.01 (the thesis's, ~36,000 particles, ~30 min single-threaded). Same thresholds in both modes (they are the
+digest's for its coarse run).
+The air bubble (rho2/rho1 = 0.001, §8.2, digest B10) is not part of this script.
+Usage: /usr/bin/python3 validation/bubble_rise/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
+       [--threads N] [--reuse] [--set KEY=VALUE]
+"""
+import glob
+import math
+import os
+import sys
+
+import h5py
+import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "bubble_pollutant.yaml"))
+NAME = "bubble_rise"
+G, RHO1, RHO2, R_B = 9.81, 1000.0, 500.0, 0.24
+X0, Z0 = 0.72, 0.48
+Z_S = Z0 + R_B                                   # top of the bubble at t = 0
+V = 0.5 * math.sqrt(G * (RHO1 - RHO2) * R_B / RHO1)
+END = 1.5
+WINDOW = (0.75, 1.5)
+SNAP_TIMES = (0.0, 0.5, 1.0, 1.5)
+MODES = {"coarse": {"dx": 0.02}, "fine": {"dx": 0.01}}
+SRC = "issue 6 validation 5; Federico (8.1), digest federico.md §7, §13 B9"
+
+
+def snapshot_at(out, t):
+    """(x, z, phase) of the fluid particles in the snapshot at time t, or None."""
+    for fn in sorted(glob.glob(os.path.join(out, "snapshots", "*.h5"))):
+        with h5py.File(fn, "r") as f:
+            if abs(float(f.attrs["time"]) - t) < 1e-6:
+                k = f["kind"][:] == 0
+                p = f["position"][:][k]
+                return p[:, 0], p[:, 2], f["phase"][:][k]
+    return None
+
+
+def main():
+    a = validation_args(NAME, __doc__, MODES)
+    dx = MODES[a.mode]["dx"]
+    os.makedirs(a.out, exist_ok=True)
+    rep = Report()
+    print(f"\n== {NAME} ({a.mode}: dx = {dx}, to t = {END} s); Batchelor V = {V:.4f} m/s, "
+          f"z_top(1.5) = {Z_S + V * END:.4f} m")
+    out = os.path.join(a.out, f"dx{dx:g}")
+    sets = {"particles.dx": dx, "time.end": END, **parse_sets(a.set)}
+    s, wall, rc = run_case(a.sphflume, CASE, out, sets, a.threads, a.reuse)
+    done = s is not None and abs(s.get("simulated_time", 0.0) - END) < 1e-9
+    rep.metric("run completes", f"exit code {rc}" + (f", t = {s['simulated_time']:g} s, {s['steps']} steps" if s
+                                                     else ""), rc == 0 and done, "exit 0 at t = 1.5 s", SRC)
+    if s is None:
+        print(f"\n{NAME} {a.mode}: RUN FAILED")
+        raise SystemExit(2)
+
+    _, g = read_rows(os.path.join(out, "gauges", "bubble.csv"))
+    t, area, top, xc, zc = g[:, 0], g[:, 1], g[:, 2], g[:, 3], g[:, 4]
+    w = (t >= WINDOW[0] - 1e-9) & (t <= WINDOW[1] + 1e-9)
+    slope = np.polyfit(t[w], top[w], 1)[0]
+    rel = slope / V - 1
+    rep.metric(f"(a) rise speed of the top, LSQ slope over t = {WINDOW[0]}..{WINDOW[1]} s ({w.sum()} rows)",
+               f"{slope:.4f} m/s vs V = {V:.4f} m/s ({100 * rel:+.1f} %)", abs(rel) <= 0.15, "|.| <= 15 %", SRC)
+    dev = np.abs(area / area[0] - 1)
+    i = int(np.argmax(dev))
+    rep.metric("(b) pollutant area sum m/rho: max |area / area(0) - 1|",
+               f"{100 * dev[i]:.3f} % (at t = {t[i]:g} s; area(0) = {area[0]:.6f} m2, pi R^2 = "
+               f"{math.pi * R_B ** 2:.6f}; at the end {100 * (area[-1] / area[0] - 1):+.3f} %)",
+               dev[i] <= 0.01, "<= 1 %", SRC)
+
+    zt_ref = Z_S + V * END
+    zt = float(np.interp(END, t, top))
+    info("z_top(1.5 s), top particle centre", f"{zt:.4f} m vs {zt_ref:.4f} m ({100 * (zt / zt_ref - 1):+.1f} %)",
+         abs(zt / zt_ref - 1) <= 0.10, "|.| <= 10 %", "digest B9 (early lag allowed)")
+    info("z_top(1.5 s) + dx/2 (the bubble's surface)", f"{zt + dx / 2:.4f} m ({100 * ((zt + dx / 2) / zt_ref - 1):+.1f} %)",
+         abs((zt + dx / 2) / zt_ref - 1) <= 0.10, "|.| <= 10 %", "digest B9")
+    cslope = np.polyfit(t[w], zc[w], 1)[0]
+    info(f"rise speed of the area centroid over t = {WINDOW[0]}..{WINDOW[1]} s",
+         f"{cslope:.4f} m/s ({100 * (cslope / V - 1):+.1f} % of V); centroid rise by 1.5 s {zc[-1] - zc[0]:.4f} m "
+         f"(V t = {V * END:.4f} m)", abs(cslope / V - 1) <= 0.15, "|.| <= 15 %", "Batchelor applied to the centroid")
+    early = (t >= 0.25 - 1e-9) & (t <= 0.75 + 1e-9)
+    info("rise speed of the top over t = 0.25..0.75 s", f"{np.polyfit(t[early], top[early], 1)[0]:.4f} m/s",
+         True, "-", "information (the thesis: underestimated at first)")
+    info("centroid x drift (symmetry)", f"max |x_c - {X0}| = {np.abs(xc - X0).max():.2e} m", True, "-", "information")
+
+    snaps = {tt: snapshot_at(out, tt) for tt in SNAP_TIMES}
+    last = snaps[SNAP_TIMES[-1]]
+    if last is not None:
+        x, z, ph = last
+        b = ph != 0
+        info("bubble at 1.5 s: width x height (particle centres)",
+             f"{x[b].max() - x[b].min():.3f} m x {z[b].max() - z[b].min():.3f} m (initial {2 * R_B - dx:.3f} m)",
+             True, "-", "information (thesis: an umbrella)")
+
+    fig = plt.figure(figsize=(13, 6.5))
+    gs = fig.add_gridspec(1, 2, width_ratios=[1.0, 1.6])
+    ax = fig.add_subplot(gs[0])
+    tt = np.linspace(0, END, 100)
+    ax.plot(tt, Z_S + V * tt, "k-", lw=1.2, label=f"Batchelor (8.1): z_s + V t, V = {V:.4f} m/s")
+    ax.plot(tt, zc[0] + V * tt, "k--", lw=0.9, label="z_c(0) + V t")
+    ax.plot(t, top, "C0o-", ms=3, lw=1, label=f"top (highest pollutant particle); slope {slope:.3f} m/s")
+    ax.plot(t, zc, "C3s-", ms=3, lw=1, label=f"area centroid; slope {cslope:.3f} m/s")
+    ax.axvspan(*WINDOW, color="0.9", zorder=0, label="fit window")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("z (m)")
+    ax.set_title(f"pollutant bubble rho2/rho1 = 0.5, dx = {dx}: rise", fontsize=9)
+    ax.legend(fontsize=7, loc="upper left")
+    ax2 = ax.twinx()
+    ax2.plot(t, 100 * (area / area[0] - 1), "C2:", lw=1)
+    ax2.set_ylabel("area / area(0) - 1 (%), dotted", color="C2")
+    gs2 = gs[1].subgridspec(1, len(SNAP_TIMES), wspace=0.05)
+    for k, st in enumerate(SNAP_TIMES):
+        a2 = fig.add_subplot(gs2[k])
+        sn = snaps[st]
+        if sn is not None:
+            x, z, ph = sn
+            ms = 0.6 if dx < 0.015 else 1.5
+            a2.scatter(x[ph == 0], z[ph == 0], s=ms, c="#9ecae1", lw=0)
+            a2.scatter(x[ph != 0], z[ph != 0], s=ms, c="#d62728", lw=0)
+        a2.axhline(Z_S + V * st, color="k", lw=0.8, ls="--")
+        a2.set_xlim(0, 1.44)
+        a2.set_ylim(0, 2.4)
+        a2.set_aspect("equal")
+        a2.set_title(f"t = {st:g} s", fontsize=9)
+        a2.tick_params(labelsize=7)
+        if k:
+            a2.set_yticklabels([])
+    fig.suptitle("bubble_rise: red = pollutant, blue = water, dashed = Batchelor's top", fontsize=10)
+    fig.tight_layout()
+    save_figure(fig, HERE, NAME, a.mode, a.out)
+    print(f"\nrun wall time: {wall:.1f} s")
+    rep.finish(NAME, a.mode)
+
+
+if __name__ == "__main__":
+    main()
