@@ -8,6 +8,8 @@
 #include "sphflume/io/case.hpp"
 #include "sphflume/io/geometry.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "sphflume/physics/multiphase.hpp"
+#include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/wcsph.hpp"
 
 namespace sph::test {
@@ -22,6 +24,11 @@ struct Setup {
   explicit Setup(const std::string& yaml, const std::vector<std::string>& overrides = {}) {
     c = parse_case(yaml, "test.yaml", overrides);
     rep = build_system<D>(c, S);
+    if (c.multiphase.on()) setup_phases<D>(c, S);
+    if (c.transport.on()) {
+      S.transport = std::make_shared<ScalarTransport<D>>(c.transport, c.transport.eta2, rep.wall_layers);
+      S.transport->initialise(S);
+    }
     S.walls = wall_registry<D>().create(c.walls.type, c.walls);
     if (c.forces.IsDefined())
       for (const auto& n : c.forces) S.forces.push_back(force_registry<D>().create(n["type"].template as<std::string>(), n, "test"));

@@ -279,7 +279,8 @@ def draw(a, dx, data):
         ax.legend(fontsize=6)
     if sc is not None:
         fig.colorbar(sc, ax=axs[:, :len(FIG_TIMES)].ravel().tolist(), shrink=0.6, label="C (kg/m3)")
-    fig.suptitle(f"{NAME}: C of the particles (C > 1e-3 coloured; black line: bubble outline; red +: C centroid; black x: (9.6)'s centre)",
+    fig.suptitle(f"{NAME}: C of the particles (C > 1e-3 coloured; black line: bubble outline; red +: C centroid; "
+                 "black x: (9.6)'s centre)",
                  fontsize=10)
     save_figure(fig, HERE, NAME, a.mode, a.out)
 

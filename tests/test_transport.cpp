@@ -1,0 +1,199 @@
+// Transported scalars and phases (Federico ch. 4, 8, 9; digest federico.md §3, §13 B0): the
+// diffusion operators' Laplacian on a lattice (the consistent one and Federico's (4.8) give
+// D∇²C, (4.7) twice that, (4.10) D/ρ ∇²C), exact conservation of the pollutant mass Σ m C/ρ on
+// a disordered two-phase cloud, the reaction term, the conservative −C∇·u correction, wall
+// sources, phases' densities at a continuous pressure, and the case-file errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "sphflume/io/gauges.hpp"
+#include "test_helpers.hpp"
+
+using namespace sph;
+
+namespace {
+
+std::string lattice_with(const std::string& transport, const std::string& extra = "") {
+  return std::string(test::kLattice2D) + transport + extra;
+}
+
+const char* kScalar = R"(
+transport:
+  eta2: 1.0e-8
+  scalars:
+    - {name: c, diffusivity: 1.0e-3, initial: [{type: expression, expression: "x^2 + z^2"}]}
+)";
+
+/// dY/dt at the particle nearest to the lattice's centre (with uniform ρ: dC/dt = ρ dY/dt).
+double centre_rate(test::Setup<2>& s) {
+  s.S.update_neighbours();
+  s.S.transport->rates(s.S);
+  const auto& P = s.S.particles;
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (norm(P.pos[i] - Vec<2>{{0.15, 0.15}}) < norm(P.pos[best] - Vec<2>{{0.15, 0.15}})) best = i;
+  return s.S.particles.scalar("_rate_c")[best] * P.rho[best];
+}
+
+}  // namespace
+
+// D ∇²(x² + z²) = 4D: consistent and Zhu–Fox within 3 % (digest B0), Federico's (4.7) 8D
+// (the documented factor 2), Monaghan's (4.10) 4D/ρ (the factor 1/ρ).
+TEST(Transport, LaplacianOfEachOperatorOnALattice) {
+  const double D = 1.0e-3, rho = 1000.0;
+  const std::pair<const char*, double> cases[] = {
+      {"consistent", 4 * D}, {"zhu_fox", 4 * D}, {"tartakovsky", 4 * D}, {"federico", 8 * D}, {"monaghan", 4 * D / rho}};
+  for (const auto& [op, expect] : cases) {
+    test::Setup<2> s(lattice_with(kScalar), {std::string("transport.operator=") + op});
+    const double r = centre_rate(s);
+    EXPECT_NEAR(r, -(-expect), 0.03 * expect) << op;  // dC/dt = D∇²C > 0 at a minimum of C
+  }
+}
+
+// Σ m_a dY_a/dt = 0 to round-off with the consistent operator on a disordered cloud with two
+// phases (densities 1000 and 300), unequal masses and a diffusivity field: the pair terms are
+// antisymmetric whatever ρ, m and D are.
+TEST(Transport, ConsistentOperatorConservesPollutantMassOnADisorderedTwoPhaseCloud) {
+  test::Setup<2> s(lattice_with(R"(
+transport:
+  scalars:
+    - {name: c, diffusivity: 2.0e-3, initial: [{type: expression, expression: "sin(20*x)*cos(13*z) + 2"}]}
+multiphase:
+  phases:
+    - {name: light, density: 300.0, shape: circle, center: [0.15, 0.15], radius: 0.08}
+)"));
+  auto& P = s.S.particles;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    for (int d = 0; d < 2; ++d) P.pos[i][d] += u(rng) * s.S.dx;
+    P.rho[i] *= 1.0 + 0.05 * u(rng);
+  }
+  s.S.update_neighbours();
+  s.S.transport->rates(s.S);
+  const auto& rate = P.scalar("_rate_c");
+  double sum = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    sum += P.mass[i] * rate[i];
+    scale += std::abs(P.mass[i] * rate[i]);
+  }
+  ASSERT_GT(scale, 0.0);
+  EXPECT_LT(std::abs(sum), 1e-13 * scale);
+}
+
+// C = ρ Y: compressing a particle raises C in proportion and leaves its pollutant mass m C/ρ
+// (the conservative advection, −C∇·u); advection: none keeps C.
+TEST(Transport, ConservativeAdvectionFollowsTheDensity) {
+  for (const char* adv : {"conservative", "none"}) {
+    test::Setup<2> s(lattice_with(R"(
+transport:
+  scalars:
+    - {name: c, initial: 1.0}
+)"), {std::string("transport.advection=") + adv});
+    auto& P = s.S.particles;
+    P.drho.assign(P.size(), 10.0);  // dρ/dt = 10 kg/m³/s everywhere
+    s.S.update_neighbours();
+    s.S.transport->rates(s.S);
+    s.S.transport->begin_step(s.S);
+    const double dt = 0.01;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) P.rho[i] += dt * P.drho[i];
+    s.S.transport->advance(s.S, dt, true);
+    const double c = P.scalar("c")[0];
+    if (std::string(adv) == "conservative") EXPECT_NEAR(c, (1000.0 + 0.1) / 1000.0, 1e-12);
+    else EXPECT_NEAR(c, 1.0, 2e-8);  // C (1 + ε)(1 − ε), ε = Δρ/ρ = 1e-4: the Euler step's O(ε²)
+  }
+}
+
+// dC/dt = −R (C − C_eq) exactly in the rate.
+TEST(Transport, FirstOrderReactionRate) {
+  test::Setup<2> s(lattice_with(R"(
+transport:
+  scalars:
+    - {name: c, initial: 1.0, reaction: {rate: 0.5, equilibrium: 0.2}}
+)"));
+  s.S.update_neighbours();
+  s.S.transport->rates(s.S);
+  auto& P = s.S.particles;
+  EXPECT_NEAR(P.scalar("_rate_c")[0] * P.rho[0], -0.5 * (1.0 - 0.2), 1e-14);
+}
+
+// A flux source releases q × area per second into the fluid in total, whatever the particles.
+TEST(Transport, FluxSourceReleasesItsTotal) {
+  test::Setup<2> s(R"(
+dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, sound_speed: 10.0, hydrostatic_init: false}
+geometry:
+  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.35, 0.0]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+transport:
+  scalars:
+    - {name: c, sources: [{shape: box, min: [0.1, -0.1], max: [0.2, 0.0], flux: 0.02}]}
+time: {end: 1.0}
+)");
+  s.S.update_neighbours();
+  s.S.transport->rates(s.S);
+  auto& P = s.S.particles;
+  const auto& rate = P.scalar("_rate_c");
+  double total = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) total += P.mass[i] * rate[i];
+  // 0.1 m of bed: 10 wall columns x layers particles, area = count dx / layers = 0.1 m
+  EXPECT_NEAR(total, 0.02 * 0.1, 1e-12);
+}
+
+// Phases start at the water's hydrostatic pressure (continuous p across the interface), with
+// their own density and mass, and equal B: c0_k = c0 sqrt(γ_k ρ_w / (γ_w ρ_k)).
+TEST(Multiphase, PhasesStartAtTheWatersPressure) {
+  test::Setup<2> s(R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, sound_speed: 20.0}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.3]}
+multiphase:
+  phases:
+    - {name: air, density: 1.0, gamma: 1.4, shape: box, min: [0.1, 0.1], max: [0.2, 0.2]}
+time: {end: 1.0}
+)");
+  const auto& P = s.S.particles;
+  const auto& ph = P.find_scalar("phase");
+  ASSERT_NE(ph, nullptr);
+  ASSERT_EQ(s.S.phase_eos.size(), 2u);
+  EXPECT_NEAR(s.S.phase_eos[1].c0, 20.0 * std::sqrt(1.4 * 1000.0 / 7.0), 1e-9);
+  std::size_t n_air = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if ((*ph)[i] != 1.0) continue;
+    ++n_air;
+    const double p_expect = 1000.0 * 9.81 * (0.3 - P.pos[i][1]);  // the water column above the point
+    EXPECT_NEAR(s.S.phase_eos[1].pressure(P.rho[i]), p_expect, 1e-6 * p_expect + 1e-9);
+    EXPECT_NEAR(P.mass[i], 1.0 * 0.01 * 0.01, 1e-15);
+  }
+  EXPECT_EQ(n_air, 100u);
+}
+
+TEST(TransportInput, ErrorsNameTheLineAndTheFix) {
+  const std::string base = std::string(test::kLattice2D);
+  auto message = [&](const std::string& extra) {
+    try {
+      (void)parse_case(base + extra, "t.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string bad_expr = message("transport:\n  scalars:\n    - {name: c, initial: [{type: expression, expression: \"exp(-(z-0.5)^2\"}]}\n");
+  EXPECT_NE(bad_expr.find("line 12"), std::string::npos) << bad_expr;
+  EXPECT_NE(bad_expr.find("expression"), std::string::npos) << bad_expr;
+  const std::string bad_op = message("transport:\n  operator: federicco\n  scalars: [{name: c}]\n");
+  EXPECT_NE(bad_op.find("one of consistent"), std::string::npos) << bad_op;
+  const std::string bad_gauge = message("transport:\n  scalars: [{name: c}]\ngauges:\n  - {name: g, type: scalar, field: d, point: [0.1, 0.1]}\n");
+  EXPECT_NE(bad_gauge.find("not a transported scalar"), std::string::npos) << bad_gauge;
+  const std::string frozen = message("scheme2: 1\n");
+  EXPECT_NE(frozen.find("unknown key"), std::string::npos);
+  const std::string no_scalars = message("transport:\n  operator: consistent\n");
+  EXPECT_NE(no_scalars.find("transport.scalars"), std::string::npos) << no_scalars;
+}
