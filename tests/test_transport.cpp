@@ -197,3 +197,45 @@ TEST(TransportInput, ErrorsNameTheLineAndTheFix) {
   const std::string no_scalars = message("transport:\n  operator: consistent\n");
   EXPECT_NE(no_scalars.find("transport.scalars"), std::string::npos) << no_scalars;
 }
+
+// A wall region held at C = 1 feeds the fluid next to it (and only there), and the mass it
+// feeds is what the fluid gains: Σ m dY/dt over the fluid = the source rate the run counts.
+TEST(Transport, DirichletWallFeedsTheFluidNextToIt) {
+  test::Setup<2> s(R"(
+dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, sound_speed: 10.0, hydrostatic_init: false}
+geometry:
+  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.35, 0.0]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+transport:
+  scalars:
+    - {name: c, diffusivity: 1.0e-3, sources: [{shape: box, min: [0.1, -0.1], max: [0.2, 0.0], value: 1.0}]}
+time: {end: 1.0}
+)");
+  auto& P = s.S.particles;
+  s.S.update_neighbours();
+  s.S.transport->rates(s.S);
+  s.S.transport->begin_step(s.S);
+  const auto& rate = P.scalar("_rate_c");
+  double total = 0.0;
+  std::size_t fed = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    total += P.mass[i] * rate[i];
+    const double x = P.pos[i][0], z = P.pos[i][1];
+    if (rate[i] > 0.0) {
+      ++fed;
+      EXPECT_LT(z, s.S.support) << "fed far above the wall";
+      EXPECT_GT(x, 0.1 - s.S.support);
+      EXPECT_LT(x, 0.2 + s.S.support);
+    } else {
+      EXPECT_EQ(rate[i], 0.0);
+    }
+  }
+  EXPECT_GT(fed, 10u);
+  s.S.transport->advance(s.S, 0.01, true);
+  EXPECT_NEAR(s.S.transport->source_mass(0), 0.01 * total, 1e-15 + 1e-12 * std::abs(total));
+  EXPECT_GT(total, 0.0);
+}
