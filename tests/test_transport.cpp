@@ -9,6 +9,7 @@
 #include <random>
 
 #include "sphflume/io/gauges.hpp"
+#include "sphflume/sim/health.hpp"
 #include "test_helpers.hpp"
 
 using namespace sph;
@@ -238,4 +239,19 @@ time: {end: 1.0}
   s.S.transport->advance(s.S, 0.01, true);
   EXPECT_NEAR(s.S.transport->source_mass(0), 0.01 * total, 1e-15 + 1e-12 * std::abs(total));
   EXPECT_GT(total, 0.0);
+}
+
+// A non-finite concentration stops the run like a non-finite velocity: the message names the
+// particle and the scalar.
+TEST(Transport, NonFiniteScalarFailsTheHealthCheck) {
+  test::Setup<2> s(lattice_with(R"(
+transport:
+  scalars:
+    - {name: dye, initial: 1.0}
+)"));
+  EXPECT_FALSE(check_health(s.S, HealthLimits{}).has_value());
+  s.S.particles.scalar("dye")[7] = std::nan("");
+  const auto h = check_health(s.S, HealthLimits{});
+  ASSERT_TRUE(h.has_value());
+  EXPECT_NE(h->find("non-finite dye"), std::string::npos) << *h;
 }

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/physics/transport.hpp"
+
 namespace sph {
 
 template <int D>
@@ -29,7 +31,21 @@ std::optional<std::string> check_health(const System<D>& S, const HealthLimits& 
     if (P.kind[i] == Kind::Fluid) ok = ok && P.rho[i] >= lim.density_min_ratio * r0 && P.rho[i] <= lim.density_max_ratio * r0;
     if (!ok) first = std::min(first, i);
   }
-  if (first == std::numeric_limits<std::size_t>::max()) return std::nullopt;
+  if (first == std::numeric_limits<std::size_t>::max()) {
+    // transported scalars: every value finite
+    if (S.transport)
+      for (std::size_t k = 0; k < S.transport->count(); ++k) {
+        const auto* C = P.find_scalar(S.transport->name(k));
+        if (!C) continue;
+        for (std::size_t j = 0; j < n; ++j)
+          if (!std::isfinite((*C)[j]))
+            return fmt::format("at step {}, t = {:.9g} s: {} has a non-finite {} ({}); likely cause: a time step too "
+                               "large for the diffusion or reaction (lower scheme.viscous_coefficient), or a "
+                               "non-finite initial or inflow value",
+                               S.step, S.time, describe_particle(S, j), S.transport->name(k), (*C)[j]);
+      }
+    return std::nullopt;
+  }
   const std::size_t i = first;
   bool finite = std::isfinite(P.rho[i]) && std::isfinite(P.p[i]);
   for (int d = 0; d < D; ++d) finite = finite && std::isfinite(P.pos[i][d]) && std::isfinite(P.vel[i][d]);
