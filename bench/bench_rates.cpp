@@ -10,6 +10,7 @@
 #include "sphflume/io/case.hpp"
 #include "sphflume/io/geometry.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/wcsph.hpp"
 
 using namespace sph;
@@ -19,7 +20,7 @@ struct Fixture {
   Case c;
   System<2> S;
   std::unique_ptr<WCSPH<2>> scheme;
-  explicit Fixture(double dx, const char* integrator = "symplectic") {
+  explicit Fixture(double dx, const char* integrator = "symplectic", const char* extra = "") {
     c = parse_case(fmt::format(R"(
 dimension: 2
 particles: {{dx: {}}}
@@ -30,8 +31,13 @@ geometry:
   - {{type: tank, min: [0.0, 0.0], max: [0.584, 0.73]}}
   - {{type: box, fill: fluid, min: [0.0, 0.0], max: [0.146, 0.292]}}
 time: {{end: 1.0}}
-)", dx, integrator), "bench");
+{}
+)", dx, integrator, extra), "bench");
     build_system<2>(c, S);
+    if (c.transport.on()) {
+      S.transport = std::make_shared<ScalarTransport<2>>(c.transport, c.transport.eta2, 0);
+      S.transport->initialise(S);
+    }
     S.walls = wall_registry<2>().create(c.walls.type, c.walls);
     scheme = std::make_unique<WCSPH<2>>(c);
     scheme->initialise(S);
@@ -73,6 +79,26 @@ void BM_Step(benchmark::State& st, const char* integrator) {
 }
 BENCHMARK_CAPTURE(BM_Step, symplectic, "symplectic")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Step, predictor_corrector, "predictor_corrector")->Unit(benchmark::kMillisecond);
+
+// One transported scalar on the same column: its rates pass alone, and a full step with it
+// (compare with BM_Step/symplectic for the scalar's share of a step).
+constexpr const char* kScalar = R"(transport:
+  scalars: [{name: c, diffusivity: 1.0e-6, initial: [{type: expression, expression: "z"}]}])";
+void BM_ScalarRates(benchmark::State& st) {
+  Fixture f(kDx[1], "symplectic", kScalar);
+  f.S.update_neighbours();
+  for (auto _ : st) f.S.transport->rates(f.S);
+  st.counters["particles/s"] = benchmark::Counter(static_cast<double>(f.S.particles.n_owned()) * st.iterations(),
+                                                  benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_ScalarRates)->Unit(benchmark::kMillisecond);
+void BM_StepWithScalar(benchmark::State& st) {
+  Fixture f(kDx[1], "symplectic", kScalar);
+  for (auto _ : st) f.scheme->step(f.S, f.scheme->time_step(f.S));
+  st.counters["particle-steps/s"] = benchmark::Counter(static_cast<double>(f.S.particles.n_owned()) * st.iterations(),
+                                                       benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_StepWithScalar)->Unit(benchmark::kMillisecond);
 }  // namespace
 
 BENCHMARK_MAIN();
