@@ -176,6 +176,7 @@ struct Run {
   void load(const std::string& path) {
     RunState saved;
     read_restart<D>(path, S.particles, saved);
+    if (!S.phase_eos.empty()) S.bind_phase_field();  // the store was rebuilt: its "phase" field is new
     if (saved.case_text != rs.case_text)
       throw InputError(fmt::format("--restart {}: the case differs from the one that wrote this restart point (only "
                                    "time.end may change): use the same case file and --set options", path));
