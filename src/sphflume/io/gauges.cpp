@@ -13,6 +13,25 @@
 #include "sphflume/physics/transport.hpp"
 
 namespace sph {
+namespace {
+
+/// ∫ u ds over the wet part of a line sampled every ds (fluid fraction f ≥ 0.5): trapezoids over
+/// the wet segments; a segment crossing the surface (f = 0.5, linearly interpolated) counts its
+/// wet part, so the integral does not jump by a whole segment as the surface moves past a point.
+double wet_integral(const std::vector<double>& f, const std::vector<double>& u, double ds) {
+  double q = 0.0;
+  for (std::size_t i = 1; i < f.size(); ++i) {
+    const bool w0 = f[i - 1] >= 0.5, w1 = f[i] >= 0.5;
+    if (w0 && w1) q += 0.5 * ds * (u[i - 1] + u[i]);
+    else if (w0 != w1) {
+      const double fw = w0 ? f[i - 1] : f[i], fd = w0 ? f[i] : f[i - 1];
+      q += ds * (fw - 0.5) / (fw - fd) * (w0 ? u[i - 1] : u[i]);
+    }
+  }
+  return q;
+}
+
+}  // namespace
 
 template <int D>
 GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
@@ -186,22 +205,21 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
   nrm[0] = t[D - 1] / len;
   nrm[D - 1] = -t[0] / len;
   const double ds = len / (g.points - 1);
-  double q = 0.0;
-  for (int i = 0; i < g.points; ++i) {
+  std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size(), 0.0);
+  for (std::size_t i = 0; i < f.size(); ++i) {
     const Vec<D> x = point(g.start, g.end, static_cast<double>(i) / (g.points - 1));
-    if (fluid_fraction(S, x) < 0.5) continue;
-    double un = 0.0;
+    f[i] = fluid_fraction(S, x);
+    if (f[i] <= 0.0) continue;
     for (int d = 0; d < D; ++d) {
       auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b] * P.vel[b][d]; });
-      un += (v ? *v : 0.0) * nrm[d];
+      un[i] += (v ? *v : 0.0) * nrm[d];
     }
     if constexpr (D == 2)
       if (diffusivity > 0.0)
         if (auto gr = interpolate_gradient(S, x, [&](std::uint32_t b) { return C[b]; }))
-          un -= diffusivity * dot(*gr, nrm);
-    q += (i == 0 || i == g.points - 1 ? 0.5 : 1.0) * ds * un;
+          un[i] -= diffusivity * dot(*gr, nrm);
   }
-  return {q};
+  return {wet_integral(f, un, ds)};
 }
 
 template <int D>
@@ -279,18 +297,7 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
         un[i] += (v ? *v : 0.0) * nrm[d];
       }
     }
-    // trapezoids over the wet segments; a segment crossing the surface (fluid fraction 0.5,
-    // linearly interpolated) counts its wet part, so the flux does not jump by a whole segment
-    double q = 0.0;
-    for (std::size_t i = 1; i < f.size(); ++i) {
-      const bool w0 = f[i - 1] >= 0.5, w1 = f[i] >= 0.5;
-      if (w0 && w1) q += 0.5 * ds * (un[i - 1] + un[i]);
-      else if (w0 != w1) {
-        const double fw = w0 ? f[i - 1] : f[i], fd = w0 ? f[i] : f[i - 1];
-        q += ds * (fw - 0.5) / (fw - fd) * (w0 ? un[i - 1] : un[i]);
-      }
-    }
-    return {q};
+    return {wet_integral(f, un, ds)};
   }
   if (g.type == "water_level") {
     // scan down the vertical line in steps of dx/4 from the top of the particles
