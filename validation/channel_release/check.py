@@ -34,8 +34,19 @@ and the Ogata-Banks C = 0.5 position; the box content from the snapshots with ea
 x + dx/2] cut at the box's faces (the gauge counts whole particles: one column of the inflow, C0 dx h, is 0.9 %
 of E_in at 6 s); the flux gauge's late reading against C0 q_in and against dS/dt.
 Figure: centreline C against x at t = 2, 4, 6 s with Ogata-Banks, its error, and the mass budget against t.
-Modes: coarse (CTest) dx = 0.005 (h/dx = 20; ~3.5 min single-threaded); fine dx = 0.0025 (4x the particles,
-2x the steps, ~25 min single-threaded). Both to t = 6 s, same thresholds.
+Laminar part (cases/channel_release_laminar.yaml): the same release into the laminar uniform channel flow of
+cases/channel_laminar.yaml (Federico §7.1: h = 0.1 m, s0 = 0.001, Re = 10, u(z) = (g s0/(2 nu))(2 h z - z^2),
+mean U = g s0 h^2/(3 nu) = 0.0572 m/s) in a 1 m channel, D = 5e-3 m2/s (Peclet U h/D = 1.14: the section mixes in
+h^2/D = 2 s). Reference: Taylor-Aris dispersion, the depth-mean concentration advected at U with
+K = D + (2/105) U^2 h^2 / D (the open channel is half of a plane Poiseuille channel of half-width h), here 1.025 D,
+in the Ogata-Banks solution. Metrics: (a-laminar) centreline C within 0.05 C0 of it at three times (coarse 2, 4,
+6 s; fine 4, 7, 10 s) over x in [x0 + 2 dx, 0.9]; (b-laminar) the budget as (b) at the end within 1 %;
+(c-laminar) depth and water flux within 1 % of h and U h (means over t >= 1 s). Information: the error against
+molecular D alone (with K = 1.025 D the two are close: the test checks transport in a sheared flow, it cannot
+single out the Taylor term).
+Modes: coarse (CTest) dx = 0.005 (h/dx = 20; ~3.5 min single-threaded) and the laminar channel at h/20 to 6 s
+(~3.5 min on 2 threads; at h/10 the laminar flow itself is 12 % slow); fine dx = 0.0025 (4x the particles, 2x the
+steps, ~25 min single-threaded) and the laminar channel at h/20 to 10 s (~6 min on 2 threads). Same thresholds.
 Usage: /usr/bin/python3 validation/channel_release/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
        [--threads N] [--reuse] [--set KEY=VALUE]
 """
@@ -64,6 +75,13 @@ CHECK_TIMES = (2.0, 4.0, 6.0)
 MEAN_FROM = 1.0
 MODES = {"coarse": {"dx": 0.005}, "fine": {"dx": 0.0025}}
 SRC = "issue 6 validation 7; cases/channel_release.yaml (Ogata & Banks 1961)"
+# the laminar channel (cases/channel_release_laminar.yaml): Poiseuille flow, Taylor-Aris dispersion
+LAM_CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "channel_release_laminar.yaml"))
+LAM_U, LAM_D = 9.81 * 0.001 * H ** 2 / (3 * 5.718e-4), 5.0e-3   # mean velocity g s0 h^2/(3 nu); molecular D
+LAM_K = LAM_D + 2.0 / 105.0 * LAM_U ** 2 * H ** 2 / LAM_D       # Taylor (1953), Aris (1956)
+# (dx, end, check times): h/20 in both (at h/10 the laminar flow itself is 12 % slow: q 0.00504 m2/s, depth -4.6 %)
+LAM_MODES = {"coarse": (0.005, 6.0, (2.0, 4.0, 6.0)), "fine": (0.005, 10.0, (4.0, 7.0, 10.0))}
+LAM_SRC = "issue 6 validation 7; cases/channel_release_laminar.yaml (Taylor-Aris, Ogata & Banks)"
 
 
 def erfcx(y):
@@ -77,8 +95,10 @@ def erfcx(y):
     return 1.0 / (math.sqrt(math.pi) * f)
 
 
-def ogata_banks(x, t):
-    """C / C0 at x (array or scalar), time t."""
+def ogata_banks(x, t, u=U, d=D):
+    """C / C0 at x (array or scalar), time t, for velocity u and dispersion coefficient d."""
+    U, D = u, d  # noqa: N806 (the formula's symbols)
+
     def one(xx):
         xi = xx - X0
         if t <= 0.0:
@@ -225,7 +245,9 @@ def main():
                abs(qm / (U * H) - 1) <= 0.01, "within 1 % of U h = 0.01 m2/s", SRC)
     info("mass balance of the water (summary.json)", f"{s['mass']['relative_error']:.1e}", True, "-", "information")
 
-    fig, ax = plt.subplots(1, 3, figsize=(17, 5.2))
+    lam = laminar(a, rep)
+
+    fig, ax = plt.subplots(1, 4, figsize=(22, 5.2))
     xx = np.linspace(X0, 1.0, 1000)
     for tc, col in zip(CHECK_TIMES, ("C0", "C1", "C3")):
         c = prof[row_at(prof, tc), 1:]
@@ -260,6 +282,15 @@ def main():
     a2.set_ylim(-1.5, 1.5)
     a2.set_ylabel("(E_in - E_out - S) / E_in (%): black dots; dashed: +- 1 %")
     ax[2].set_title("pollutant budget", fontsize=9)
+    if lam is not None:
+        xl, curves, lam_times = lam
+        for tc, col in zip(lam_times, ("C0", "C1", "C3")):
+            ax[3].plot(xx, ogata_banks(xx, tc, LAM_U, LAM_K), "-", color=col, lw=1.2, label=f"Taylor-Aris, t = {tc:g} s")
+            ax[3].plot(xl, curves[tc], "o", ms=2.5, mfc="none", color=col, label="SPH centreline (z = 0.05)")
+        ax[3].set_xlabel("x (m)")
+        ax[3].set_ylabel("C / C0")
+        ax[3].set_title(f"laminar channel: U = {LAM_U:.4f} m/s, K = {LAM_K / LAM_D:.3f} D", fontsize=9)
+        ax[3].legend(fontsize=7)
     fig.tight_layout()
     save_figure(fig, HERE, NAME, a.mode, a.out)
     print(f"\nrun wall time: {wall:.1f} s")
@@ -276,6 +307,57 @@ def quad_ob_flux(x, t):
     xs = np.linspace(x, xe, 2 * n + 1)
     c = ogata_banks(xs, t)
     return H * C0 * (xe - x) / (6 * n) * (c[0] + c[-1] + 4 * c[1:-1:2].sum() + 2 * c[2:-1:2].sum())
+
+
+def laminar(a, rep):
+    """The release into the laminar (Poiseuille) open channel against Taylor-Aris dispersion."""
+    dx, LAM_END, LAM_TIMES = LAM_MODES[a.mode]  # noqa: N806
+    out = os.path.join(a.out, f"laminar_dx{dx:g}")
+    sets = {"particles.dx": dx, "time.end": LAM_END, **parse_sets(a.set)}
+    print(f"\n== laminar channel (dx = {dx}): U = {LAM_U} m/s (mean), D = {LAM_D}, K = {LAM_K:.6f} m2/s "
+          f"(= {LAM_K / LAM_D:.4f} D)")
+    s, wall, rc = run_case(a.sphflume, LAM_CASE, out, sets, a.threads, a.reuse)
+    if s is None:
+        rep.metric("laminar: run", f"exit code {rc}", False, "0", "run")
+        return None
+    gd = os.path.join(out, "gauges")
+    _, prof = read_rows(os.path.join(gd, "c_centre.csv"))
+    _, pts = read_rows(os.path.join(gd, "c_centre.points.csv"))
+    _, fin = read_rows(os.path.join(gd, "flux_in.csv"))
+    _, fout = read_rows(os.path.join(gd, "flux_out.csv"))
+    _, box = read_rows(os.path.join(gd, "pollutant.csv"))
+    _, q = read_rows(os.path.join(gd, "q_in.csv"))
+    _, lev = read_rows(os.path.join(gd, "depth_50.csv"))
+    xg, t = pts[:, 1], fin[:, 0]
+    sel = (xg >= X0 + 2 * dx - 1e-9) & (xg <= X_OUT + 1e-9)
+    curves = {}
+    for tc in LAM_TIMES:
+        c = prof[row_at(prof, tc), 1:]
+        ob = ogata_banks(xg, tc, LAM_U, LAM_K)
+        err = c[sel] - ob[sel]
+        i = int(np.argmax(np.abs(err)))
+        curves[tc] = c
+        rep.metric(f"(a-laminar) t = {tc:g} s: max |C - C_Taylor| over x = {X0 + 2 * dx:g}..{X_OUT} ({sel.sum()} "
+                   f"points)", f"{abs(err[i]):.4f} (at x = {xg[sel][i]:.3f} m: C = {c[sel][i]:.4f}, C_Taylor = "
+                   f"{ob[sel][i]:.4f})", abs(err[i]) <= 0.05 * C0, "<= 0.05 C0", LAM_SRC)
+        ob_d = ogata_banks(xg, tc, LAM_U, LAM_D)
+        info(f"laminar t = {tc:g} s: the same against molecular D alone (no Taylor term)",
+             f"{np.abs(c[sel] - ob_d[sel]).max():.4f}", True, "-", "information")
+    e_in, e_out = cumtrapz(t, fin[:, 1]), cumtrapz(t, fout[:, 1])
+    i = row_at(fin, LAM_END)
+    rel = (e_in[i] - e_out[i] - box[i, 1]) / e_in[i]
+    rep.metric(f"(b-laminar) t = {LAM_END:g} s: (E_in - E_out - S) / E_in",
+               f"{100 * rel:+.3f} % (E_in {e_in[i]:.6e}, E_out {e_out[i]:.3e}, S {box[i, 1]:.6e} kg/m)",
+               abs(rel) <= 0.01, "|.| <= 1 %", LAM_SRC)
+    k = lev[:, 0] >= MEAN_FROM - 1e-9
+    hm = lev[k, 1].mean()
+    qm = q[q[:, 0] >= MEAN_FROM - 1e-9, 1].mean()
+    rep.metric(f"(c-laminar) depth at x = 0.5 m and water flux q_in, means over t >= {MEAN_FROM:g} s",
+               f"depth {hm:.5f} m ({100 * (hm / H - 1):+.2f} %), q {qm:.6f} m2/s ({100 * (qm / (LAM_U * H) - 1):+.2f} "
+               f"% of U h = {LAM_U * H:.5f})", abs(hm / H - 1) <= 0.01 and abs(qm / (LAM_U * H) - 1) <= 0.01,
+               "both within 1 %", LAM_SRC)
+    print(f"laminar run wall time: {wall:.1f} s")
+    return xg, curves, LAM_TIMES
 
 
 if __name__ == "__main__":
