@@ -27,6 +27,18 @@ transport:
     - {name: c, diffusivity: 1.0e-3, initial: [{type: expression, expression: "x^2 + z^2"}]}
 )";
 
+/// 0.3 m x 0.1 m of still water on a bed (wall layers below z = 0 from x = -0.05 to 0.35).
+constexpr const char* kWaterOnABed = R"(
+dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, sound_speed: 10.0, hydrostatic_init: false}
+geometry:
+  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.35, 0.0]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+time: {end: 1.0}
+)";
+
 /// dY/dt at the particle nearest to the lattice's centre (with uniform ρ: dC/dt = ρ dY/dt).
 double centre_rate(test::Setup<2>& s) {
   s.S.update_neighbours();
@@ -122,18 +134,10 @@ transport:
 
 // A flux source releases q × area per second into the fluid in total, whatever the particles.
 TEST(Transport, FluxSourceReleasesItsTotal) {
-  test::Setup<2> s(R"(
-dimension: 2
-gravity: [0.0, 0.0]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, sound_speed: 10.0, hydrostatic_init: false}
-geometry:
-  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.35, 0.0]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+  test::Setup<2> s(std::string(kWaterOnABed) + R"(
 transport:
   scalars:
     - {name: c, sources: [{shape: box, min: [0.1, -0.1], max: [0.2, 0.0], flux: 0.02}]}
-time: {end: 1.0}
 )");
   s.S.update_neighbours();
   s.S.transport->rates(s.S);
@@ -202,18 +206,10 @@ TEST(TransportInput, ErrorsNameTheLineAndTheFix) {
 // A wall region held at C = 1 feeds the fluid next to it (and only there), and the mass it
 // feeds is what the fluid gains: Σ m dY/dt over the fluid = the source rate the run counts.
 TEST(Transport, DirichletWallFeedsTheFluidNextToIt) {
-  test::Setup<2> s(R"(
-dimension: 2
-gravity: [0.0, 0.0]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, sound_speed: 10.0, hydrostatic_init: false}
-geometry:
-  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.35, 0.0]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+  test::Setup<2> s(std::string(kWaterOnABed) + R"(
 transport:
   scalars:
     - {name: c, diffusivity: 1.0e-3, sources: [{shape: box, min: [0.1, -0.1], max: [0.2, 0.0], value: 1.0}]}
-time: {end: 1.0}
 )");
   auto& P = s.S.particles;
   s.S.update_neighbours();

@@ -31,6 +31,20 @@ double wet_integral(const std::vector<double>& f, const std::vector<double>& u, 
   return q;
 }
 
+/// A gauge line's unit normal (for a line going up, +x) and its point spacing.
+template <int D>
+Vec<D> line_normal(const GaugeConfig& g, double& ds) {
+  Vec<D> t{};
+  double len2 = 0.0;
+  for (int d = 0; d < D; ++d) { t[d] = g.end[d] - g.start[d]; len2 += t[d] * t[d]; }
+  const double len = std::sqrt(len2);
+  Vec<D> nrm{};
+  nrm[0] = t[D - 1] / len;
+  nrm[D - 1] = -t[0] / len;
+  ds = len / (g.points - 1);
+  return nrm;
+}
+
 }  // namespace
 
 template <int D>
@@ -197,14 +211,8 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
   // scalar_flux: flux ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m in 2D], n the
   // line's normal (for a line going up, +x); D the scalar's molecular diffusivity (the turbulent
   // part is not included), ∇C the first-order consistent kernel gradient
-  Vec<D> t{};
-  double len2 = 0.0;
-  for (int d = 0; d < D; ++d) { t[d] = g.end[d] - g.start[d]; len2 += t[d] * t[d]; }
-  const double len = std::sqrt(len2);
-  Vec<D> nrm{};
-  nrm[0] = t[D - 1] / len;
-  nrm[D - 1] = -t[0] / len;
-  const double ds = len / (g.points - 1);
+  double ds = 0.0;
+  const Vec<D> nrm = line_normal<D>(g, ds);
   std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size(), 0.0);
   for (std::size_t i = 0; i < f.size(); ++i) {
     const Vec<D> x = point(g.start, g.end, static_cast<double>(i) / (g.points - 1));
@@ -277,14 +285,8 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     // media the superficial velocity φu (the intrinsic velocity carries water through the pores
     // only)
     const double* phi = porosity_field(S);
-    Vec<D> t{};
-    double len2 = 0.0;
-    for (int d = 0; d < D; ++d) { t[d] = g.end[d] - g.start[d]; len2 += t[d] * t[d]; }
-    const double len = std::sqrt(len2);
-    Vec<D> nrm{};
-    nrm[0] = t[D - 1] / len;
-    nrm[D - 1] = -t[0] / len;
-    const double ds = len / (g.points - 1);
+    double ds = 0.0;
+    const Vec<D> nrm = line_normal<D>(g, ds);
     std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size(), 0.0);
     for (std::size_t i = 0; i < f.size(); ++i) {
       const double s = static_cast<double>(i) / (g.points - 1);
