@@ -121,6 +121,13 @@ def cumtrapz(t, f):
     return np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
 
 
+def read_gauges(out):
+    """The run's gauges: c_centre, its points, flux_in, flux_out, pollutant, q_in, depth_50 (row arrays)."""
+    gd = os.path.join(out, "gauges")
+    return tuple(read_rows(os.path.join(gd, f"{n}.csv"))[1]
+                 for n in ("c_centre", "c_centre.points", "flux_in", "flux_out", "pollutant", "q_in", "depth_50"))
+
+
 def row_at(rows, t):
     i = int(np.argmin(np.abs(rows[:, 0] - t)))
     if abs(rows[i, 0] - t) > 1e-6:
@@ -162,14 +169,7 @@ def main():
         rep.metric("run", f"exit code {rc}", False, "0", "run")
         print(f"\n{NAME} {a.mode}: RUN FAILED")
         raise SystemExit(2)
-    gd = os.path.join(out, "gauges")
-    _, prof = read_rows(os.path.join(gd, "c_centre.csv"))
-    _, pts = read_rows(os.path.join(gd, "c_centre.points.csv"))
-    _, fin = read_rows(os.path.join(gd, "flux_in.csv"))
-    _, fout = read_rows(os.path.join(gd, "flux_out.csv"))
-    _, box = read_rows(os.path.join(gd, "pollutant.csv"))
-    _, q = read_rows(os.path.join(gd, "q_in.csv"))
-    _, lev = read_rows(os.path.join(gd, "depth_50.csv"))
+    prof, pts, fin, fout, box, q, lev = read_gauges(out)
     xg = pts[:, 1]
     t = fin[:, 0]
     if not (len(fout) == len(box) == len(t) and np.abs(fout[:, 0] - t).max() < 1e-9
@@ -320,14 +320,7 @@ def laminar(a, rep):
     if s is None:
         rep.metric("laminar: run", f"exit code {rc}", False, "0", "run")
         return None
-    gd = os.path.join(out, "gauges")
-    _, prof = read_rows(os.path.join(gd, "c_centre.csv"))
-    _, pts = read_rows(os.path.join(gd, "c_centre.points.csv"))
-    _, fin = read_rows(os.path.join(gd, "flux_in.csv"))
-    _, fout = read_rows(os.path.join(gd, "flux_out.csv"))
-    _, box = read_rows(os.path.join(gd, "pollutant.csv"))
-    _, q = read_rows(os.path.join(gd, "q_in.csv"))
-    _, lev = read_rows(os.path.join(gd, "depth_50.csv"))
+    prof, pts, fin, fout, box, q, lev = read_gauges(out)
     xg, t = pts[:, 1], fin[:, 0]
     sel = (xg >= X0 + 2 * dx - 1e-9) & (xg <= X_OUT + 1e-9)
     curves = {}
