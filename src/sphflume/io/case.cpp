@@ -548,6 +548,9 @@ Case build_case(YAML::Node root, const std::string& file) {
     p.field = r.choice("field", "smoothed", {"smoothed", "particles", "sharp"});
     p.literal_normalisation = r.choice("normalisation", "full_block", {"full_block", "thesis_literal"}) == "thesis_literal";
     p.mesh_ratio = r.positive("mesh_ratio", 1.2);
+    p.relax_iterations = r.scalar<int>("relax", 0);
+    if (p.relax_iterations < 0 || p.relax_iterations > 100000)
+      r.fail_at(r.get("relax"), "porous.relax", "an integer in [0, 100000] (iterations; 0 = the plain lattice fill)");
     if (!r.has("regions")) r.misspelt("regions");
     const YAML::Node regs = r.get("regions");
     if (!regs.IsSequence() || regs.size() == 0)

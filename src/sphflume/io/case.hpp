@@ -185,6 +185,9 @@ struct PorousConfig {
   std::string field = "smoothed";
   bool literal_normalisation = false;  // particles: Tsurudome's rho_p / rho_w as printed (gives 1-(1-phi)phi inside)
   double mesh_ratio = 1.2;             // smoothed: background mesh spacing = h_Omega / mesh_ratio (Kazemi: 1.2)
+  // initial state: iterations of relax_porous_band (the interface band's points shifted until
+  // the volumes m/(φρ0) tile space); 0 = the plain lattice fill
+  int relax_iterations = 0;
   std::vector<PorousRegionConfig> regions;
   // boxes whose initial fluid is placed at the spacing of a given porosity (e.g. Kazemi ch. 6:
   // the bed below the crest and the porous inflow's region), after the shape regions

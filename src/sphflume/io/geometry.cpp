@@ -430,6 +430,18 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
 
   if (std::count(drop.begin(), drop.end(), 0) == 0)
     throw InputError(fmt::format("{}: every fluid particle lies inside a wall: move the fluid shapes off the walls", c.file));
+  if (S.porous && c.porous.relax_iterations > 0) {
+    const auto rr = relax_porous_band<D>(*S.porous, c.kernel, S.h, dx, fluid_x, drop, wall_x, c.porous.relax_iterations);
+    rep.porous_relax_band = rr.band;
+    rep.porous_relax_residual0 = rr.residual0;
+    rep.porous_relax_residual = rr.residual;
+    rep.porous_relax_shift = rr.max_shift;
+    if (rr.residual > rr.residual0)
+      throw InputError(fmt::format("{}: line {}: 'porous.relax': the relaxation of the porous interface band did not "
+                                   "converge (max h |sum V grad W| {:.3g} -> {:.3g}): the band meets a free surface or a "
+                                   "thin layer it cannot settle; set porous.relax: 0 (the plain lattice fill)",
+                                   c.file, c.porous.line, rr.residual0, rr.residual));
+  }
   double zmin = 1e300, zmax = -1e300;
   for (std::size_t i = 0; i < fluid_x.size(); ++i)
     if (!drop[i]) { zmin = std::min(zmin, fluid_x[i][vz]); zmax = std::max(zmax, fluid_x[i][vz]); }

@@ -13,6 +13,9 @@ struct BuildReport {
   std::size_t fluid_dropped_in_walls = 0;  // fluid lattice points that fell inside walls
   int wall_layers = 0;
   double fluid_height = 0.0;  // vertical extent of the fluid
+  // porous.relax: points moved, max h |Σ V ∇W| before and after, largest displacement [m]
+  std::size_t porous_relax_band = 0;
+  double porous_relax_residual0 = 0.0, porous_relax_residual = 0.0, porous_relax_shift = 0.0;
 };
 
 /// What build_system refuses before allocating anything (InputError): a geometry that would

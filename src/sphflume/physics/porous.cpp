@@ -214,4 +214,78 @@ std::pair<double, double> PorousMedia<D>::closure(const PorousClosureConfig& c, 
 template class PorousMedia<2>;
 template class PorousMedia<3>;
 
+template <int D>
+PorousRelaxReport relax_porous_band(const PorousMedia<D>& pm, KernelType kernel, double h, double dx,
+                                    std::vector<Vec<D>>& fluid, const std::vector<char>& fixed,
+                                    const std::vector<Vec<D>>& walls, int iterations) {
+  PorousRelaxReport rep;
+  const std::size_t nf = fluid.size();
+  double vol0 = 1.0;
+  for (int d = 0; d < D; ++d) vol0 *= dx;
+  std::vector<Vec<D>> pos(fluid);
+  pos.insert(pos.end(), walls.begin(), walls.end());
+  const std::vector<Vec<D>> start(fluid);
+  std::vector<double> vol(pos.size(), vol0);
+  std::vector<char> band(nf, 0);
+  std::vector<Vec<D>> shift(nf);
+  with_kernel<D>(kernel, h, [&](const auto& K) {
+    CellList<D> cells;
+    for (int it = 0; it <= iterations; ++it) {
+      for (std::size_t i = 0; i < nf; ++i) vol[i] = vol0 / pm.porosity(pos[i]);
+      cells.build(pos, pos.size(), K.support);
+      double res = 0.0;
+      std::size_t nband = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : res) reduction(+ : nband)
+      for (std::size_t a = 0; a < nf; ++a) {
+        shift[a] = Vec<D>{};
+        if (fixed[a]) continue;
+        if (it == 0) {  // the band and the free surface are decided once, on the lattice
+          const double phia = pm.porosity(pos[a]);
+          double dphi = 0.0, wsum = 0.0;
+          bool wall = false;
+          Vec<D> centroid{};
+          cells.for_neighbours(pos, pos[a], K.support, [&](std::uint32_t b, const Vec<D>& r, double r2) {
+            const double w = K.W(std::sqrt(r2));
+            wsum += w;
+            centroid += (-w) * r;
+            if (b < nf) dphi = std::max(dphi, std::abs(pm.porosity(pos[b]) - phia));
+            else wall = true;
+          });
+          // the band: where φ varies, and where the porous fill's lattice meets the walls'
+          band[a] = (dphi > 1e-9 || (wall && phia < 1.0)) && norm(centroid) < 0.2 * h * wsum;
+        }
+        if (!band[a]) continue;
+        ++nband;
+        Vec<D> g{};
+        cells.for_neighbours(pos, pos[a], K.support, [&](std::uint32_t b, const Vec<D>& r, double r2) {
+          if (r2 > 0.0) g += (vol[b] * K.F(std::sqrt(r2))) * r;
+        });
+        res = std::max(res, h * norm(g));
+        Vec<D> dxa = (-0.1 * h * h) * g;
+        const double len = norm(dxa);
+        if (len > 0.05 * dx) dxa *= 0.05 * dx / len;
+        // a point stays within a quarter spacing of its lattice site (the band needs less than
+        // that; a point that would go further is not in a band the shift can fix)
+        if (norm(pos[a] + dxa - start[a]) > 0.25 * dx) dxa = Vec<D>{};
+        shift[a] = dxa;
+      }
+      if (it == 0) { rep.residual0 = res; rep.band = nband; }
+      rep.residual = res;
+      if (it == iterations) break;
+      for (std::size_t a = 0; a < nf; ++a) pos[a] += shift[a];
+      rep.iterations = it + 1;
+    }
+  });
+  for (std::size_t a = 0; a < nf; ++a) {
+    fluid[a] = pos[a];
+    rep.max_shift = std::max(rep.max_shift, norm(pos[a] - start[a]));
+  }
+  return rep;
+}
+
+template PorousRelaxReport relax_porous_band<2>(const PorousMedia<2>&, KernelType, double, double, std::vector<Vec<2>>&,
+                                                const std::vector<char>&, const std::vector<Vec<2>>&, int);
+template PorousRelaxReport relax_porous_band<3>(const PorousMedia<3>&, KernelType, double, double, std::vector<Vec<3>>&,
+                                                const std::vector<char>&, const std::vector<Vec<3>>&, int);
+
 }  // namespace sph

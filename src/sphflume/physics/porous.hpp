@@ -88,4 +88,29 @@ class PorousMedia {
   std::vector<int> region_of_;  // per owned particle, set by update()
 };
 
+/// What relax_porous_band did.
+struct PorousRelaxReport {
+  std::size_t band = 0;        // fluid points that were free to move
+  int iterations = 0;
+  double residual0 = 0.0;      // max h |Σ_b V_b ∇W_ab| over the band, before and after
+  double residual = 0.0;
+  double max_shift = 0.0;      // largest total displacement [m]
+};
+
+/// Initial state: moves the fluid points of the porosity interface band (points whose kernel
+/// support sees the porosity vary) until the bulk volumes V_b = dx^D / φ(x_b) (walls dx^D) tile
+/// space: Σ_b V_b ∇W_ab → 0, the zero-order consistency the conservative pressure gradient
+/// needs. The lattice fill changes its spacing abruptly (dx to dx/φ0^(1/D)) while the smoothed
+/// φ changes over a layer; without this, a particle in the layer feels the spurious force
+/// 2 p_a Σ V_b ∇W ∝ depth, and still water over a porous bed settles with a pressure error
+/// there. Shifting: x_a ← x_a − β h² Σ_b V_b ∇W_ab (β = 0.1, at most 0.05 dx per iteration).
+/// The band also holds the porous fill's points next to walls, whose lattice meets the walls'.
+/// Points near the free surface (kernel-weighted neighbour centroid more than 0.2 h away) and
+/// points in `fixed` do not move, the walls are fixed, and no point moves more than dx/4 from
+/// its lattice site. The caller refuses a relaxation that ends with a larger residual.
+template <int D>
+PorousRelaxReport relax_porous_band(const PorousMedia<D>& pm, KernelType kernel, double h, double dx,
+                                    std::vector<Vec<D>>& fluid, const std::vector<char>& fixed,
+                                    const std::vector<Vec<D>>& walls, int iterations);
+
 }  // namespace sph

@@ -514,6 +514,10 @@ std::string check_dim(const Case& c) {
   s += fmt::format("case '{}' ({}D, {}, scheme {}, walls {})\n", c.name, D, c.file, scheme->name(), c.walls.type);
   s += fmt::format("particles: {} fluid, {} wall ({} layers), {} in all", rep.fluid, rep.wall, rep.wall_layers, rep.fluid + rep.wall);
   if (rep.fluid_dropped_in_walls) s += fmt::format("; {} fluid lattice points inside walls were left out", rep.fluid_dropped_in_walls);
+  if (rep.porous_relax_band)
+    s += fmt::format("\nporous.relax: {} points of the interface band shifted (at most {:.3g} dx); h |sum V grad W| "
+                     "{:.3g} -> {:.3g}", rep.porous_relax_band, rep.porous_relax_shift / c.dx, rep.porous_relax_residual0,
+                     rep.porous_relax_residual);
   s += fmt::format("\ndx = {} m, kernel {} with h = {:.4g} m (h/dx = {}), support {:.4g} m\n", c.dx, kernel_name(c.kernel), S.h, c.h_over_dx, S.support);
   s += fmt::format("sound speed c0 = {:.4g} m/s, fluid height {:.4g} m\n", S.eos.c0, rep.fluid_height);
   s += fmt::format("estimated time step {:.3e} s: about {:.0f} steps to t = {} s, {} snapshots\n", dt, std::ceil(c.t_end / dt), c.t_end,
