@@ -53,6 +53,23 @@ def run_case(sphflume, case, out, sets, threads, reuse):
     return s, wall, 0
 
 
+def fluid_snapshots(out, fields):
+    """[(time, {"x", "z", and each of `fields` (snapshot dataset names)})] of the fluid particles
+    (kind 0), one per snapshot in OUT/snapshots, in time order. z is the vertical (last) coordinate."""
+    import glob
+    import h5py
+    res = []
+    for fn in sorted(glob.glob(os.path.join(out, "snapshots", "*.h5"))):
+        with h5py.File(fn, "r") as f:
+            k = f["kind"][:] == 0
+            p = f["position"][:][k]
+            d = {"x": p[:, 0], "z": p[:, -1]}
+            for name in fields:
+                d[name] = f[name][:][k]
+            res.append((float(f.attrs["time"]), d))
+    return res
+
+
 def read_rows(path):
     """A CSV file (lines starting with '#' skipped) -> (header list, float array of the rows)."""
     import csv

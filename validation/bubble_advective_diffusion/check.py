@@ -47,15 +47,13 @@ work) adds the advection = none runs for the e_RMS information (6 runs). Same th
 Usage: /usr/bin/python3 validation/bubble_advective_diffusion/check.py [--mode coarse|fine] [--sphflume PATH]
        [--out DIR] [--threads N] [--reuse] [--set KEY=VALUE]
 """
-import glob
 import math
 import os
 import sys
 
-import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, fluid_snapshots, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -91,15 +89,9 @@ def heuristic(x, z, t, V):
 
 def snapshots(out):
     """[(time, dict of the fluid particles' id, x, z, C, m, rho, phase)] in time order."""
-    res = []
-    for fn in sorted(glob.glob(os.path.join(out, "snapshots", "*.h5"))):
-        with h5py.File(fn, "r") as f:
-            k = f["kind"][:] == 0
-            p = f["position"][:][k]
-            res.append((float(f.attrs["time"]), {"id": f["id"][:][k], "x": p[:, 0], "z": p[:, 2],
-                                                 "C": f["concentration"][:][k], "m": f["mass"][:][k],
-                                                 "rho": f["density"][:][k], "phase": f["phase"][:][k]}))
-    return res
+    names = {"id": "id", "C": "concentration", "m": "mass", "rho": "density", "phase": "phase"}
+    return [(t, {"x": d["x"], "z": d["z"], **{k: d[v] for k, v in names.items()}})
+            for t, d in fluid_snapshots(out, list(names.values()))]
 
 
 def at(snaps, t):

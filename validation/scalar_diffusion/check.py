@@ -50,15 +50,13 @@ Gaussian and the blob at half those spacings (convergence at fixed h/dx). Both r
 Usage: /usr/bin/python3 validation/scalar_diffusion/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
        [--threads N] [--reuse]
 """
-import glob
 import math
 import os
 import sys
 
-import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, fluid_snapshots, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -90,14 +88,8 @@ erfc = np.vectorize(math.erfc)
 
 def snapshots(out):
     """[(time, x, z, C, m, rho)] of the fluid particles, one per snapshot, in time order."""
-    res = []
-    for fn in sorted(glob.glob(os.path.join(out, "snapshots", "*.h5"))):
-        with h5py.File(fn, "r") as f:
-            k = f["kind"][:] == 0
-            p = f["position"][:][k]
-            res.append((float(f.attrs["time"]), p[:, 0], p[:, 2], f["concentration"][:][k], f["mass"][:][k],
-                        f["density"][:][k]))
-    return res
+    return [(t, d["x"], d["z"], d["concentration"], d["mass"], d["density"])
+            for t, d in fluid_snapshots(out, ["concentration", "mass", "density"])]
 
 
 def at(snaps, t):
