@@ -42,15 +42,13 @@ Air bubble: coarse dx = 0.03 (~1.5 min on 2 threads), fine dx = 0.02 (digest B10
 Usage: /usr/bin/python3 validation/bubble_rise/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
        [--threads N] [--reuse] [--set KEY=VALUE]
 """
-import glob
 import math
 import os
 import sys
 
-import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, fluid_snapshots, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -76,12 +74,9 @@ SRC = "issue 6 validation 5; Federico (8.1), digest federico.md §7, §13 B9"
 
 def snapshot_at(out, t):
     """(x, z, phase) of the fluid particles in the snapshot at time t, or None."""
-    for fn in sorted(glob.glob(os.path.join(out, "snapshots", "*.h5"))):
-        with h5py.File(fn, "r") as f:
-            if abs(float(f.attrs["time"]) - t) < 1e-6:
-                k = f["kind"][:] == 0
-                p = f["position"][:][k]
-                return p[:, 0], p[:, 2], f["phase"][:][k]
+    for ts, d in fluid_snapshots(out, ["phase"]):
+        if abs(ts - t) < 1e-6:
+            return d["x"], d["z"], d["phase"]
     return None
 
 

@@ -50,15 +50,13 @@ steps, ~25 min single-threaded) and the laminar channel at h/20 to 10 s (~6 min 
 Usage: /usr/bin/python3 validation/channel_release/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
        [--threads N] [--reuse] [--set KEY=VALUE]
 """
-import glob
 import math
 import os
 import sys
 
-import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, fluid_snapshots, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -146,13 +144,11 @@ def front(x, c, level=0.5):
 def box_from_snapshots(out, dx):
     """[(t, sum of m C / rho times the fraction of each particle's cell [x - dx/2, x + dx/2] inside [X_IN, X_OUT])]."""
     res = []
-    for fn in sorted(glob.glob(os.path.join(out, "snapshots", "*.h5"))):
-        with h5py.File(fn, "r") as f:
-            k = f["kind"][:] == 0
-            x = f["position"][:][k][:, 0]
-            q = f["mass"][:][k] * f["concentration"][:][k] / f["density"][:][k]
-            frac = np.clip((np.minimum(x + dx / 2, X_OUT) - np.maximum(x - dx / 2, X_IN)) / dx, 0.0, 1.0)
-            res.append((float(f.attrs["time"]), math.fsum(q * frac)))
+    for t, d in fluid_snapshots(out, ["mass", "concentration", "density"]):
+        x = d["x"]
+        q = d["mass"] * d["concentration"] / d["density"]
+        frac = np.clip((np.minimum(x + dx / 2, X_OUT) - np.maximum(x - dx / 2, X_IN)) / dx, 0.0, 1.0)
+        res.append((t, math.fsum(q * frac)))
     return np.array(res)
 
 
