@@ -111,6 +111,24 @@ TEST(PorousField, SmoothedLayerIsOneGrainDiameterThick) {
   EXPECT_EQ(region, 0);
 }
 
+// The smoothed field's mesh fits the box: the half level (1 + φ0)/2 lies on every face, and a
+// block is mirror-symmetric. The still-water block of cases/porous_still_water.yaml (0.2 m wide,
+// 0.15 m tall: 60.4 and 45.3 nominal mesh cells) had its right face 1.25 mm and its top face
+// 0.9 mm inside the box when the mesh started at the lower-left corner; the mismatch with the
+// particles' fill set the pool in motion (max |u| 0.016 m/s against 1.1e-3 with a fitting mesh).
+TEST(PorousField, SmoothedHalfLevelOnEveryFaceOfABox) {
+  const double d = 0.0159, phi0 = 0.49, half = 0.5 * (1.0 + phi0);
+  const PorousMedia<2> pm(box_region("smoothed", phi0, d, {0.15, -0.05}, {0.35, 0.1}), KernelType::WendlandC2, 0.01, 0.005);
+  const double z = 0.0431;  // off the mesh lines
+  EXPECT_NEAR(pm.porosity(Vec<2>{{0.15, z}}), half, 1e-12);
+  EXPECT_NEAR(pm.porosity(Vec<2>{{0.35, z}}), half, 1e-12);
+  EXPECT_NEAR(pm.porosity(Vec<2>{{0.2537, 0.1}}), half, 1e-12);
+  for (double e : {0.001, 0.003, 0.006}) {  // mirror symmetry across the block's centre line
+    EXPECT_NEAR(pm.porosity(Vec<2>{{0.15 + e, z}}), pm.porosity(Vec<2>{{0.35 - e, z}}), 1e-12) << e;
+    EXPECT_NEAR(pm.porosity(Vec<2>{{0.15 - e, z}}), pm.porosity(Vec<2>{{0.35 + e, z}}), 1e-12) << e;
+  }
+}
+
 // Tsurudome eq 4.2.1 from porous particles on the lattice dx/sqrt(φ0): with the digest's
 // normalisation φ = φ0 inside; as printed (ρ_p/ρ_w) φ = 1 - (1 - φ0) φ0 = 0.75 inside (the
 // inconsistency the digest points out), to the lattice-sum accuracy of the kernel (2 %).

@@ -43,7 +43,19 @@ PorousMedia<D>::PorousMedia(const PorousConfig& c, KernelType kernel, double h, 
       g.h = g.reach / fac;
       g.spacing = 0.5 * g.reach / c.mesh_ratio;
     }
-    for (int d = 0; d < D; ++d) g.origin[d] = g.lo[d] + 0.5 * g.spacing;
+    // a box's lattice fits it: the spacing in each direction is adjusted to a whole number of
+    // nodes across the box, so that the indicator's half level lies on every face (a lattice
+    // started at one face puts the opposite face up to one node inside the box; a face off by
+    // 1 mm put still water over a porous block in motion). Tsurudome's literal normalisation
+    // keeps the printed dx / phi0^(1/D).
+    for (int d = 0; d < D; ++d) {
+      g.step[d] = g.spacing;
+      if (rc.shape == "box" && !(c.field == "particles" && c.literal_normalisation)) {
+        const double len = g.hi[d] - g.lo[d];
+        g.step[d] = len / std::max(1.0, std::round(len / g.spacing));
+      }
+      g.origin[d] = g.lo[d] + 0.5 * g.step[d];
+    }
     regions_.push_back(g);
   }
 }
@@ -88,11 +100,12 @@ double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x) const {
     for (int d = 0; d < D; ++d) deep &= x[d] > g.lo[d] + g.reach && x[d] < g.hi[d] - g.reach;
     if (deep) return 1.0;
   }
-  const double s = g.spacing, R2 = g.reach * g.reach;
+  const Vec<D>& s = g.step;
+  const double R2 = g.reach * g.reach;
   int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   for (int d = 0; d < D; ++d) {
-    lo[d] = static_cast<int>(std::ceil((x[d] - g.reach - g.origin[d]) / s));
-    hi[d] = static_cast<int>(std::floor((x[d] + g.reach - g.origin[d]) / s));
+    lo[d] = static_cast<int>(std::ceil((x[d] - g.reach - g.origin[d]) / s[d]));
+    hi[d] = static_cast<int>(std::floor((x[d] + g.reach - g.origin[d]) / s[d]));
   }
   // particles: porous particles are the lattice nodes inside the region; smoothed: mesh nodes
   // carry the indicator. Both: the sum over nodes inside, normalised by the sum over all nodes.
@@ -100,12 +113,12 @@ double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x) const {
     double in = 0.0, all = 0.0;
     Vec<D> c{};
     for (int i = lo[0]; i <= hi[0]; ++i) {
-      c[0] = g.origin[0] + i * s;
+      c[0] = g.origin[0] + i * s[0];
       for (int j = lo[1]; j <= hi[1]; ++j) {
-        c[1] = g.origin[1] + j * s;
+        c[1] = g.origin[1] + j * s[1];
         const int k0 = D == 3 ? lo[D - 1] : 0, k1 = D == 3 ? hi[D - 1] : 0;
         for (int k = k0; k <= k1; ++k) {
-          if constexpr (D == 3) c[2] = g.origin[2] + k * s;
+          if constexpr (D == 3) c[2] = g.origin[2] + k * s[2];
           const Vec<D> r = x - c;
           const double r2 = dot(r, r);
           if (r2 >= R2) continue;

@@ -73,7 +73,8 @@ class PorousMedia {
     PorousRegionConfig cfg;
     Vec<D> lo{}, hi{};          // the shape's bounding box
     Vec<D> origin{};            // lattice (mesh or porous particles) origin
-    double spacing = 0.0;       // lattice spacing
+    double spacing = 0.0;       // nominal lattice spacing
+    Vec<D> step{};              // lattice spacing per direction (a box's lattice fits it)
     double h = 0.0, reach = 0.0;  // G's smoothing length and support radius
   };
   double indicator(const Region& g, const Vec<D>& x) const;
