@@ -29,8 +29,8 @@ def run_case(sphflume, case, out, sets, threads, reuse):
     if reuse and os.path.exists(summary_path):
         with open(summary_path) as f:
             s = json.load(f)
-        if s.get("exit_code") == 0 and math.isclose(s.get("dx", -1), sets["particles.dx"], rel_tol=1e-9) \
-                and math.isclose(s.get("end_time", -1), sets["time.end"], rel_tol=1e-9):
+        if s.get("exit_code") == 0 and math.isclose(s.get("dx", -1), sets["particles.dx"], rel_tol=1e-7) \
+                and math.isclose(s.get("end_time", -1), sets["time.end"], rel_tol=1e-7):
             print(f"reusing {out} (dx = {s['dx']}, end = {s['end_time']})")
             return s, float(s.get("wall_seconds", float("nan"))), 0
     if os.path.isdir(out):
