@@ -141,7 +141,7 @@ def main():
     rep = Report()
     m = MODES[a.mode]
     src = "issue" if a.mode == "fine" else "issue, doubled at h1/10"
-    fig, ax = plt.subplots(2, 2, figsize=(12, 8))
+    fig, ax = plt.subplots(3, 2, figsize=(12, 11))
     for r in m["jumps"]:
         fr1, u1, u2, h2, sets = jump_sets(r)
         out = os.path.join(a.out, f"r{r}_dx{m['dx']}")
@@ -179,6 +179,7 @@ def main():
         n_zone = int(np.sum(mom[good, 3] <= INFLOW_X0 + H1 / 2 + 1e-9))
         print(f"  (info) upstream slab inside the inflow zone (front within dx_h + h1 of its end) in {n_zone} of {good.sum()} snapshots")
         prof = mom[:, 4:].mean(axis=0) / theory
+        ax[2, 0].plot(STATIONS, prof, "o-", ms=3, label=f"h2/h1 = {r}")
         down = [j for j, xc in enumerate(STATIONS) if np.nanmax(xh[ok]) + dxh_of(h2) + H1 <= xc <= 1.95]
         print("  (info) momentum function the particles carry, integral of (p + rho u^2) dz / exact, time mean over the "
               "window, at x = " + ", ".join(f"{xc:.2f}: {v:.3f}" for xc, v in zip(STATIONS, prof)))
@@ -211,6 +212,13 @@ def main():
     ax[1, 1].set_xlabel("x / h1")
     ax[1, 1].set_ylabel("depth / h1")
     ax[1, 1].legend(fontsize=7)
+    ax[2, 0].axhline(1.0, color="k", lw=0.6, ls="--")
+    ax[2, 0].axvspan(-0.1, 0.0, color="0.85", label="inflow zone")
+    ax[2, 0].set_xlabel("x (m)")
+    ax[2, 0].set_ylabel("particles' (sum p V + m u^2) / L / exact S")
+    ax[2, 0].set_title("momentum function the particles carry, mean over t* in [100, 150]", fontsize=9)
+    ax[2, 0].legend(fontsize=7)
+    ax[2, 1].axis("off")
     fig.suptitle(f"Hydraulic jump (Federico IC no. 2), dx = {m['dx']} m = h1/{H1 / m['dx']:.0f}")
     fig.tight_layout()
     save_figure(fig, HERE, NAME, a.mode, a.out)
