@@ -85,6 +85,11 @@ def front(L_t, h2):
     return float("nan")
 
 
+def dxh_of(h2):
+    """Half length of the jump region, 3 (h2 - h1) (Graf & Altinakar)."""
+    return 3 * (h2 - H1)
+
+
 INFLOW_X0 = -0.1  # upstream end of the inflow zone (cases/hydraulic_jump.yaml): no particles upstream of it
 STATIONS = [round(-0.05 + 0.1 * k, 2) for k in range(21)]  # slab centres for the momentum-function profile
 
@@ -98,7 +103,7 @@ def momentum(out, xh_of_t, h2):
     imposed upstream state. The profile: the momentum function the particles carry, (sum p V + sum m u^2) / L / rho0
     over slabs 0.1 m long at STATIONS (fluid, inflow and outflow particles), the integral of p + rho u^2 over the
     depth without the hydrostatic and uniform-velocity assumptions."""
-    dxh = 3 * (h2 - H1)
+    dxh = dxh_of(h2)
     res = []
     for snap in sorted(glob.glob(os.path.join(out, "snapshots", "snap_*.h5"))):
         with h5py.File(snap, "r") as f:
@@ -130,10 +135,6 @@ def momentum(out, xh_of_t, h2):
             prof.append((np.sum(p[sel] * m[sel] / rho[sel]) + np.sum(m[sel] * u[sel, 0] ** 2)) / 0.1 / 1000.0)
         res.append((t, S[0], S[1], c1, *prof))
     return np.array(res)
-
-
-def dxh_of(h2):
-    return 3 * (h2 - H1)
 
 
 def main():
