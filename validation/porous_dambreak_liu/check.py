@@ -20,13 +20,17 @@ Metrics:
      m/(phi rho) grows as water enters the dam (a particle's volume there holds pores and grains) and is
      printed only.
   3. (all variants) pressure continuous across the upstream dam face: pressure gauges at z = 0.05 m (0.10 m
-     for Liu) at x = face - 0.04, face - 0.02, face + 0.02, face + 0.04 m; each side's pair extrapolated
-     linearly to the face, the jump |p(face-) - p(face+)| / p_face (p_face: the gauge on the face), time mean
-     over the outputs with t >= 0.5 s where the face is wet, <= 3 %. The pressure gradient itself changes
+     for Liu) at x = face - 0.04, face - 0.02, face + 0.02, face + 0.04 m, time-averaged over the outputs with
+     t >= 0.5 s where the face is wet; each side's pair extrapolated linearly to the face, the jump
+     |p(face-) - p(face+)| / p_face (p_face: the gauge on the face) <= 3 %. (The same taken output by output
+     is printed: the tank's sloshing puts waves between the gauges, whose curvature the two-point
+     extrapolations read as a jump of a few % that changes sign; a discontinuity of the model survives the
+     time mean, the waves do not.) The pressure gradient itself changes
      at the face (the drag acts inside only), so the pressure may have a kink there but no jump; the
      kink |p_face - (p(face - 0.02) + p(face + 0.02))/2| / p_face is printed (info).
-Modes: fine = the three variants at dx = 0.005 m (the theses' resolution class: l0 = 3-5 mm), every metric
-gated; coarse (CTest) = Liu only at dx = 0.01 m: the run and the water sum m/rho are gated; the RMSE (against
+Modes: fine = Liu and the rock at dx = 0.005 m (the theses' resolution class: l0 = 3-5 mm), the beads at
+dx = 0.001 m (h = 2 mm: the one-grain interface layer, d_s = 3 mm, needs h <= d_s; Kazemi ran h = 3.6 mm; the
+jump falls 15.4 / 5.4 / 0.5 % at dx = 0.005 / 0.0015 / 0.001; 78 min on 2 threads), every metric gated; coarse (CTest) = Liu only at dx = 0.01 m: the run and the water sum m/rho are gated; the RMSE (against
 2 x 8 mm: a first-order error doubles with dx), the surface volume and the pressure jump, which the fine runs do
 not all meet yet (validation/README.md), are printed (info).
 --set variants=liu1999,kazemi_rock_25cm,kazemi_beads_15cm picks the variants (default: the mode's); every other
@@ -50,10 +54,12 @@ CASES = os.path.normpath(os.path.join(HERE, "..", "..", "cases"))
 DATA_DIRS = [os.path.join(HERE, "data"), "/work/shared/validation/porous_dambreak_liu1999"]
 NAME = "porous_dambreak_liu"
 TIMES = [0.35, 0.75, 1.15, 1.55, 1.95]
-VARIANTS = {  # name -> case file, end time
-    "liu1999": ("porous_dambreak_liu.yaml", 2.0),
-    "kazemi_rock_25cm": ("porous_dambreak_kazemi_rock.yaml", 2.0),
-    "kazemi_beads_15cm": ("porous_dambreak_kazemi_beads.yaml", 4.0),
+BEADS_FINE_DX = 0.001
+VARIANTS = {  # name -> case file, end time, dx of the fine mode (None: the mode's)
+    "liu1999": ("porous_dambreak_liu.yaml", 2.0, None),
+    "kazemi_rock_25cm": ("porous_dambreak_kazemi_rock.yaml", 2.0, None),
+    # the beads' one-grain interface layer (d_s = 3 mm) needs h <= d_s (Kazemi: h = 3.6 mm); see the docstring
+    "kazemi_beads_15cm": ("porous_dambreak_kazemi_beads.yaml", 4.0, BEADS_FINE_DX),
 }
 MODES = {
     "coarse": {"dx": 0.01, "variants": ["liu1999"], "rmse": 0.016},
@@ -90,18 +96,19 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     rep = Report()
     sets = parse_sets(a.set)
-    dx = float(sets.get("particles.dx", m["dx"]))
-    print(f"\n== {NAME} ({a.mode}: dx = {dx:g} m)")
+    print(f"\n== {NAME} ({a.mode}: dx = {sets.get('particles.dx', m['dx'])} m"
+          f"{'' if 'particles.dx' in sets or a.mode != 'fine' else f', beads {BEADS_FINE_DX} m'})")
     figs = {}
     chosen = sets.pop("variants", ",".join(m["variants"])).split(",")
     unknown = [v for v in chosen if v not in VARIANTS]
     if unknown:
         raise SystemExit(f"--set variants=...: unknown {unknown}; choose from {list(VARIANTS)}")
     for v in chosen:
-        case, end = VARIANTS[v]
+        case, end, fine_dx = VARIANTS[v]
+        dx = float(sets.get("particles.dx", fine_dx if a.mode == "fine" and fine_dx else m["dx"]))
         out = os.path.join(a.out, f"{v}_dx{dx:g}")
         s, wall, rc = run_case(a.sphflume, os.path.join(CASES, case), out,
-                               {"particles.dx": m["dx"], "time.end": end, **sets}, a.threads, a.reuse)
+                               {"time.end": end, **sets, "particles.dx": dx}, a.threads, a.reuse)
         if s is None:
             rep.metric(f"{v}: run", f"exit code {rc}", False, "0", "run")
             continue
@@ -144,12 +151,16 @@ def main():
         for q in (po, pi, po2, pi2):
             sel &= np.isfinite(q[:, 1])
         if sel.sum() > 0:
-            left = 2.0 * po[sel, 1] - po2[sel, 1]
-            right = 2.0 * pi[sel, 1] - pi2[sel, 1]
-            jump = np.abs(left - right) / pf[sel, 1]
-            gate(f"{v}: pressure jump at the upstream face (one-sided linear extrapolations), time mean t >= 0.5 s",
-                 f"{100 * jump.mean():.2f} % (max {100 * jump.max():.2f} %, {sel.sum()} outputs)", jump.mean() <= KINK_TOL,
+            mean = {k: float(np.mean(q[sel, 1])) for k, q in (("o", po), ("o2", po2), ("f", pf), ("i", pi), ("i2", pi2))}
+            left, right = 2.0 * mean["o"] - mean["o2"], 2.0 * mean["i"] - mean["i2"]
+            jm = abs(left - right) / mean["f"]
+            gate(f"{v}: pressure jump at the upstream face (one-sided linear extrapolations of the time-mean "
+                 f"pressures, t >= 0.5 s)", f"{100 * jm:.2f} % (face- {left:.0f} Pa, face+ {right:.0f} Pa, face gauge "
+                 f"{mean['f']:.0f} Pa; {sel.sum()} outputs)", jm <= KINK_TOL,
                  f"<= {100 * KINK_TOL:g} %", "issue (continuous pressure across the dam faces)")
+            jump = np.abs((2.0 * po[sel, 1] - po2[sel, 1]) - (2.0 * pi[sel, 1] - pi2[sel, 1])) / pf[sel, 1]
+            print(f"    (info) the same at each output (sloshing waves included): mean {100 * jump.mean():.2f} %, "
+                  f"max {100 * jump.max():.2f} %")
             kink = np.abs(pf[sel, 1] - 0.5 * (po[sel, 1] + pi[sel, 1])) / pf[sel, 1]
             print(f"    (info) pressure kink at the face |p_face - (p_out + p_in)/2| / p_face: mean {100 * kink.mean():.2f} %, "
                   f"max {100 * kink.max():.2f} %; slopes outside / inside {np.mean(po[sel, 1] - po2[sel, 1]) / 0.02:.0f} / "
@@ -160,7 +171,7 @@ def main():
             rep.metric(f"{v}: pressure at the upstream face", "face dry at every output", False, "wet", "issue")
         # 1. free surface (Liu only: the measured data)
         xs = pts[:, 1]
-        figs[v] = (surf, xs)
+        figs[v] = (surf, xs, dx)
         if v != "liu1999":
             continue
         for t in TIMES:
@@ -183,7 +194,7 @@ def main():
                   f"of the measured t = 0 surface and {100 * (vm / w[0] - 1):+.2f} % of the simulated water; "
                   f"RMSE without the mean bias {1000 * float(np.std(sim - e[:, 1])):.1f} mm")
     if "liu1999" in figs:
-        surf, xs = figs["liu1999"]
+        surf, xs, dx = figs["liu1999"]
         fig, axs = plt.subplots(len(TIMES), 1, figsize=(8, 2.3 * len(TIMES)), sharex=True)
         for ax, t in zip(axs, TIMES):
             i = int(np.argmin(np.abs(surf[:, 0] - t)))
