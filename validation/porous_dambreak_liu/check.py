@@ -31,7 +31,8 @@ Metrics:
 Modes: fine = Liu and the rock at dx = 0.005 m (the theses' resolution class: l0 = 3-5 mm), the beads at
 dx = 0.001 m (h = 2 mm: the one-grain interface layer, d_s = 3 mm, needs h <= d_s; Kazemi ran h = 3.6 mm; the
 jump falls 15.4 / 5.4 / 0.5 % at dx = 0.005 / 0.0015 / 0.001; 78 min on 2 threads), every metric gated;
-coarse (CTest) = Liu only at dx = 0.01 m: the run and the water sum m/rho are gated; the RMSE (against 2 x 8 mm: a first-order error doubles with dx), the surface volume and the pressure jump, which the fine runs do
+coarse (CTest) = Liu only at dx = 0.01 m: the run and the water sum m/rho are gated; the RMSE (against
+2 x 8 mm: a first-order error doubles with dx), the surface volume and the pressure jump, which the fine runs do
 not all meet yet (validation/README.md), are printed (info).
 --set variants=liu1999,kazemi_rock_25cm,kazemi_beads_15cm picks the variants (default: the mode's); every other
 --set goes to sphflume (e.g. --set particles.dx=0.0015).
