@@ -22,8 +22,10 @@ Metrics:
   The double-averaged (time, and over the three sections) velocity and shear-stress profiles are drawn with the
   levels z_t, z_c, z_ws of Table 6-2 and the total stress rho g S0 (z_ws - z) above the crest, against the
   thesis's description (§5.6: velocity underestimated near the bed, tau_r << tau_l above the crest).
-Modes: coarse dx = 0.01 m, 30 s, window [20, 30] s (the thesis finds the flow steady by ~20 s); fine dx = 0.005 m
-(Kazemi's l0), 45 s, window [35, 45] s (his averaging window).
+Modes: coarse dx = 0.01 m, 30 s, window [20, 30] s (the thesis finds the flow steady by ~20 s); medium
+dx = 0.007 m, the same times (about 45 min on 2 threads: a second resolution); fine dx = 0.005 m (Kazemi's l0),
+45 s, window [35, 45] s (his averaging window; about 3 h). U0 is set per dx so that eq 6.8 holds on the depth
+the inflow lattice fills.
 Usage: /usr/bin/python3 validation/gravel_bed/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import math
@@ -45,11 +47,13 @@ CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "gravel_bed_B1Q6
 NAME = "gravel_bed"
 Z_T, Z_C, Z_WS, S0, G = 0.0366, 0.0876, 0.184, 0.0026, 9.81
 PHI_IN = 0.75
+DEPTH_IN = 0.2577  # H_t^in, the inflow's depth (case file)
 Q = 0.060 / 0.90  # Q / B_w (B_w: the flume's width, assumed; see the case file)
 SECTIONS = {"x1": 0.772, "x2": 1.288, "x3": 1.804}
 SLAB = 0.1  # m, width of the particle slab the section flux is taken from
 MODES = {
     "coarse": {"dx": 0.01, "end": 30.0, "from": 20.0},
+    "medium": {"dx": 0.007, "end": 30.0, "from": 20.0},
     "fine": {"dx": 0.005, "end": 45.0, "from": 35.0},
 }
 GAUGES = ["q_x1", "q_x2", "q_x3", "u_x1", "u_x2", "u_x3", "tau_x2", "depth"]  # with average_from, in case order
@@ -61,8 +65,13 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     out = os.path.join(a.out, f"dx{m['dx']:g}")
     zone = 4 * m["dx"] / math.sqrt(PHI_IN)  # 4 inflow layers at the inflow spacing
+    # eq 6.8 on the depth the inflow lattice fills: whole rows of dx/sqrt(PHI_IN) below the inflow depth
+    # (22 rows at dx = 0.01, 31 at 0.007, 44 at 0.005)
+    s_in = m["dx"] / math.sqrt(PHI_IN)
+    u0 = Q / (PHI_IN * math.floor(DEPTH_IN / s_in + 1e-9) * s_in)
     sets = {"particles.dx": m["dx"], "time.end": m["end"], "open_boundaries.0.zone": f"[{-zone:.9g}, 0.0]",
-            "geometry.1.min": f"[{-zone:.9g}, 0.0]"}
+            "geometry.1.min": f"[{-zone:.9g}, 0.0]", "open_boundaries.0.profile.u": f"{u0:.6g}",
+            "geometry.1.velocity": f"[{u0:.6g}, 0.0]"}
     for k in range(len(GAUGES)):
         sets[f"gauges.{k}.average_from"] = m["from"]
     sets.update(parse_sets(a.set))
