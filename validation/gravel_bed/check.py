@@ -24,9 +24,8 @@ Metrics:
   thesis's description (§5.6: velocity underestimated near the bed, tau_r << tau_l above the crest).
 Modes: coarse dx = 0.01 m, 30 s, window [20, 30] s (the thesis finds the flow steady by ~20 s); medium
 dx = 0.007 m, the same times (a second resolution; it stops at t = 10 s on a compressed particle at the
-porous inflow, validation/README.md); fine dx = 0.005 m (Kazemi's l0),
-45 s, window [35, 45] s (his averaging window; about 3 h). U0 is set per dx so that eq 6.8 holds on the depth
-the inflow lattice fills.
+porous inflow, validation/README.md); fine dx = 0.005 m (Kazemi's l0), 45 s, window [35, 45] s (his averaging
+window; about 3 h). U0 is set per dx so that eq 6.8 holds on the depth the inflow lattice fills.
 Usage: /usr/bin/python3 validation/gravel_bed/check.py [--mode coarse|medium|fine] [--sphflume PATH] [--out DIR]
 """
 import math
