@@ -1,14 +1,21 @@
 #!/usr/bin/env bash
 # Install SPHFlume's build and run dependencies from Debian 12 packages. Idempotent: packages
 # already installed are left as they are. Needs root (or sudo).
+#
+#   scripts/install-deps.sh           build, run, validation scripts
+#   scripts/install-deps.sh --tests   the same plus what only the test suite needs (ParaView's
+#                                     pvpython for the XDMF round trip; ~450 MB, scripts/test.sh)
 set -euo pipefail
 PKGS=(
   build-essential g++ cmake make pkg-config git
   libeigen3-dev libmuparser-dev libyaml-cpp-dev libhdf5-dev libcli11-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy python3-matplotlib python3-h5py
+  python3 python3-numpy python3-matplotlib python3-h5py python3-yaml
   clang libclang-rt-14-dev
 )
+if [ "${1:-}" = "--tests" ]; then
+  PKGS+=(paraview python3-paraview)
+fi
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

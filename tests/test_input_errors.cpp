@@ -82,6 +82,18 @@ TEST(InputErrors, UnknownKeysSuggestTheClosest) {
   EXPECT_HAS(e, "line 5: 'particles': expected keys that are plain names");
 }
 
+TEST(InputErrors, DuplicateKeysAtEveryLevelNameBothLines) {
+  // YAML forbids a key twice in one mapping; yaml-cpp would keep the first silently
+  std::string e = error_of(std::string(kCase) + "particles:\n  dx: 0.02\n");
+  EXPECT_HAS(e, "case.yaml: line 13: duplicate key 'particles' (first given at line 3)");
+  e = error_of(replaced(kCase, "  output_interval: 0.1\n", "  output_interval: 0.1\n  end: 2.0\n"));
+  EXPECT_HAS(e, "case.yaml: line 13: duplicate key 'time.end' (first given at line 11)");
+  e = error_of(replaced(kCase, "max: [0.1, 0.1]}", "max: [0.1, 0.1], fill: wall}"));
+  EXPECT_HAS(e, "case.yaml: line 9: duplicate key 'geometry.1.fill' (first given at line 9)");
+  // the same name in two different mappings is not a duplicate (min/max in geometry.0 and .1)
+  EXPECT_EQ(error_of(kCase), "");
+}
+
 TEST(InputErrors, MissingRequiredKeysAndSections) {
   std::string e = error_of(replaced(kCase, "  dx: 0.01\n", "  kernel: cubic_spline\n"));
   EXPECT_HAS(e, "case.yaml: line 4: missing required key 'particles.dx': expected a positive number");

@@ -4,6 +4,7 @@ import math
 import os
 import shutil
 import subprocess
+import tempfile
 import time
 
 
@@ -111,13 +112,22 @@ class Report:
         print(f"\n{name} {mode}: PASSED")
 
 
+REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+
+def default_binary():
+    """$SPHFLUME if set, else build/sphflume of the repository that holds this script."""
+    return os.environ.get("SPHFLUME") or os.path.join(REPO, "build", "sphflume")
+
+
 def validation_args(name, doc, modes):
     """The options every check.py takes: --sphflume, --mode, --out, --threads, --set, --reuse."""
     import argparse
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sphflume", default="/work/main/build/sphflume")
+    ap.add_argument("--sphflume", default=default_binary(),
+                    help="the sphflume binary (default: build/sphflume of this repository, or $SPHFLUME)")
     ap.add_argument("--mode", choices=modes, default="coarse")
-    ap.add_argument("--out", default=f"/tmp/validation/{name}")
+    ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-validation", name))
     ap.add_argument("--threads", type=int, default=2)
     add_set_option(ap)
     ap.add_argument("--reuse", action="store_true", help="reuse a finished run in --out with the same dx and end time")

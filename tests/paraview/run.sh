@@ -5,7 +5,7 @@
 #   tests/paraview/run.sh [path/to/sphflume]      (default: build/sphflume)
 #
 # Needs pvpython (Debian/Ubuntu: apt-get install paraview python3-paraview; or set PVPYTHON).
-# Exits 77 (skip) when pvpython is missing, 0 on pass, non-zero on failure. No X display is
+# Exits 77 (skip) when pvpython is missing (1 with SPHFLUME_REQUIRE_PARAVIEW=1, as scripts/test.sh sets), 0 on pass, non-zero on failure. No X display is
 # needed: the check only reads data, nothing is rendered. KEEP=1 keeps the run folder.
 set -u
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -16,6 +16,10 @@ case "$bin" in /*) ;; *) bin="$PWD/$bin" ;; esac
 
 pvpython=${PVPYTHON:-$(command -v pvpython || true)}
 if [ -z "$pvpython" ] || [ ! -x "$pvpython" ]; then
+  if [ "${SPHFLUME_REQUIRE_PARAVIEW:-0}" = 1 ]; then
+    echo "FAIL: pvpython not found and SPHFLUME_REQUIRE_PARAVIEW=1 (scripts/test.sh installs it: scripts/install-deps.sh --tests)"
+    exit 1
+  fi
   echo "SKIP: pvpython not found (install paraview + python3-paraview, or set PVPYTHON=/path/to/pvpython)"
   exit 77
 fi

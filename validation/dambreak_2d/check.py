@@ -4,7 +4,7 @@
 A column a = 0.146 m wide and 2a high (n^2 = 2) collapses in a tank 4a long. The front (gauge front: the
 furthest fluid particle with >= 3 fluid neighbours along x) gives Z = front / a against T = t sqrt(2 g / a).
 Reference: Martin & Moyce (1952), Phil. Trans. R. Soc. Lond. A 244, 312-324, their Figure 3, n^2 = 2, two
-column sizes (a = 1.125 in and a = 2.25 in), as digitised in shared/validation/dambreak_2d/.
+column sizes (a = 1.125 in and a = 2.25 in), as digitised in data/ (source: data/README.md).
 
 Metric, for each data set: take the measured points with Z < 3.8 (the tank is 4a long), interpolate the
 simulated Z(T) linearly at their T (no time shift), error = mean |Z_sim - Z_exp| / Z_exp.
@@ -38,7 +38,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "dambreak_2d.yaml"))
 NAME = "dambreak_2d"
-DATA_DIRS = [HERE, "/work/shared/validation/dambreak_2d"]  # the folder's own copy first
+DATA_DIRS = [os.path.join(HERE, "data")]  # copied from the project's reference set (data/README.md)
 DATA = {"2.25in": "martin_moyce_a2.25in_n2_2.csv", "1.125in": "martin_moyce_a1.125in_n2_2.csv"}
 PRIMARY = "2.25in"
 

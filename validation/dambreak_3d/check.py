@@ -37,8 +37,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "dambreak_3d.yaml"))
 NAME = "dambreak_3d"
-MM_DATA = [os.path.join(HERE, "..", "dambreak_2d", "martin_moyce_a2.25in_n2_2.csv"),
-           "/work/shared/validation/dambreak_2d/martin_moyce_a2.25in_n2_2.csv"]
+MM_DATA = [os.path.join(HERE, "..", "dambreak_2d", "data", "martin_moyce_a2.25in_n2_2.csv")]
 
 A, G = 0.146, 9.81
 

@@ -3,7 +3,7 @@
 validation 3), and Kazemi's 25 cm crushed-rock and 15 cm glass-bead variants (cases/porous_dambreak_kazemi_*.yaml).
 
 Liu: tank 0.892 m, crushed-rock dam x = 0.30-0.59 m (d50 = 15.9 mm, porosity 0.49), reservoir 0.3534 m deep
-over x <= 0.2945 m, a 0.025 m layer of water elsewhere (shared/validation/porous_dambreak_liu1999/README.md).
+over x <= 0.2945 m, a 0.025 m layer of water elsewhere (data/README.md).
 SPHAM with Ergun's textbook constants (c1 = 150, c2 = 1.75: not fitted), Kazemi's smoothed porosity.
 Metrics:
   1. (Liu) free-surface RMSE against the measured surface at t = 0.35, 0.75, 1.15, 1.55, 1.95 s <= 8 mm at
@@ -52,7 +52,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASES = os.path.normpath(os.path.join(HERE, "..", "..", "cases"))
-DATA_DIRS = [os.path.join(HERE, "data"), "/work/shared/validation/porous_dambreak_liu1999"]
+DATA_DIRS = [os.path.join(HERE, "data")]  # source and licence: data/README.md
 NAME = "porous_dambreak_liu"
 TIMES = [0.35, 0.75, 1.15, 1.55, 1.95]
 BEADS_FINE_DX = 0.001

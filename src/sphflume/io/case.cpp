@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -277,6 +278,32 @@ void reject_non_finite(const Reader& r, const YAML::Node& n, const std::string& 
   } else if (n.IsMap()) {
     for (const auto& kv : n)
       reject_non_finite(r, kv.second, kv.first.IsScalar() ? path + "." + kv.first.Scalar() : path, depth + 1);
+  }
+}
+
+/// YAML forbids a key twice in one mapping; yaml-cpp keeps both and its lookups return the first,
+/// so a repeated key would be silently ignored. Refused at every nesting level, naming both lines.
+/// `budget` bounds the walk (aliases may share subtrees many times over).
+void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const std::string& path, int depth,
+                           long& budget) {
+  if (depth > 64 || --budget < 0) return;
+  if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i)
+      reject_duplicate_keys(n[i], file, path.empty() ? std::to_string(i) : fmt::format("{}.{}", path, i), depth + 1,
+                            budget);
+  } else if (n.IsMap()) {
+    std::map<std::string, int> first_line;
+    for (const auto& kv : n) {
+      const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : YAML::Dump(kv.first);
+      const std::string full = path.empty() ? key : path + "." + key;
+      const int line = kv.first.Mark().line + 1;
+      const auto [it, fresh] = first_line.emplace(key, line);
+      if (!fresh)
+        throw InputError(fmt::format("{}: line {}: duplicate key '{}' (first given at line {}): YAML forbids a key "
+                                     "twice in one mapping; keep one of the two (merge their contents)",
+                                     file, line, full, it->second));
+      reject_duplicate_keys(kv.second, file, full, depth + 1, budget);
+    }
   }
 }
 
@@ -615,6 +642,8 @@ Case parse_case(const std::string& text, const std::string& name, const std::vec
                                  e.mark.column + 1, e.msg));
   }
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping of sections (particles, fluid, geometry, time, ...)", name));
+  long budget = 1'000'000;
+  reject_duplicate_keys(root, name, "", 0, budget);
   try {
     for (const auto& o : overrides) apply_override(root, o);
   } catch (const YAML::Exception& e) {
