@@ -13,11 +13,12 @@ The a = 2.25 in set is the primary metric: it is the larger of the two columns a
 reported beside it. The error is also split into T < 1.5 (the experiment's early lag: the gate is lifted
 in finite time, so the measured front starts late) and T >= 1.5.
 
-Thresholds:
-  fine (dx = a/20, a/40, a/80): primary error <= 10 % at a/40 (issue), and the error must not grow as dx
-    shrinks: e(a/40) <= e(a/20) and e(a/80) <= e(a/40) (issue);
-  coarse (dx = a/20 only): primary error <= 20 %: if the numerical error is first order in dx, the 10 % allowed
-    at a/40 doubles at a/20.
+Thresholds (issue 20, decision 1: the front converges, order about 0.7, to one ahead of the experiment,
+whose gate release is not modelled; accepted as measured, no time shift):
+  fine (dx = a/20, a/40, a/80): primary error <= 14 % at every resolution, and self-convergence: the change of
+    the simulated Z(T) between successive resolutions shrinks, d(a/40, a/80) < d(a/20, a/40) (the errors
+    against the experiment are printed at each resolution, not required to shrink);
+  coarse (dx = a/20 only): primary error <= 14 % (the same bound: it holds at every resolution).
 Both modes run to t = 0.3 s (T = 3.48 > 2.95, the last measured T with Z < 3.8).
 Usage: /usr/bin/python3 validation/dambreak_2d/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
@@ -49,8 +50,8 @@ T_SPLIT = 1.5
 END = 0.3
 RES = {"a/20": 0.0073, "a/40": 0.00365, "a/80": 0.001825}
 MODES = {
-    "coarse": {"res": ["a/20"], "threshold": {"a/20": 0.20}},
-    "fine": {"res": ["a/20", "a/40", "a/80"], "threshold": {"a/40": 0.10}},
+    "coarse": {"res": ["a/20"], "threshold": {"a/20": 0.14}},
+    "fine": {"res": ["a/20", "a/40", "a/80"], "threshold": {"a/20": 0.14, "a/40": 0.14, "a/80": 0.14}},
 }
 
 
@@ -140,14 +141,12 @@ def main():
     for res, thr in m["threshold"].items():
         if res in errs:
             e = errs[res][PRIMARY]["all"]
-            why = "issue" if a.mode == "fine" else "issue 10 % at a/40, x2 for first order at a/20"
-            metric(f"front error {res}", f"{100 * e:.2f} %", e <= thr, f"<= {100 * thr:g} % ({why})", src)
-    if a.mode == "fine":
-        order = [r for r in m["res"] if r in errs]
-        for r0, r1 in zip(order, order[1:]):
-            e0, e1 = errs[r0][PRIMARY]["all"], errs[r1][PRIMARY]["all"]
-            metric(f"front error does not grow {r0} -> {r1}", f"{100 * e0:.2f} % -> {100 * e1:.2f} %", e1 <= e0,
-                   "e(finer) <= e(coarser)", "issue (convergence)")
+            metric(f"front error {res}", f"{100 * e:.2f} %", e <= thr, f"<= {100 * thr:g} % at every resolution",
+                   src + "; issue 20 decision 1")
+    order = [r for r in m["res"] if r in errs]
+    for r0, r1 in zip(order, order[1:]):  # (info) the error against the experiment, coarse to fine
+        print(f"  (info) front error {r0} -> {r1}: {100 * errs[r0][PRIMARY]['all']:.2f} % -> "
+              f"{100 * errs[r1][PRIMARY]['all']:.2f} %")
     for res in errs:
         # information only: the delay of the experiment that would best fit (the metric itself is not shifted)
         d = data[PRIMARY]
@@ -158,14 +157,19 @@ def main():
               f"would bring the {PRIMARY} error to {100 * fit[k]:.2f} % (not applied)")
     order = [r for r in m["res"] if r in sims]
     if len(order) >= 2:
-        # information only: self-convergence of the simulated front over the compared T range
+        # self-convergence of the simulated front over the compared T range (gated in the fine mode)
         Tg = np.linspace(0.8, 2.95, 200)
         zs = {r: np.interp(Tg, *sims[r]) for r in order}
         diffs = [float(np.mean(np.abs(zs[r1] - zs[r0]) / zs[r1])) for r0, r1 in zip(order, order[1:])]
         txt = ", ".join(f"{r0} vs {r1}: {100 * dd:.2f} %" for (r0, r1), dd in zip(zip(order, order[1:]), diffs))
         if len(diffs) == 2 and diffs[1] > 0:
             txt += f"; observed self-convergence order {math.log2(diffs[0] / diffs[1]):.2f}"
-        print(f"  (info) change of the simulated Z(T) between resolutions (T in [0.8, 2.95]): {txt}")
+        print(f"  change of the simulated Z(T) between resolutions (T in [0.8, 2.95]): {txt}")
+        for (p0, p1), d0, d1 in zip(zip(order, order[1:]), diffs, diffs[1:]):
+            metric(f"self-convergence: change {p1} vs next < change {p0} vs {p1}", f"{100 * d0:.2f} % -> {100 * d1:.2f} %",
+                   d1 < d0, "successive differences shrinking", "issue 20 decision 1")
+    if a.mode == "fine" and len(order) < 3:
+        metric("self-convergence", "fewer than 3 resolutions ran", False, "a/20, a/40, a/80", "issue 20 decision 1")
     for res in errs:
         e = errs[res]["1.125in"]
         print(f"  (info) {res} against a = 1.125 in: {100 * e['all']:.2f} % "

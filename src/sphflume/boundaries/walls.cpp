@@ -224,6 +224,7 @@ class DynamicWalls final : public WallModel<D> {
 
 template <int D>
 void WallModel<D>::add_forces(System<D>& S) const {
+  if (cfg.backup) add_backup(S);
   if (!cfg.repulsive) return;
   auto& P = S.particles;
   if (!P.vector_fields().count("wall_normal"))
@@ -247,6 +248,47 @@ void WallModel<D>::add_forces(System<D>& S) const {
       const double v = -dot(P.vel[a] - P.vel[k], nk);
       const double A = std::max(0.0, b1 + b2 * v) / h;
       f += (A * (1.0 - q) / std::sqrt(q) * 0.5 * (1.0 + std::cos(pi * rt / dx))) * nk;
+    });
+    P.acc[a] += f;
+  }
+}
+
+template <int D>
+void WallModel<D>::add_backup(System<D>& S) const {
+  auto& P = S.particles;
+  if (!P.vector_fields().count("wall_to_surface"))
+    throw std::logic_error("wall backup: the geometry made no wall surface vectors (wall_to_surface)");
+  const auto& to = P.vector("wall_to_surface");
+  const std::size_t n = P.n_owned();
+  const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
+  const double s0 = 0.25 * dx;  // the fluid's normal distance from the surface is dx/2
+  const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
+  // only fluid in cells within reach of a first-layer wall particle is examined
+  S.cells.mark_near(near_, [&](std::size_t j) {
+    if (P.kind[j] != Kind::Wall) return false;
+    const Vec<D>& v = to[j < n ? j : P.image_source[j - n]];
+    return dot(v, v) < dx * dx;
+  });
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t a = 0; a < n; ++a) {
+    if (P.kind[a] != Kind::Fluid || !near_[S.cells.cell_of(a)]) continue;
+    Vec<D> f{};
+    S.cells.for_neighbours(P.pos, P.pos[a], std::hypot(dx + s0, dx), [&](std::uint32_t k, const Vec<D>& r, double r2) {
+      if (P.kind[k] != Kind::Wall) return;
+      const Vec<D>& v = to[k < n ? k : P.image_source[k - n]];
+      const double depth2 = dot(v, v);
+      if (!(depth2 > 0.0) || depth2 >= dx * dx) return;  // first layer only; a corner's own point has no normal
+      const double depth = std::sqrt(depth2);
+      const Vec<D> nk = (1.0 / depth) * v;
+      const double rn = dot(r, nk);  // r = x_a − x_k
+      const double s = rn - depth;   // signed distance of a from the surface (positive: fluid side)
+      if (s >= s0) return;
+      const double rt = std::sqrt(std::max(0.0, r2 - rn * rn));
+      if (rt >= dx) return;
+      const double approach = -dot(P.vel[a] - P.vel[k], nk);
+      const double A = std::max(0.0, b1 + b2 * approach) / h;
+      const double q = 1.0 - s / s0;  // 0 at s0, 1 on the surface, > 1 past it
+      f += (A * q * q * 0.5 * (1.0 + std::cos(pi * rt / dx))) * nk;
     });
     P.acc[a] += f;
   }

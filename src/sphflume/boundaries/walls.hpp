@@ -17,10 +17,14 @@
 //  n_k the wall particle's unit normal towards the fluid, v = −(u_a − u_k)·n_k the speed at which
 //  a approaches the wall (Monaghan & Kos: stronger when approaching; clamped so that it never
 //  attracts). P sums to 1 over wall particles dx apart, so a flat wall pushes uniformly.
+//  Backup (walls.backup, on by default for every model but repulsive): the same force, acting
+//  only on fluid closer than dx/4 to the wall surface (add_backup), so that no wall model lets a
+//  particle through (thin slow films over dummy beds did).
 // New models: derive from WallModel and add one line to wall_registry().
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "sphflume/core/registry.hpp"
 #include "sphflume/core/system.hpp"
@@ -47,6 +51,15 @@ class WallModel {
   /// when cfg.repulsive).
   void add_forces(System<D>& S) const;
   WallConfig cfg;
+
+ private:
+  /// The backup against penetration (cfg.backup): a fluid particle a closer than s0 = dx/4 to
+  /// the surface of a first-layer wall particle k (depth d_k < dx below the surface, unit
+  /// normal n_k) gets  f = A5 (1 − s/s0)² P(r∥) n_k,  s = (x_a − x_k)·n_k − d_k, with the
+  /// Monaghan–Kos strength A5 and tangential weight P. The fluid's normal distance from the
+  /// surface is dx/2, so a flow the wall model holds never feels it.
+  void add_backup(System<D>& S) const;
+  mutable std::vector<char> near_;
 };
 
 template <int D>

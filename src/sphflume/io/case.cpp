@@ -482,6 +482,8 @@ Case build_case(YAML::Node root, const std::string& file) {
       c.walls.beta2 = q.in_range("beta2", 1.0, 0.0, 100.0);
       q.finish();
     }
+    // the Monaghan-Kos force already keeps the fluid out; the backup serves the other models
+    c.walls.backup = r.scalar<bool>("backup", true) && !c.walls.repulsive;
     if (r.has("tangential_factor")) {
       if (c.walls.type != "fixed_ghost")
         r.fail_at(r.get("tangential_factor"), "walls.tangential_factor", "walls.type: fixed_ghost (the factor scales the ghosts' tangential velocity)");

@@ -87,6 +87,10 @@ struct WallConfig {
   // it with ghost particles)
   bool repulsive = false;
   double beta1 = 0.01, beta2 = 1.0;  // A5 = (beta1 c0² + beta2 c0 v_approach) / h (Federico ch. 6 values)
+  // Backup against penetration (any model but repulsive): a fluid particle closer than dx/4 to the
+  // wall surface (through a first-layer wall particle's tangent plane) is pushed back out; inert
+  // while the wall model keeps the fluid at its normal dx/2 from the surface (WallModel::add_forces)
+  bool backup = true;
   // fixed_ghost: tangential ghost velocity = psi × the interpolated one (Federico eq 5.8: psi in
   // [0, 1] calibrates bed roughness, 0.4 in his ch. 6); NaN = from `slip` (-1 no-slip, +1 free-slip)
   double tangential_factor = std::numeric_limits<double>::quiet_NaN();

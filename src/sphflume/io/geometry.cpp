@@ -520,6 +520,11 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     }
   }
 
+  if (c.walls.backup) {  // first-layer wall particles: the vector to their surface point (depth and normal)
+    auto& to = P.vector("wall_to_surface");
+    for (std::size_t k = 0; k < wall_x.size(); ++k) to[first_wall + k] = wall_s[k] - wall_x[k];
+  }
+
   if (!c.periodic.empty()) {
     S.periodic.lo = to_vec<D>(c.domain_min);
     S.periodic.hi = to_vec<D>(c.domain_max);
