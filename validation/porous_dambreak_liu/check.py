@@ -6,8 +6,9 @@ Liu: tank 0.892 m, crushed-rock dam x = 0.30-0.59 m (d50 = 15.9 mm, porosity 0.4
 over x <= 0.2945 m, a 0.025 m layer of water elsewhere (data/README.md).
 SPHAM with Ergun's textbook constants (c1 = 150, c2 = 1.75: not fitted), Kazemi's smoothed porosity.
 Metrics:
-  1. (Liu) free-surface RMSE against the measured surface at t = 0.35, 0.75, 1.15, 1.55, 1.95 s <= 8 mm at
-     each time (issue; the theses report ~6 mm on their 25 cm variant, Kazemi Table 5-1). The simulated surface
+  1. (Liu) free-surface RMSE against the measured surface at t = 0.35, 0.75, 1.15, 1.55, 1.95 s: the mean over
+     the five times <= 9 mm and none above 15 mm (issue 20, decision 4: a closure used as published, no fitting,
+     no time shift; the theses report ~6 mm on their 25 cm variant, Kazemi Table 5-1). The simulated surface
      is the depth_profile gauge (the height where the fluid fraction sum m/(phi rho) W falls to 0.5 on the
      vertical through each of 88 points, 1 cm apart), interpolated linearly at the measured x; no time shift.
   2. (all variants) water volume within 1 % of its initial value at every output (issue), two ways:
@@ -32,7 +33,7 @@ Modes: fine = Liu and the rock at dx = 0.005 m (the theses' resolution class: l0
 dx = 0.001 m (h = 2 mm: the one-grain interface layer, d_s = 3 mm, needs h <= d_s; Kazemi ran h = 3.6 mm; the
 jump falls 15.4 / 5.4 / 0.5 % at dx = 0.005 / 0.0015 / 0.001; 78 min on 2 threads), every metric gated;
 coarse (CTest) = Liu only at dx = 0.01 m: the run and the water sum m/rho are gated; the RMSE (against
-2 x 8 mm: a first-order error doubles with dx), the surface volume and the pressure jump, which the fine runs do
+2 x the fine bounds: a first-order error doubles with dx), the surface volume and the pressure jump, which the fine runs do
 not all meet yet (validation/README.md), are printed (info).
 --set variants=liu1999,kazemi_rock_25cm,kazemi_beads_15cm picks the variants (default: the mode's); every other
 --set goes to sphflume (e.g. --set particles.dx=0.0015).
@@ -63,8 +64,8 @@ VARIANTS = {  # name -> case file, end time, dx of the fine mode (None: the mode
     "kazemi_beads_15cm": ("porous_dambreak_kazemi_beads.yaml", 4.0, BEADS_FINE_DX),
 }
 MODES = {
-    "coarse": {"dx": 0.01, "variants": ["liu1999"], "rmse": 0.016},
-    "fine": {"dx": 0.005, "variants": list(VARIANTS), "rmse": 0.008},
+    "coarse": {"dx": 0.01, "variants": ["liu1999"], "rmse_mean": 0.018, "rmse_max": 0.030},
+    "fine": {"dx": 0.005, "variants": list(VARIANTS), "rmse_mean": 0.009, "rmse_max": 0.015},
 }
 RHO, G = 1000.0, 9.81
 TANK = 0.892
@@ -99,7 +100,7 @@ def main():
     sets = parse_sets(a.set)
     print(f"\n== {NAME} ({a.mode}: dx = {sets.get('particles.dx', m['dx'])} m"
           f"{'' if 'particles.dx' in sets or a.mode != 'fine' else f', beads {BEADS_FINE_DX} m'})")
-    figs = {}
+    figs, rmses = {}, []
     chosen = sets.pop("variants", ",".join(m["variants"])).split(",")
     unknown = [v for v in chosen if v not in VARIANTS]
     if unknown:
@@ -186,14 +187,21 @@ def main():
             rmse = float(np.sqrt(np.mean((sim - e[:, 1]) ** 2)))
             bias = float(np.mean(sim - e[:, 1]))
             gate = rep.metric if a.mode == "fine" else info
+            rmses.append(rmse)
             gate(f"free-surface RMSE at t = {t:.2f} s", f"{1000 * rmse:.1f} mm (bias {1000 * bias:+.1f} mm)",
-                 rmse <= m["rmse"], f"<= {1000 * m['rmse']:g} mm",
-                       "issue" if a.mode == "fine" else "issue 8 mm at the theses' resolution, x2 at dx = 0.01")
+                 rmse <= m["rmse_max"], f"<= {1000 * m['rmse_max']:g} mm (none above)",
+                 "issue 20 decision 4" if a.mode == "fine" else "issue 20: 15 mm at dx = 0.005, x2 at dx = 0.01")
             # the measured surface's own water volume (the same measure as Kazemi's, over the data points)
             vm = measured_volume(t)
             print(f"    (info) measured surface at {t:.2f} s holds {vm:.5f} m2 of water, {100 * (vm / measured_volume(0.0) - 1):+.2f} % "
                   f"of the measured t = 0 surface and {100 * (vm / w[0] - 1):+.2f} % of the simulated water; "
                   f"RMSE without the mean bias {1000 * float(np.std(sim - e[:, 1])):.1f} mm")
+    if rmses:
+        gate = rep.metric if a.mode == "fine" else info
+        rm = float(np.mean(rmses))
+        gate("free-surface RMSE, mean over the times", f"{1000 * rm:.1f} mm ({len(rmses)} times)",
+             rm <= m["rmse_mean"] and len(rmses) == len(TIMES), f"<= {1000 * m['rmse_mean']:g} mm",
+             "issue 20 decision 4" if a.mode == "fine" else "issue 20: 9 mm at dx = 0.005, x2 at dx = 0.01")
     if "liu1999" in figs:
         surf, xs, dx = figs["liu1999"]
         fig, axs = plt.subplots(len(TIMES), 1, figsize=(8, 2.3 * len(TIMES)), sharex=True)

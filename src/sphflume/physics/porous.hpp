@@ -23,8 +23,9 @@
 //   ergun      a = c1 (1-φ)²/φ² ν/d²,  b = c2 (1-φ)/φ / d          Kazemi eq 4.29 (c1 150, c2 1.75)
 //   tsurudome  a = c1 (1-φ)²/φ³ ν/d²,  b = c2 (1-φ)/φ³ / d          Tsurudome eq 4.1.2 (ν/Kp form)
 //   van_gent   a = α (1-φ)²/φ² ν/d²,  b = β (1 + 7.5/KC)(1-φ)/φ / d, and an added-mass factor
-//              M = 1 + γ (1-φ)/φ dividing the other accelerations (olaFlow's VARANS form per unit
-//              mass of the intrinsic velocity; α 1000, β 1.1, γ 0.34)
+//              M = 1 + γ (1-φ)/φ dividing the other accelerations (van Gent 1995 as Liu et al.
+//              1999 use it, per unit mass of the intrinsic velocity; α 1000, β 1.1, γ 0.34).
+//              olaFlow's (a, b, c) differ: α = a (1-φ), β = b, γ = c φ/(1-φ) (docs/porous-closures.md)
 //   roughness  a = 0, b = factor C_d (1-φ) / d                        Kazemi eq 6.2 (C_d 0.9)
 // The region whose term dominates phi at a particle gives the closure and d. Fine grains make K
 // dt > 1, so the schemes integrate the drag point-implicitly: u^{n+1} = (u_base + Δt a_other / M)
