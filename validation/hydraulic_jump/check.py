@@ -18,8 +18,13 @@ U2 and the tailwater h2's hydrostatic pressure imposed (the case file; the thesi
   (info) the momentum function the particles carry, (sum p V + sum m u^2) / L along the channel: the jump holds
   its place only where it is the same on both sides; the roller leaves the water downstream with pressures above
   hydrostatic, so it is 2 % above the inflow's at h1/20 and 7 % at h1/10, and the 2.2 jump moves upstream.
-Fine: h2/h1 = 2.2 and 1.5 at dx = h1/20. Coarse (CTest): h2/h1 = 2.2 at dx = h1/10, the depth and S2/S1 tolerances
-doubled (10 %), the drift's the same. Results: validation/README.md.
+Fine: h2/h1 = 2.2 and 1.5 at dx = h1/20. Coarse (CTest): h2/h1 = 1.5 at dx = h1/10, the depth and S2/S1 tolerances
+doubled (10 %), the drift's the same. The coarse run was h2/h1 = 2.2 until 2026-11-25; at h1/10 that jump cannot
+hold its place (the particles' momentum function downstream is 1.06-1.07 of the inflow's) and runs upstream against
+the inflow zone before t* = 100, so its drift over the window measured only the noise of a pinned front: 0.000 h1
+before the wall backup (commit 7d98a44), -1.16 h1 after it (front at 0.5-3.9 h1, upstream slab in the inflow zone
+in 50 of 51 snapshots). The 1.5 jump at h1/10 stays free (front at 8.2-8.9 h1, never in the inflow zone), so the
+drift gate tests what it means to. The 2.2 jump stays in the fine mode. Results: validation/README.md.
 Usage: /usr/bin/python3 validation/hydraulic_jump/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import glob
@@ -45,7 +50,7 @@ T1 = math.sqrt(H1 / G)
 END = 150 * T1
 GAUGE_X = [round(0.05 + 0.05 * k, 3) for k in range(39)]
 # coarse: half the resolution, the depth and S2/S1 tolerances doubled (first-order errors; validation/README.md)
-MODES = {"coarse": {"dx": 0.01, "jumps": [2.2], "tol": 0.10}, "fine": {"dx": 0.005, "jumps": [2.2, 1.5], "tol": 0.05}}
+MODES = {"coarse": {"dx": 0.01, "jumps": [1.5], "tol": 0.10}, "fine": {"dx": 0.005, "jumps": [2.2, 1.5], "tol": 0.05}}
 
 
 def jump_sets(r):

@@ -263,34 +263,46 @@ void WallModel<D>::add_backup(System<D>& S) const {
   const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
   const double s0 = 0.25 * dx;  // the fluid's normal distance from the surface is dx/2
   const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
-  // only fluid in cells within reach of a first-layer wall particle is examined
-  S.cells.mark_near(near_, [&](std::size_t j) {
-    if (P.kind[j] != Kind::Wall) return false;
-    const Vec<D>& v = to[j < n ? j : P.image_source[j - n]];
-    return dot(v, v) < dx * dx;
-  });
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::size_t a = 0; a < n; ++a) {
-    if (P.kind[a] != Kind::Fluid || !near_[S.cells.cell_of(a)]) continue;
-    Vec<D> f{};
-    S.cells.for_neighbours(P.pos, P.pos[a], std::hypot(dx + s0, dx), [&](std::uint32_t k, const Vec<D>& r, double r2) {
-      if (P.kind[k] != Kind::Wall) return;
-      const Vec<D>& v = to[k < n ? k : P.image_source[k - n]];
-      const double depth2 = dot(v, v);
-      if (!(depth2 > 0.0) || depth2 >= dx * dx) return;  // first layer only; a corner's own point has no normal
+  const double reach = std::hypot(dx + s0, dx);
+  // Found from the first-layer wall particles' side (far fewer than the fluid near walls); the
+  // rare pairs found are applied serially, sorted, so the sums do not depend on the threads.
+  hits_.clear();
+#pragma omp parallel
+  {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> local;
+#pragma omp for schedule(dynamic, 64) nowait
+    for (std::size_t k = 0; k < n; ++k) {
+      if (P.kind[k] != Kind::Wall) continue;
+      const double depth2 = dot(to[k], to[k]);
+      if (!(depth2 > 0.0) || depth2 >= dx * dx) continue;  // first layer only; a corner's own point has no normal
       const double depth = std::sqrt(depth2);
-      const Vec<D> nk = (1.0 / depth) * v;
-      const double rn = dot(r, nk);  // r = x_a − x_k
-      const double s = rn - depth;   // signed distance of a from the surface (positive: fluid side)
-      if (s >= s0) return;
-      const double rt = std::sqrt(std::max(0.0, r2 - rn * rn));
-      if (rt >= dx) return;
-      const double approach = -dot(P.vel[a] - P.vel[k], nk);
-      const double A = std::max(0.0, b1 + b2 * approach) / h;
-      const double q = 1.0 - s / s0;  // 0 at s0, 1 on the surface, > 1 past it
-      f += (A * q * q * 0.5 * (1.0 + std::cos(pi * rt / dx))) * nk;
-    });
-    P.acc[a] += f;
+      const Vec<D> nk = (1.0 / depth) * to[k];
+      S.cells.for_neighbours(P.pos, P.pos[k], reach, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+        const std::uint32_t a = j < n ? j : static_cast<std::uint32_t>(P.image_source[j - n]);
+        if (P.kind[a] != Kind::Fluid) return;
+        const double rn = -dot(r, nk);  // r = x_k − x_j
+        if (rn - depth >= s0) return;   // a's distance from the surface
+        if (r2 - rn * rn >= dx * dx) return;
+        local.emplace_back(j, static_cast<std::uint32_t>(k));
+      });
+    }
+#pragma omp critical(sphflume_wall_backup)
+    hits_.insert(hits_.end(), local.begin(), local.end());
+  }
+  if (hits_.empty()) return;
+  std::sort(hits_.begin(), hits_.end());
+  for (const auto& [j, k] : hits_) {
+    const std::size_t a = j < n ? j : P.image_source[j - n];
+    const double depth = std::sqrt(dot(to[k], to[k]));
+    const Vec<D> nk = (1.0 / depth) * to[k];
+    const Vec<D> r = P.pos[j] - P.pos[k];
+    const double rn = dot(r, nk);
+    const double sd = rn - depth;  // signed distance of a from the surface (positive: fluid side)
+    const double rt = std::sqrt(std::max(0.0, dot(r, r) - rn * rn));
+    const double approach = -dot(P.vel[a] - P.vel[k], nk);
+    const double A = std::max(0.0, b1 + b2 * approach) / h;
+    const double q = 1.0 - sd / s0;  // 0 at s0, 1 on the surface, > 1 past it
+    P.acc[a] += (A * q * q * 0.5 * (1.0 + std::cos(pi * rt / dx))) * nk;
   }
 }
 

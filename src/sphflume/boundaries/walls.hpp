@@ -22,8 +22,10 @@
 //  particle through (thin slow films over dummy beds did).
 // New models: derive from WallModel and add one line to wall_registry().
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sphflume/core/registry.hpp"
@@ -59,7 +61,7 @@ class WallModel {
   /// Monaghan–Kos strength A5 and tangential weight P. The fluid's normal distance from the
   /// surface is dx/2, so a flow the wall model holds never feels it.
   void add_backup(System<D>& S) const;
-  mutable std::vector<char> near_;
+  mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
 };
 
 template <int D>
