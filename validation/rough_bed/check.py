@@ -103,6 +103,17 @@ def ode(fid, rd_source="table"):
     return model_1d.depth_mean(zs, uu, rd, h + rd), model_1d.depth_mean(zs, uu, 0.0, h + rd), (zs, uu)
 
 
+def worst_volume_imbalance(out, t0, t1):
+    """max over the 1 s intervals in [t0, t1] of |V_out - V_in| / V_in (boundary volume gauge; Kazemi eq 3.19)."""
+    _, bv = read_csv(os.path.join(out, "gauges", "volumes.csv"))
+    worst = 0.0
+    for ta in np.arange(t0, t1 - 1.0 + 1e-9, 1.0):
+        ia, ib = np.argmin(np.abs(bv[:, 0] - ta)), np.argmin(np.abs(bv[:, 0] - ta - 1.0))
+        vin, vout = bv[ib, 1] - bv[ia, 1], bv[ib, 2] - bv[ia, 2]
+        worst = max(worst, abs(vout - vin) / vin)
+    return worst
+
+
 def info(name, value, ok, threshold, source):
     print(f"(info) [{'meets' if ok else 'misses'}] {name} = {value}   (threshold: {threshold}; source: {source})")
 
@@ -215,12 +226,7 @@ def main():
                 info(f"{fid} depth non-uniformity (in/out, 9 stations)", f"{100 * unif:.2f} % (mean "
                      f"{1000 * dm.mean():.1f} mm, H + R_d = {1000 * (h + rd):.1f} mm)", unif <= 0.02, "<= 2 %",
                      "issue validation 3")
-                _, bv = read_csv(os.path.join(out, "gauges", "volumes.csv"))
-                worst = 0.0
-                for ta in np.arange(t0, t1 - 1.0 + 1e-9, 1.0):
-                    ia, ib = np.argmin(np.abs(bv[:, 0] - ta)), np.argmin(np.abs(bv[:, 0] - ta - 1.0))
-                    vin, vout = bv[ib, 1] - bv[ia, 1], bv[ib, 2] - bv[ia, 2]
-                    worst = max(worst, abs(vout - vin) / vin)
+                worst = worst_volume_imbalance(out, t0, t1)
                 info(f"{fid} worst |V_out - V_in| / V_in per 1 s (in/out)", f"{100 * worst:.2f} %", worst < 0.005,
                      "< 0.5 %", "Kazemi eq 3.19")
                 err = row["inout"] / um - 1
