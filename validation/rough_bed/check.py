@@ -131,7 +131,7 @@ def pop_jobs(argv):
     return None
 
 
-def one_run(sphflume, out_root, fid, cfg, kind, threads, reuse, rd_source, u0):
+def one_run(sphflume, out_root, fid, cfg, kind, threads, reuse, rd_source, u0, extra=None):
     tag = f"{fid}_{kind}"
     out = os.path.join(out_root, tag)
     case = os.path.join(out_root, tag + ".yaml")
@@ -145,7 +145,7 @@ def one_run(sphflume, out_root, fid, cfg, kind, threads, reuse, rd_source, u0):
     with open(case, "w") as f:
         f.write(text)
     dx = flows.dx_of(fid, cfg["dx_per_h"], rd_source)  # about H / dx_per_h, whole rows in H + R_d (flows.py)
-    s, wall, rc = run_case(sphflume, case, out, {"particles.dx": dx, "time.end": cfg["t_end"]}, threads, reuse)
+    s, wall, rc = run_case(sphflume, case, out, {"particles.dx": dx, "time.end": cfg["t_end"], **(extra or {})}, threads, reuse)
     return tag, out, s, rc
 
 
@@ -181,9 +181,10 @@ def main():
     print(f"rough_bed {a.mode}: flows {','.join(sel)}; runs {' + '.join(kinds)}"
           f"{' + S004H50 SPS' if runs[-1][1] == 'sps' else ''}; R_d from {'Table 3-2' if rd_source == 'table' else 'the fitted law'};"
           f" {jobs} at a time x {threads} threads", flush=True)
+    passed = {k: v for k, v in sets.items() if "." in k}  # sphflume's own keys (scheme.shifting.coefficient=2)
     with cf.ThreadPoolExecutor(max_workers=jobs) as ex:
         done = list(ex.map(lambda r: one_run(a.sphflume, a.out, r[0], cfg, r[1], threads, a.reuse, rd_source,
-                                             u0_of(r[0], r[1])), runs))
+                                             u0_of(r[0], r[1]), passed), runs))
     res = {tag: (out, s, rc) for tag, out, s, rc in done}
     rep = Report()
     t0, t1 = cfg["window"]

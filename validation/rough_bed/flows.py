@@ -52,6 +52,10 @@ TABLE = [
 ]
 # the smoothing length for every flow (h / dx; 2.0 before 2026-11-25: README.md, "smoothing length")
 H_OVER_DX = 1.5
+# particle shifting for every flow (docs/numerics.md §7a; A = 2, DualSPHysics' default; none before 2026-11-26):
+# without it the start lattice breaks up after 10-20 s and the disordered particles carry up to 40 % of the
+# shear through their pressure forces (README.md, "slow-down")
+SHIFTING = 2.0
 # Table 3-2: the calibrated R_d / H of each flow (what the runs use; rd_source="law" gives the fitted law instead)
 RD_TABLE = {"S004H40": 0.285, "S004H50": 0.206, "S004H70": 0.144, "S004H90": 0.104, "S004H100": 0.094,
             "S003H50": 0.202, "S003H60": 0.156, "S003H70": 0.135, "S003H80": 0.116, "S002H60": 0.172,
@@ -135,7 +139,8 @@ def case_yaml(fid, dx_per_h=20, t_end=30.0, u0=0.2, turbulence="mixing_length", 
         f"slope: {s0}",
         f"particles: {{dx: {dx:.9g}, kernel: wendland_c2, h_over_dx: {H_OVER_DX}}}",
         f"fluid: {{density: 1000.0, viscosity: {NU}, sound_speed: {c0:.4g}}}",
-        "scheme: {integrator: verlet, density_diffusion: fourtakas, viscosity: laminar}",
+        "scheme: {integrator: verlet, density_diffusion: fourtakas, viscosity: laminar, "
+        f"shifting: {{coefficient: {SHIFTING}}}}}",
         "walls: {type: dummy, slip: no_slip}",
         f"turbulence: {turb}",
         "forces:",

@@ -460,6 +460,12 @@ Case build_case(YAML::Node root, const std::string& file) {
     c.scheme.shepard_every = r.scalar<int>("shepard_every", 0);
     if (c.scheme.shepard_every < 0) r.fail_at(r.get("shepard_every"), "scheme.shepard_every", "an integer >= 0 (0 = off)");
     c.scheme.xsph = r.in_range("xsph", 0.0, 0.0, 1.0);
+    if (r.has("shifting")) {
+      Reader q(r.get("shifting"), file, "scheme.shifting");
+      c.scheme.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
+      c.scheme.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
+      q.finish();
+    }
     c.scheme.cfl = r.in_range("cfl", 0.2, 1e-4, 1.5);
     c.scheme.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
     c.scheme.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);

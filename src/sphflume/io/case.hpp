@@ -13,6 +13,7 @@
 
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/physics/eos.hpp"
+#include "sphflume/physics/shifting.hpp"
 
 namespace sph {
 
@@ -49,6 +50,7 @@ struct SchemeConfig {
   PressureGradient pressure_gradient = PressureGradient::Sum;
   int shepard_every = 0;  // 0 = never
   double xsph = 0.0;      // epsilon of XSPH; 0 = off
+  ShiftingConfig shifting;  // particle shifting (physics/shifting.hpp); off by default
   double cfl = 0.2;       // dt <= cfl * h / (c_max + |u|_max)
   double viscous_coefficient = 0.125;  // dt <= coef * h^2 / nu
   double force_coefficient = 0.25;     // dt <= coef * sqrt(h / |a|_max)

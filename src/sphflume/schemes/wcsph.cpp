@@ -471,8 +471,15 @@ void WCSPH<D>::step(System<D>& S, double dt) {
     ++S.step;
     return;
   }
+  // shifting: displacements from the state being advanced (its neighbour lists: the Verlet
+  // step's are those of its last rates pass; the two-stage steps rebuild theirs first)
+  if (shift_.on()) {
+    if (cfg_.integrator != Integrator::Verlet) S.update_neighbours();
+    shift_.compute(S, dt);
+  }
   if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
   else two_stage_step(S, dt);
+  if (shift_.on()) shift_.apply(S);
   S.periodic.wrap(S.particles);
   S.time += dt;
   ++S.step;

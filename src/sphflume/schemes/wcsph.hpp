@@ -20,6 +20,7 @@
 #pragma once
 #include <vector>
 
+#include "sphflume/physics/shifting.hpp"
 #include "sphflume/physics/turbulence.hpp"
 #include "sphflume/schemes/scheme.hpp"
 
@@ -28,7 +29,7 @@ namespace sph {
 template <int D>
 class WCSPH final : public Scheme<D> {
  public:
-  explicit WCSPH(const Case& c) : cfg_(c.scheme), turb_(c.turbulence) {}
+  explicit WCSPH(const Case& c) : cfg_(c.scheme), turb_(c.turbulence), shift_(c.scheme.shifting) {}
   const char* name() const override { return "wcsph"; }
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
@@ -61,6 +62,7 @@ class WCSPH final : public Scheme<D> {
 
   SchemeConfig cfg_;
   Turbulence<D> turb_;
+  Shifting<D> shift_;
   bool verlet_started_ = false;
   double max_acc_ = 0.0;
 };

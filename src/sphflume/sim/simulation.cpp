@@ -65,6 +65,9 @@ void setup(const Case& c, System<D>& S, BuildReport& rep, std::unique_ptr<Scheme
     if (c.turbulence.model != "none" || c.porous.on())
       throw InputError(fmt::format("{}: line {}: 'multiphase': several phases with a turbulence model or porous regions "
                                    "are not supported in this version: remove one of them", c.file, c.multiphase.line));
+    if (c.scheme.shifting.on())
+      throw InputError(fmt::format("{}: line {}: 'multiphase': particle shifting (scheme.shifting) across a phase "
+                                   "interface is not supported in this version: remove scheme.shifting", c.file, c.multiphase.line));
     if (c.multiphase.grenier && c.scheme.pressure_gradient != PressureGradient::Sum)
       throw InputError(fmt::format("{}: line {}: multiphase.formulation: grenier needs scheme.pressure_gradient: sum "
                                    "(its p/Γ terms take the place of (p_a + p_b))", c.file, c.multiphase.line));

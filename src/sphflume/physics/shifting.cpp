@@ -1,0 +1,82 @@
+#include "sphflume/physics/shifting.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sphflume/core/system.hpp"
+
+namespace sph {
+
+template <int D>
+void Shifting<D>::compute(System<D>& S, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned(), nall = P.size();
+  auto& dr = P.vector("shift");  // a particle field: it follows the store's re-sorting
+  std::fill(dr.begin(), dr.end(), Vec<D>{});
+  const double surface = cfg_.surface > 0.0 ? cfg_.surface : (D == 2 ? 1.5 : 2.75);
+  const auto* pf = S.porous ? P.find_scalar("porosity") : nullptr;  // SPHAM volumes m/(φρ)
+  const double* phi = pf ? pf->data() : nullptr;
+  const double ah = cfg_.coefficient * S.h * dt;
+  // pass 1: ∇C and ∇·r of every owned fluid particle; images take their sources' values
+  gc_.assign(nall, Vec<D>{});
+  at_surface_.assign(nall, 0);
+  S.with_kernel([&](const auto& K) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t a = 0; a < n; ++a) {
+      if (P.kind[a] != Kind::Fluid) continue;
+      Vec<D> gc{};
+      double divr = 0.0;
+      S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>& r, double r2) {
+        if (b == a || r2 <= 0.0) return;
+        const double vb = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
+        const double f = K.F(std::sqrt(r2)) * vb;  // ∇_a W_ab V_b = f r_ab
+        gc += f * r;
+        divr -= f * r2;
+      });
+      gc_[a] = gc;
+      at_surface_[a] = divr < surface ? 1 : 0;
+    }
+    for (std::size_t k = n; k < nall; ++k) {
+      gc_[k] = gc_[P.image_source[k - n]];
+      at_surface_[k] = at_surface_[P.image_source[k - n]];
+    }
+    // pass 2: the displacement; zero at the surface, tangential next to it (Lind et al. 2012)
+#pragma omp parallel for schedule(static)
+    for (std::size_t a = 0; a < n; ++a) {
+      if (P.kind[a] != Kind::Fluid || at_surface_[a]) continue;
+      Vec<D> ns{};
+      bool near = false;
+      S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double) {
+        if (!at_surface_[b]) return;
+        const double g = std::sqrt(dot(gc_[b], gc_[b]));
+        if (g > 0.0) ns += (-1.0 / g) * gc_[b];  // the surface particle's outward normal
+        near = true;
+      });
+      const double u = std::sqrt(dot(P.vel[a], P.vel[a]));
+      Vec<D> d = (-ah * u) * gc_[a];
+      if (near) {
+        const double nn = std::sqrt(dot(ns, ns));
+        if (nn > 0.0) {
+          ns = (1.0 / nn) * ns;
+          d += (-dot(d, ns)) * ns;
+        } else {
+          d = Vec<D>{};
+        }
+      }
+      dr[a] = d;
+    }
+  });
+}
+
+template <int D>
+void Shifting<D>::apply(System<D>& S) const {
+  auto& P = S.particles;
+  const auto& dr = P.vector("shift");
+  const std::size_t n = P.n_owned();
+  for (std::size_t a = 0; a < n; ++a) P.pos[a] += dr[a];
+}
+
+template class Shifting<2>;
+template class Shifting<3>;
+
+}  // namespace sph
