@@ -274,3 +274,13 @@ TEST(InputErrors, PeriodicDomainAndChoices) {
   e = error_of(replaced(kCase, "density: 1000.0", "eos: Tait"));
   EXPECT_HAS(e, "line 6: 'fluid.eos': expected one of tait, linear (got 'Tait')");
 }
+
+// scheme.shifting: its keys are checked like every other section's
+TEST(InputErrors, ShiftingKeysAreChecked) {
+  EXPECT_EQ(error_of(replaced(kCase, "time:", "scheme: {shifting: {coefficient: 2}}\ntime:")), "");
+  std::string e = error_of(replaced(kCase, "time:", "scheme: {shifting: {coefficient: -1}}\ntime:"));
+  EXPECT_HAS(e, "line 10");
+  EXPECT_HAS(e, "scheme.shifting.coefficient");
+  e = error_of(replaced(kCase, "time:", "scheme: {shifting: {coeficient: 2}}\ntime:"));
+  EXPECT_HAS(e, "unknown key 'scheme.shifting.coeficient' (did you mean 'scheme.shifting.coefficient'?)");
+}
