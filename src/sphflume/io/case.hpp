@@ -11,17 +11,12 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "sphflume/core/errors.hpp"
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/physics/eos.hpp"
 #include "sphflume/physics/shifting.hpp"
 
 namespace sph {
-
-/// Bad input: reported with exit code 2 before anything is computed.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 enum class Integrator { Symplectic, PredictorCorrector, Verlet };
 enum class DensityDiffusion { None, MolteniColagrossi, Fourtakas };

@@ -11,17 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "sphflume/core/errors.hpp"
 #include "sphflume/core/particles.hpp"
 
 namespace sph {
 
 struct RunState;
 struct SnapshotEntry;
-
-class IoError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 template <int D>
 class SnapshotWriter {

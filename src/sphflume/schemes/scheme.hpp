@@ -5,17 +5,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "sphflume/core/errors.hpp"
 #include "sphflume/core/registry.hpp"
 #include "sphflume/core/system.hpp"
 #include "sphflume/io/case.hpp"
 
 namespace sph {
-
-/// The simulation cannot go on (NaN, collapsing dt, ...): exit code 3.
-class SimulationError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 template <int D>
 class Scheme {
