@@ -19,7 +19,7 @@ from the 1D model's bulk velocity (its mean over the whole fluid depth; --set u0
 on the time scale U / (2 g S0), 4-9 s here, and from U0 = 0.2 m/s the S002 flows would still be about 1-2 % below
 their steady U in the 20-30 s window (an estimate, tanh law). In/out runs keep the thesis's U0 = 0.2 m/s.
 Coarse (CI): S004H50 only, at the decision's H/dx = 20 but for 12 s (window 6-12 s), gated at the decision's 2 %
-(2026-11-25: -1.42 %). Until 2026-11-24 the coarse run was H/dx = 10 gated at 4 % (a first-order argument); with
+(2026-11-26, with particle shifting: -1.64 %; periodic and SPS runs only). Until 2026-11-24 the coarse run was H/dx = 10 gated at 4 % (a first-order argument); with
 h = 2 dx it gave -11.6 % and the fine runs -5.7 ... -15.5 %: the smoothing length, not dx, set the error (h = 1.5 dx
 since 2026-11-25; README.md, "smoothing length"), so the coarse run now tests the gate itself on one flow.
 Also gated: every run completes, mass is conserved to round-off, and (coarse, or --set sps=1) S004H50 with
@@ -34,7 +34,7 @@ Reported, not gated (information):
 Draws rough_bed.png: SPH (periodic, in/out if run) and 1D U against the measured U for the flows run, the
 verification error per flow, and the S004H50 profiles and shear stresses. The fine figure goes next to this
 script, the coarse one into --out; the table also goes to --out/rough_bed_table.csv.
-Options (--set KEY=VALUE): flows=S004H50,... (a subset), runs=periodic|inout|both (default both), sps=1,
+Options (--set KEY=VALUE): flows=S004H50,... (a subset), runs=periodic|inout|both (default: both fine, periodic coarse), sps=1,
 rd=table|law, u0=1d|<m/s> (periodic start, default 1d).
 Usage: /usr/bin/python3 validation/rough_bed/check.py [--mode coarse|fine] [--jobs 2] [--threads 2] [--reuse]
          [--out DIR] [--set runs=periodic] ...
@@ -63,9 +63,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 NAME = "rough_bed"
 MODES = {
     # dx_per_h: H/dx, adjusted per flow by flows.dx_of to whole rows in H + R_d (within 2.5 %)
-    # coarse (CI): S004H50 at H/dx = 20 for 12 s, periodic, in/out and periodic SPS; the verification at 2 % (above)
+    # coarse (CI): S004H50 at H/dx = 20 for 12 s, periodic and periodic SPS; the verification at 2 % (above). The
+    # in/out run (information only; decision 3 has long_channel.py) is left out of the CI since shifting made each
+    # run 1.5x longer (--set runs=both adds it)
     "coarse": {"flows": ["S004H50"], "dx_per_h": 20, "t_end": 12.0, "window": (6.0, 12.0), "coarse": True,
-               "verify_tol": 0.02},
+               "verify_tol": 0.02, "runs": "periodic"},
     "fine": {"flows": [r[1] for r in flows.TABLE], "dx_per_h": 20, "t_end": 30.0, "window": (20.0, 30.0),
              "coarse": False, "verify_tol": 0.02},
 }
@@ -158,7 +160,7 @@ def main():
     for fid in sel:
         flows.flow(fid)  # KeyError on an unknown id
     jobs = jobs_opt if jobs_opt is not None else int(sets.get("jobs", "2"))
-    which = sets.get("runs", "both")
+    which = sets.get("runs", cfg.get("runs", "both"))
     if which not in ("both", "periodic", "inout"):
         raise SystemExit(f"--set runs={which}: expected periodic, inout or both")
     kinds = {"both": ("periodic", "inout"), "periodic": ("periodic",), "inout": ("inout",)}[which]
