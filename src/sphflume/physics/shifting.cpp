@@ -40,10 +40,17 @@ void Shifting<D>::compute(System<D>& S, double dt) {
       gc_[k] = gc_[P.image_source[k - n]];
       at_surface_[k] = at_surface_[P.image_source[k - n]];
     }
-    // pass 2: the displacement; zero at the surface, tangential next to it (Lind et al. 2012)
+    // pass 2: the displacement; zero at the surface, tangential next to it (Lind et al. 2012).
+    // Only particles in cells next to a surface particle's cell can have one within the support.
+    S.cells.mark_near(near_cells_, [&](std::size_t i) { return i < nall && at_surface_[i]; });
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
       if (P.kind[a] != Kind::Fluid || at_surface_[a]) continue;
+      const double u = std::sqrt(dot(P.vel[a], P.vel[a]));
+      if (!near_cells_[S.cells.cell_of(a)]) {
+        dr[a] = (-ah * u) * gc_[a];
+        continue;
+      }
       Vec<D> ns{};
       bool near = false;
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double) {
@@ -52,7 +59,6 @@ void Shifting<D>::compute(System<D>& S, double dt) {
         if (g > 0.0) ns += (-1.0 / g) * gc_[b];  // the surface particle's outward normal
         near = true;
       });
-      const double u = std::sqrt(dot(P.vel[a], P.vel[a]));
       Vec<D> d = (-ah * u) * gc_[a];
       if (near) {
         const double nn = std::sqrt(dot(ns, ns));

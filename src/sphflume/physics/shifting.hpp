@@ -3,7 +3,7 @@
 //   δr_a = −A h |u_a| Δt ∇C_a,   ∇C_a = Σ_b V_b ∇_a W_ab   (fluid, wall and open-boundary b),
 // which keeps the particle set near-uniform in sheared flows. Without it the disordered set of a
 // long shear flow carries part of the shear through its pressure forces (validation/rough_bed:
-// 40 % of the stress above the roughness after 20 s). At the free surface, where the
+// 43 % of the stress above the roughness after 20 s). At the free surface, where the
 // concentration falls by construction, particles are not shifted: a particle whose position
 // divergence ∇·r_a = −Σ_b V_b r_ab·∇_a W_ab is below `surface` (DualSPHysics' free-surface
 // threshold: 1.5 in 2D, 2.75 in 3D, against D inside the fluid) keeps its place, and one with
@@ -43,6 +43,7 @@ class Shifting {
   ShiftingConfig cfg_;
   std::vector<Vec<D>> gc_;       // ∇C per particle (images included)
   std::vector<char> at_surface_;  // ∇·r below the threshold
+  std::vector<char> near_cells_;  // cells within one cell of a surface particle's
 };
 
 }  // namespace sph
