@@ -30,8 +30,7 @@ struct Setup {
       S.transport->initialise(S);
     }
     S.walls = wall_registry<D>().create(c.walls.type, c.walls);
-    if (c.forces.IsDefined())
-      for (const auto& n : c.forces) S.forces.push_back(force_registry<D>().create(n["type"].template as<std::string>(), n, "test"));
+    add_force_terms<D>(c.forces, c.file, S);
     scheme = std::make_unique<WCSPH<D>>(c);
   }
 };

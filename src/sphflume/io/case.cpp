@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include "sphflume/io/case_reader.hpp"
 
@@ -68,23 +69,25 @@ int axis_index(const std::string& a, int dim) {
 
 /// A list of numbers, strictly increasing when `increasing`.
 std::vector<double> read_list(Reader& r, const std::string& k, bool increasing) {
-  const YAML::Node v = r.get(k);
+  const Node& v = r.get(k);
   const std::string what = increasing ? "a list of increasing numbers" : "a list of numbers";
-  if (!v.IsSequence() || v.size() == 0) r.fail_at(v, r.key_path(k), what);
+  if (!v.is_sequence() || v.size() == 0) r.fail_at(v, r.key_path(k), what);
   std::vector<double> out;
-  for (const auto& e : v) {
-    try { out.push_back(e.as<double>()); } catch (const YAML::Exception&) { r.fail_at(e, r.key_path(k), what); }
+  for (const auto& [unused, e] : v.entries()) {
+    double x = 0.0;
+    if (!e.decode(x)) r.fail_at(e, r.key_path(k), what);
+    out.push_back(x);
     if (!std::isfinite(out.back()) || (increasing && out.size() > 1 && !(out.back() > out[out.size() - 2])))
       r.fail_at(e, r.key_path(k), what);
   }
   return out;
 }
 
-ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+ShapeConfig read_shape(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity"});
   ShapeConfig s;
-  s.line = n.Mark().line + 1;
+  s.line = n.line();
   (void)r.required<std::string>("type", "a shape type: box, tank, polygon or plane");
   s.type = r.choice("type", "", {"box", "tank", "polygon", "plane"});
   s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" ? "wall" : "fluid", {"fluid", "wall"});
@@ -126,11 +129,11 @@ ShapeConfig read_shape(const YAML::Node& n, const std::string& file, const std::
   return s;
 }
 
-PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+PorousRegionConfig read_porous_region(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   r.valid({"shape", "min", "max", "vertices", "porosity", "diameter", "layer", "closure", "upper", "x", "z", "phi"});
   PorousRegionConfig g;
-  g.line = n.Mark().line + 1;
+  g.line = n.line();
   g.shape = r.choice("shape", "box", {"box", "polygon", "profile"});
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.shape == "box") {
@@ -149,16 +152,16 @@ PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& fi
       r.fail_at(n, path, "a profile: 'z' (heights) and 'phi' (porosity at each height; with 'x', one row per x)");
     g.z = read_list(r, "z", true);
     if (r.has("x")) g.x = read_list(r, "x", true);
-    const YAML::Node ph = r.get("phi");
+    const Node& ph = r.get("phi");
     const std::string what = g.x.empty() ? fmt::format("a list of {} porosities in (0, 1], one per z", g.z.size())
                                          : fmt::format("{} rows (one per x) of {} porosities in (0, 1]", g.x.size(), g.z.size());
-    if (!ph.IsSequence()) r.fail_at(ph, r.key_path("phi"), what);
-    auto row = [&](const YAML::Node& rn) {
-      if (!rn.IsSequence() || rn.size() != g.z.size()) r.fail_at(rn, r.key_path("phi"), what);
+    if (!ph.is_sequence()) r.fail_at(ph, r.key_path("phi"), what);
+    auto row = [&](const Node& rn) {
+      if (!rn.is_sequence() || rn.size() != g.z.size()) r.fail_at(rn, r.key_path("phi"), what);
       std::vector<double> v;
-      for (const auto& e : rn) {
+      for (const auto& [unused, e] : rn.entries()) {
         double x = -1.0;
-        try { x = e.as<double>(); } catch (const YAML::Exception&) { r.fail_at(e, r.key_path("phi"), what); }
+        if (!e.decode(x)) r.fail_at(e, r.key_path("phi"), what);
         if (!(x > 0.0 && x <= 1.0)) r.fail_at(e, r.key_path("phi"), what);
         v.push_back(x);
       }
@@ -167,7 +170,7 @@ PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& fi
     if (g.x.empty()) g.phi.push_back(row(ph));
     else {
       if (ph.size() != g.x.size()) r.fail_at(ph, r.key_path("phi"), what);
-      for (const auto& rn : ph) g.phi.push_back(row(rn));
+      for (const auto& [unused, rn] : ph.entries()) g.phi.push_back(row(rn));
     }
     g.porosity = 1.0;
     for (const auto& rw : g.phi) for (double v : rw) g.porosity = std::min(g.porosity, v);
@@ -179,7 +182,7 @@ PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& fi
   }
   g.diameter = r.positive("diameter", 0.0, true);
   g.layer = r.in_range("layer", 0.0, 0.0, 1e6);
-  auto closure = [&](const YAML::Node& cn, const std::string& path) {
+  auto closure = [&](const Node& cn, const std::string& path) {
     Reader c(cn, file, path);
     PorousClosureConfig k;
     k.type = c.choice("type", "ergun", {"ergun", "tsurudome", "van_gent", "roughness"});
@@ -213,11 +216,11 @@ PorousRegionConfig read_porous_region(const YAML::Node& n, const std::string& fi
   return g;
 }
 
-GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field"});
   GaugeConfig g;
-  g.line = n.Mark().line + 1;
+  g.line = n.line();
   g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
@@ -267,17 +270,15 @@ GaugeConfig read_gauge(const YAML::Node& n, const std::string& file, const std::
 }
 
 /// Every scalar under `n` that reads as a number must be finite (.nan, .inf are refused).
-void reject_non_finite(const Reader& r, const YAML::Node& n, const std::string& path, int depth = 0) {
+void reject_non_finite(const Reader& r, const Node& n, const std::string& path, int depth = 0) {
   if (depth > 32) return;
-  if (n.IsScalar()) {
+  if (n.is_scalar()) {
     double v = 0.0;
-    if (YAML::convert<double>::decode(n, v) && !std::isfinite(v))
-      r.fail_at(n, path, fmt::format("a finite number (got {})", n.Scalar()));
-  } else if (n.IsSequence()) {
+    if (n.decode(v) && !std::isfinite(v)) r.fail_at(n, path, fmt::format("a finite number (got {})", n.text()));
+  } else if (n.is_sequence()) {
     for (std::size_t i = 0; i < n.size(); ++i) reject_non_finite(r, n[i], fmt::format("{}.{}", path, i), depth + 1);
-  } else if (n.IsMap()) {
-    for (const auto& kv : n)
-      reject_non_finite(r, kv.second, kv.first.IsScalar() ? path + "." + kv.first.Scalar() : path, depth + 1);
+  } else if (n.is_map()) {
+    for (const auto& [k, v] : n.entries()) reject_non_finite(r, v, path + "." + k, depth + 1);
   }
 }
 
@@ -307,9 +308,69 @@ void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const s
   }
 }
 
+/// The YAML document as a Node tree (core/node.hpp): lines kept (0 under a --set value), keys
+/// plain names. `budget` bounds the copy (aliases may repeat subtrees many times over).
+Node to_node(const YAML::Node& y, bool from_set, const std::string& file, const std::string& path, long& budget) {
+  if (--budget < 0)
+    throw InputError(fmt::format("{}: the document expands to more than 2 million values (aliases?): write it out", file));
+  from_set = from_set || y.Tag() == "!set";
+  const int line = from_set ? 0 : y.Mark().line + 1;
+  if (y.IsScalar()) return Node::scalar(y.Scalar(), line);
+  if (y.IsSequence()) {
+    Node n = Node::sequence(line);
+    for (std::size_t i = 0; i < y.size(); ++i)
+      n.push_back(to_node(y[i], from_set, file, path.empty() ? std::to_string(i) : fmt::format("{}.{}", path, i), budget));
+    return n;
+  }
+  if (y.IsMap()) {
+    Node n = Node::map(line);
+    for (const auto& kv : y) {
+      if (!kv.first.IsScalar())
+        throw InputError(fmt::format("{}: line {}: '{}': expected keys that are plain names (found a list or mapping "
+                                     "used as a key)", file, kv.first.Mark().line + 1, path.empty() ? "the document" : path));
+      const std::string k = kv.first.Scalar();
+      n.add(k, to_node(kv.second, from_set, file, path.empty() ? k : path + "." + k, budget),
+            from_set ? 0 : kv.first.Mark().line + 1);
+    }
+    return n;
+  }
+  return y.IsNull() ? Node::null(line) : Node();
+}
+
+void canon(const YAML::Node& n, std::string& out) {
+  if (n.IsMap()) {
+    std::map<std::string, YAML::Node> sorted;
+    for (const auto& kv : n) sorted.emplace(kv.first.Scalar(), kv.second);
+    out += '{';
+    for (const auto& [k, v] : sorted) {
+      out += k + ':';
+      canon(v, out);
+      out += ',';
+    }
+    out += '}';
+  } else if (n.IsSequence()) {
+    out += '[';
+    for (const auto& e : n) { canon(e, out); out += ','; }
+    out += ']';
+  } else if (n.IsScalar()) {
+    out += '"' + n.Scalar() + '"';
+  } else {
+    out += '~';
+  }
+}
+
+/// Canonical text of the document after --set, without time.end (a restart may change it).
+std::string fingerprint(const YAML::Node& root) {
+  YAML::Node c = YAML::Clone(root);
+  if (c.IsMap() && c["time"] && c["time"].IsMap()) c["time"].remove("end");
+  std::string out;
+  canon(c, out);
+  return out;
+}
+
 constexpr double kMaxOutputs = 1e7;  // snapshots/gauge rows: more is a typo, not a plan
 
-ProfileConfig read_profile(const YAML::Node& n, const std::string& file, const std::string& path) {
+ProfileConfig read_profile(const Node& n, const std::string& file, const std::string& path) {
   Reader r(n, file, path);
   ProfileConfig p;
   p.type = r.choice("type", "uniform", {"uniform", "parabolic", "log", "table"});
@@ -320,8 +381,9 @@ ProfileConfig read_profile(const YAML::Node& n, const std::string& file, const s
     p.ks = r.positive("ks", 0.0, true);
   }
   if (p.type == "table") {
-    const YAML::Node z = r.get("z"), u = r.get("u");
-    if (!z.IsSequence() || !u.IsSequence() || z.size() != u.size() || z.size() < 1)
+    const Node& z = r.get("z");
+    const Node& u = r.get("u");
+    if (!z.is_sequence() || !u.is_sequence() || z.size() != u.size() || z.size() < 1)
       r.fail_at(n, path, "lists 'z' and 'u' of the same length (heights above the bed and velocities)");
     for (std::size_t i = 0; i < z.size(); ++i) {
       p.z.push_back(r.as<double>(z[i], "z"));
@@ -333,10 +395,10 @@ ProfileConfig read_profile(const YAML::Node& n, const std::string& file, const s
   return p;
 }
 
-OpenBoundaryConfig read_open_boundary(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+OpenBoundaryConfig read_open_boundary(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   OpenBoundaryConfig b;
-  b.line = n.Mark().line + 1;
+  b.line = n.line();
   (void)r.required<std::string>("type", "inflow or outflow");
   b.type = r.choice("type", "", {"inflow", "outflow"});
   if (dim != 2) r.fail_at(n, path, "a 2D case (open boundaries are 2D in this version)");
@@ -368,10 +430,9 @@ OpenBoundaryConfig read_open_boundary(const YAML::Node& n, const std::string& fi
   return b;
 }
 
-Case build_case(YAML::Node root, const std::string& file) {
+Case build_case(const Node& root, const std::string& file) {
   Case c;
   c.file = file;
-  c.raw = root;
   Reader top(root, file, "");
   top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
              "gauges", "forces", "turbulence", "porous", "transport", "multiphase"});
@@ -412,10 +473,10 @@ Case build_case(YAML::Node root, const std::string& file) {
     for (std::size_t i = 0; i < c.domain_min.size(); ++i)
       if (!(c.domain_max[i] > c.domain_min[i])) r.fail_at(r.get("max"), "domain.max", "max > min in every coordinate");
     if (r.has("periodic")) {
-      const YAML::Node p = r.get("periodic");
-      if (!p.IsSequence()) r.fail_at(p, "domain.periodic", "a list of axes, e.g. [x]");
-      for (const auto& a : p) {
-        const int ax = a.IsScalar() ? axis_index(a.Scalar(), c.dimension) : -1;
+      const Node& p = r.get("periodic");
+      if (!p.is_sequence()) r.fail_at(p, "domain.periodic", "a list of axes, e.g. [x]");
+      for (const auto& [unused, a] : p.entries()) {
+        const int ax = a.is_scalar() ? axis_index(a.text(), c.dimension) : -1;
         if (ax < 0) r.fail_at(a, "domain.periodic", c.dimension == 2 ? "axes among x, z" : "axes among x, y, z");
         c.periodic.push_back(ax);
       }
@@ -498,12 +559,10 @@ Case build_case(YAML::Node root, const std::string& file) {
     r.finish();
   }
   {
-    const YAML::Node geo = top.get("geometry");
-    if (!geo.IsDefined() || geo.IsNull()) throw InputError(fmt::format("{}: missing required section 'geometry' (a list of shapes filled with fluid or wall)", file));
-    if (!geo.IsSequence() || geo.size() == 0) top.fail_at(geo, "geometry", "a list of shapes, each starting with '- type: box'");
-    c.geometry_line = geo.Mark().line + 1;
-    for (const auto& kv : root)  // the line of the key itself, not of the first shape
-      if (kv.first.IsScalar() && kv.first.Scalar() == "geometry") c.geometry_line = kv.first.Mark().line + 1;
+    const Node& geo = top.get("geometry");
+    if (!geo.given()) throw InputError(fmt::format("{}: missing required section 'geometry' (a list of shapes filled with fluid or wall)", file));
+    if (!geo.is_sequence() || geo.size() == 0) top.fail_at(geo, "geometry", "a list of shapes, each starting with '- type: box'");
+    c.geometry_line = geo.key_line();  // the line of the key itself, not of the first shape
     for (std::size_t i = 0; i < geo.size(); ++i)
       c.shapes.push_back(read_shape(geo[i], file, fmt::format("geometry.{}", i), c.dimension));
   }
@@ -519,8 +578,8 @@ Case build_case(YAML::Node root, const std::string& file) {
     r.finish();
   }
   if (top.has("gauges")) {
-    const YAML::Node gs = top.get("gauges");
-    if (!gs.IsSequence()) top.fail_at(gs, "gauges", "a list of gauges");
+    const Node& gs = top.get("gauges");
+    if (!gs.is_sequence()) top.fail_at(gs, "gauges", "a list of gauges");
     std::set<std::string> names;
     for (std::size_t i = 0; i < gs.size(); ++i) {
       c.gauges.push_back(read_gauge(gs[i], file, fmt::format("gauges.{}", i), c.dimension));
@@ -529,8 +588,8 @@ Case build_case(YAML::Node root, const std::string& file) {
     }
   }
   if (top.has("open_boundaries")) {
-    const YAML::Node ob = top.get("open_boundaries");
-    if (!ob.IsSequence()) top.fail_at(ob, "open_boundaries", "a list of inflow/outflow zones");
+    const Node& ob = top.get("open_boundaries");
+    if (!ob.is_sequence()) top.fail_at(ob, "open_boundaries", "a list of inflow/outflow zones");
     for (std::size_t i = 0; i < ob.size(); ++i)
       c.open_boundaries.push_back(read_open_boundary(ob[i], file, fmt::format("open_boundaries.{}", i), c.dimension));
     int nin = 0, nout = 0;
@@ -545,7 +604,7 @@ Case build_case(YAML::Node root, const std::string& file) {
   if (top.has("turbulence")) {
     Reader r(top.get("turbulence"), file, "turbulence");
     auto& t = c.turbulence;
-    t.line = top.get("turbulence").Mark().line + 1;
+    t.line = top.get("turbulence").line();
     t.model = r.choice("model", "none", {"none", "smagorinsky", "mixing_length"});
     t.strain_literal = r.choice("strain_norm", "sqrt_2ss", {"sqrt_2ss", "sqrt_ss"}) == "sqrt_ss";
     t.column_width = r.in_range("column_width", 0.0, 0.0, 1e6);
@@ -579,7 +638,7 @@ Case build_case(YAML::Node root, const std::string& file) {
   if (top.has("porous")) {
     Reader r(top.get("porous"), file, "porous");
     auto& p = c.porous;
-    p.line = top.get("porous").Mark().line + 1;
+    p.line = top.get("porous").line();
     p.field = r.choice("field", "smoothed", {"smoothed", "particles", "sharp"});
     p.literal_normalisation = r.choice("normalisation", "full_block", {"full_block", "thesis_literal"}) == "thesis_literal";
     p.mesh_ratio = r.positive("mesh_ratio", 1.2);
@@ -587,15 +646,15 @@ Case build_case(YAML::Node root, const std::string& file) {
     if (p.relax_iterations < 0 || p.relax_iterations > 100000)
       r.fail_at(r.get("relax"), "porous.relax", "an integer in [0, 100000] (iterations; 0 = the plain lattice fill)");
     if (!r.has("regions")) r.misspelt("regions");
-    const YAML::Node regs = r.get("regions");
-    if (!regs.IsSequence() || regs.size() == 0)
-      r.fail_at(regs.IsDefined() ? regs : top.get("porous"), "porous.regions",
+    const Node& regs = r.get("regions");
+    if (!regs.is_sequence() || regs.size() == 0)
+      r.fail_at(regs.defined() ? regs : top.get("porous"), "porous.regions",
                 "a list of porous regions, e.g. [{shape: box, min: [0.3, 0], max: [0.59, 0.58], porosity: 0.49, diameter: 0.0159}]");
     for (std::size_t i = 0; i < regs.size(); ++i)
       p.regions.push_back(read_porous_region(regs[i], file, fmt::format("porous.regions.{}", i), c.dimension));
     if (r.has("fill")) {
-      const YAML::Node fl = r.get("fill");
-      if (!fl.IsSequence()) r.fail_at(fl, "porous.fill", "a list of boxes, e.g. [{min: [0, 0], max: [1, 0.09], porosity: 0.22}]");
+      const Node& fl = r.get("fill");
+      if (!fl.is_sequence()) r.fail_at(fl, "porous.fill", "a list of boxes, e.g. [{min: [0, 0], max: [1, 0.09], porosity: 0.22}]");
       for (std::size_t i = 0; i < fl.size(); ++i) {
         Reader f(fl[i], file, fmt::format("porous.fill.{}", i));
         PorousConfig::Fill b;
@@ -631,7 +690,7 @@ Case build_case(YAML::Node root, const std::string& file) {
     }
   if (top.has("forces")) {
     c.forces = top.get("forces");
-    if (!c.forces.IsSequence()) top.fail_at(c.forces, "forces", "a list of force terms, each {type: NAME, ...}");
+    if (!c.forces.is_sequence()) top.fail_at(c.forces, "forces", "a list of force terms, each {type: NAME, ...}");
     // the terms read their own keys when the run is set up; non-finite numbers are refused here
     for (std::size_t i = 0; i < c.forces.size(); ++i) reject_non_finite(top, c.forces[i], fmt::format("forces.{}", i));
   }
@@ -658,7 +717,11 @@ Case parse_case(const std::string& text, const std::string& name, const std::vec
     throw InputError(fmt::format("--set: {}", e.msg));
   }
   try {
-    return build_case(root, name);
+    long nodes = 2'000'000;
+    const Node tree = to_node(root, false, name, "", nodes);
+    Case c = build_case(tree, name);
+    c.fingerprint = fingerprint(root);
+    return c;
   } catch (const YAML::Exception& e) {
     throw InputError(fmt::format("{}: line {}: {}", name, e.mark.line + 1, e.msg));
   } catch (const std::invalid_argument& e) {

@@ -9,10 +9,10 @@
 #include <utility>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
 
 #include "sphflume/core/errors.hpp"
 #include "sphflume/core/kernels.hpp"
+#include "sphflume/core/node.hpp"
 #include "sphflume/physics/eos.hpp"
 #include "sphflume/physics/shifting.hpp"
 
@@ -297,13 +297,13 @@ struct Case {
   int geometry_line = 0;  // line of the 'geometry' key (for messages about the shapes as a whole)
   double t_end = 0.0, output_interval = 0.0;
   std::vector<GaugeConfig> gauges;
-  YAML::Node forces;  // list of registered force terms, each {type: NAME, ...}
+  Node forces;  // list of registered force terms, each {type: NAME, ...} (read when the run is set up)
   std::vector<OpenBoundaryConfig> open_boundaries;
   TurbulenceConfig turbulence;
   PorousConfig porous;
   TransportConfig transport;
   MultiphaseConfig multiphase;
-  YAML::Node raw;     // the whole document after --set overrides
+  std::string fingerprint;  // canonical text of the document after --set, time.end left out (restart check)
 
   double h() const { return h_over_dx * dx; }
 };

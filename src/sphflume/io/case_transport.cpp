@@ -31,7 +31,7 @@ bool RegionConfig::contains(const double* x, int dim) const {
 
 namespace caseio {
 
-RegionConfig read_region(Reader& r, const YAML::Node& n, int dim) {
+RegionConfig read_region(Reader& r, const Node& n, int dim) {
   RegionConfig g;
   const std::size_t d = static_cast<std::size_t>(dim);
   g.type = r.choice("shape", "box", {"box", "circle", "polygon"});
@@ -73,10 +73,10 @@ void check_expression(Reader& r, const std::string& key, const std::string& expr
   }
 }
 
-ScalarInitConfig read_init(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+ScalarInitConfig read_init(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   ScalarInitConfig s;
-  s.line = n.Mark().line + 1;
+  s.line = n.line();
   s.type = r.choice("type", "uniform", {"uniform", "region", "gaussian", "expression"});
   if (s.type == "uniform") {
     s.value = r.required<double>("value", "the value everywhere");
@@ -90,10 +90,10 @@ ScalarInitConfig read_init(const YAML::Node& n, const std::string& file, const s
     if (s.center.empty()) r.fail_at(n, r.key_path("center"), "the Gaussian's center");
     s.sigma = r.positive("sigma", 0.0, true);
     if (r.has("axes")) {
-      const YAML::Node a = r.get("axes");
-      if (!a.IsSequence() || a.size() == 0) r.fail_at(a, r.key_path("axes"), "a list of axes, e.g. [z]");
-      for (const auto& e : a) {
-        const int ax = e.IsScalar() ? (e.Scalar() == "x" ? 0 : e.Scalar() == "y" && dim == 3 ? 1 : e.Scalar() == "z" ? dim - 1 : -1) : -1;
+      const Node& a = r.get("axes");
+      if (!a.is_sequence() || a.size() == 0) r.fail_at(a, r.key_path("axes"), "a list of axes, e.g. [z]");
+      for (const auto& [unused, e] : a.entries()) {
+        const int ax = e.is_scalar() ? (e.text() == "x" ? 0 : e.text() == "y" && dim == 3 ? 1 : e.text() == "z" ? dim - 1 : -1) : -1;
         if (ax < 0) r.fail_at(e, r.key_path("axes"), dim == 2 ? "axes among x, z" : "axes among x, y, z");
         s.axes.push_back(ax);
       }
@@ -106,10 +106,10 @@ ScalarInitConfig read_init(const YAML::Node& n, const std::string& file, const s
   return s;
 }
 
-ScalarConfig read_scalar(const YAML::Node& n, const std::string& file, const std::string& path, int dim) {
+ScalarConfig read_scalar(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   ScalarConfig s;
-  s.line = n.Mark().line + 1;
+  s.line = n.line();
   s.name = r.required<std::string>("name", "the scalar's name (a field of the snapshots, e.g. concentration)");
   for (char ch : s.name)
     if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'))
@@ -125,22 +125,22 @@ ScalarConfig read_scalar(const YAML::Node& n, const std::string& file, const std
     q.finish();
   }
   if (r.has("initial")) {
-    const YAML::Node in = r.get("initial");
-    if (in.IsScalar()) {  // a plain number: uniform
+    const Node& in = r.get("initial");
+    if (in.is_scalar()) {  // a plain number: uniform
       ScalarInitConfig u;
       u.value = r.as<double>(in, "initial");
-      u.line = in.Mark().line + 1;
+      u.line = in.line();
       s.initial.push_back(u);
     } else {
-      if (!in.IsSequence()) r.fail_at(in, r.key_path("initial"), "a number, or a list such as [{type: uniform, value: 0}, {type: region, shape: circle, center: [0.5, 0.5], radius: 0.1, value: 1}]");
+      if (!in.is_sequence()) r.fail_at(in, r.key_path("initial"), "a number, or a list such as [{type: uniform, value: 0}, {type: region, shape: circle, center: [0.5, 0.5], radius: 0.1, value: 1}]");
       for (std::size_t i = 0; i < in.size(); ++i)
         s.initial.push_back(read_init(in[i], file, fmt::format("{}.initial.{}", path, i), dim));
     }
   }
   if (r.has("inflow")) {
-    const YAML::Node in = r.get("inflow");
+    const Node& in = r.get("inflow");
     s.has_inflow = true;
-    if (in.IsScalar()) {
+    if (in.is_scalar()) {
       s.inflow = r.as<double>(in, "inflow");
     } else {
       Reader q(in, file, r.key_path("inflow"));
@@ -154,12 +154,12 @@ ScalarConfig read_scalar(const YAML::Node& n, const std::string& file, const std
     }
   }
   if (r.has("sources")) {
-    const YAML::Node src = r.get("sources");
-    if (!src.IsSequence()) r.fail_at(src, r.key_path("sources"), "a list of wall regions, e.g. [{shape: box, min: [0, -0.1], max: [0.1, 0], value: 1}]");
+    const Node& src = r.get("sources");
+    if (!src.is_sequence()) r.fail_at(src, r.key_path("sources"), "a list of wall regions, e.g. [{shape: box, min: [0, -0.1], max: [0.1, 0], value: 1}]");
     for (std::size_t i = 0; i < src.size(); ++i) {
       Reader q(src[i], file, fmt::format("{}.sources.{}", path, i));
       ScalarSourceConfig sc;
-      sc.line = src[i].Mark().line + 1;
+      sc.line = src[i].line();
       sc.region = read_region(q, src[i], dim);
       sc.has_value = q.has("value");
       if (sc.has_value == q.has("flux"))
@@ -176,10 +176,10 @@ ScalarConfig read_scalar(const YAML::Node& n, const std::string& file, const std
 
 }  // namespace
 
-void read_transport(const YAML::Node& n, const std::string& file, Case& c) {
+void read_transport(const Node& n, const std::string& file, Case& c) {
   Reader r(n, file, "transport");
   auto& t = c.transport;
-  t.line = n.Mark().line + 1;
+  t.line = n.line();
   const std::string op = r.choice("operator", "consistent", {"consistent", "federico", "zhu_fox", "tartakovsky", "monaghan"});
   t.op = op == "consistent" ? DiffusionOperator::Consistent
          : op == "federico" ? DiffusionOperator::Federico
@@ -190,9 +190,9 @@ void read_transport(const YAML::Node& n, const std::string& file, Case& c) {
                 : adv == "none" ? ScalarAdvection::None : ScalarAdvection::ThesisLiteral;
   t.eta2 = r.in_range("eta2", 1e-4, 1e-8, 0.1);
   if (!r.has("scalars")) r.misspelt("scalars");
-  const YAML::Node sc = r.get("scalars");
-  if (!sc.IsSequence() || sc.size() == 0)
-    r.fail_at(sc.IsDefined() ? sc : n, "transport.scalars", "a list of scalars, e.g. [{name: concentration, diffusivity: 1.0e-3, initial: 0}]");
+  const Node& sc = r.get("scalars");
+  if (!sc.is_sequence() || sc.size() == 0)
+    r.fail_at(sc.defined() ? sc : n, "transport.scalars", "a list of scalars, e.g. [{name: concentration, diffusivity: 1.0e-3, initial: 0}]");
   std::set<std::string> names;
   for (std::size_t i = 0; i < sc.size(); ++i) {
     t.scalars.push_back(read_scalar(sc[i], file, fmt::format("transport.scalars.{}", i), c.dimension));
@@ -202,22 +202,22 @@ void read_transport(const YAML::Node& n, const std::string& file, Case& c) {
   r.finish();
 }
 
-void read_multiphase(const YAML::Node& n, const std::string& file, Case& c) {
+void read_multiphase(const Node& n, const std::string& file, Case& c) {
   Reader r(n, file, "multiphase");
   auto& m = c.multiphase;
-  m.line = n.Mark().line + 1;
+  m.line = n.line();
   m.grenier = r.choice("formulation", "colagrossi_landrini", {"colagrossi_landrini", "grenier"}) == "grenier";
   m.chi = r.in_range("chi", m.grenier ? 0.08 : 0.0, 0.0, 1.0);
   if (!r.has("phases")) r.misspelt("phases");
-  const YAML::Node ph = r.get("phases");
-  if (!ph.IsSequence() || ph.size() == 0)
-    r.fail_at(ph.IsDefined() ? ph : n, "multiphase.phases",
+  const Node& ph = r.get("phases");
+  if (!ph.is_sequence() || ph.size() == 0)
+    r.fail_at(ph.defined() ? ph : n, "multiphase.phases",
               "a list of phases, e.g. [{name: pollutant, density: 500, shape: circle, center: [0.72, 0.48], radius: 0.24}]");
   std::set<std::string> names = {"water"};
   for (std::size_t i = 0; i < ph.size(); ++i) {
     Reader q(ph[i], file, fmt::format("multiphase.phases.{}", i));
     PhaseConfig p;
-    p.line = ph[i].Mark().line + 1;
+    p.line = ph[i].line();
     p.name = q.required<std::string>("name", "the phase's name");
     if (!names.insert(p.name).second) q.fail_at(q.get("name"), q.key_path("name"), "a name not used by another phase ('water' is the first)");
     p.density = q.positive("density", 0.0, true);

@@ -11,28 +11,6 @@
 namespace sph {
 namespace {
 
-void canon(const YAML::Node& n, std::string& out) {
-  if (n.IsMap()) {
-    std::map<std::string, YAML::Node> sorted;
-    for (const auto& kv : n) sorted.emplace(kv.first.Scalar(), kv.second);
-    out += '{';
-    for (const auto& [k, v] : sorted) {
-      out += k + ':';
-      canon(v, out);
-      out += ',';
-    }
-    out += '}';
-  } else if (n.IsSequence()) {
-    out += '[';
-    for (const auto& e : n) { canon(e, out); out += ','; }
-    out += ']';
-  } else if (n.IsScalar()) {
-    out += '"' + n.Scalar() + '"';
-  } else {
-    out += '~';
-  }
-}
-
 // Doubles as hexadecimal floats: exact round trip.
 std::string hexd(double v) { return fmt::format("{:a}", v); }
 double parse_d(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
@@ -107,14 +85,6 @@ std::vector<SnapshotEntry> parse_index(const std::string& text) {
 }
 
 }  // namespace
-
-std::string case_fingerprint(const YAML::Node& raw) {
-  YAML::Node c = YAML::Clone(raw);
-  if (c.IsMap() && c["time"] && c["time"].IsMap()) c["time"].remove("end");
-  std::string out;
-  canon(c, out);
-  return out;
-}
 
 template <int D>
 void write_restart_group(long long file_id, const ParticleStore<D>& P, const RunState& rs, const std::string& path) {

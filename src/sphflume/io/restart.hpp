@@ -12,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
 
 #include "sphflume/boundaries/open_boundary.hpp"
 #include "sphflume/core/particles.hpp"
@@ -39,12 +38,9 @@ struct RunState {
   OpenFlowCounters open;                  // inflow/outflow masses, backflow count, next particle id
   std::map<std::string, double> scheme;   // the scheme's own state (Scheme::state)
   std::vector<SnapshotEntry> snapshots;   // the time series so far
-  std::string case_text;                  // canonical case text (case_fingerprint)
+  std::string case_text;                  // canonical case text (Case::fingerprint)
 };
 
-/// Canonical text of a case document with time.end removed (a restart may run longer):
-/// key order, tags and formatting do not matter.
-std::string case_fingerprint(const YAML::Node& raw);
 
 /// Write the /restart group into an open HDF5 file (hid_t passed as long long).
 template <int D>

@@ -5,38 +5,29 @@
 
 #include <fmt/format.h>
 
-#include "sphflume/io/case.hpp"
+#include "sphflume/core/reader.hpp"
 
 namespace sph {
 namespace {
-
-std::vector<double> read_vec(const YAML::Node& n, const char* key, int d, const std::string& where) {
-  const YAML::Node v = n[key];
-  if (!v.IsSequence() || v.size() != static_cast<std::size_t>(d))
-    throw InputError(fmt::format("{}: '{}': expected a list of {} numbers", where, key, d));
-  std::vector<double> out;
-  for (const auto& e : v) out.push_back(e.as<double>());
-  return out;
-}
 
 /// Uniform body force per unit mass, optionally only inside a box region
 /// (e.g. the pressure gradient that drives a periodic channel).
 template <int D>
 class BodyForce final : public ForceTerm<D> {
  public:
-  BodyForce(const YAML::Node& n, const std::string& where) {
-    for (const auto& kv : n) {
-      const auto k = kv.first.as<std::string>();
-      if (k != "type" && k != "acceleration" && k != "min" && k != "max")
-        throw InputError(fmt::format("{}: unknown key '{}' for body_force (known: acceleration, min, max)", where, k));
-    }
-    const auto a = read_vec(n, "acceleration", D, where);
+  explicit BodyForce(Reader& r) {
+    r.valid({"acceleration", "min", "max"});
+    const auto a = r.vec("acceleration", D);
+    if (a.empty()) r.misspelt("acceleration");
+    if (a.empty()) r.fail_at(r.get("acceleration"), r.key_path("acceleration"), fmt::format("a list of {} numbers (m/s2)", D));
     for (int d = 0; d < D; ++d) acc_[d] = a[d];
-    if (n["min"] || n["max"]) {
+    const auto lo = r.vec("min", D), hi = r.vec("max", D);
+    if (lo.empty() != hi.empty()) r.fail_at(r.get(lo.empty() ? "max" : "min"), r.key_path("min"), "both 'min' and 'max' corners of the region (or neither)");
+    if (!lo.empty()) {
       region_ = true;
-      const auto lo = read_vec(n, "min", D, where), hi = read_vec(n, "max", D, where);
       for (int d = 0; d < D; ++d) { lo_[d] = lo[d]; hi_[d] = hi[d]; }
     }
+    r.finish();
   }
   const char* name() const override { return "body_force"; }
   void add(System<D>& S) override {
@@ -65,30 +56,16 @@ class BodyForce final : public ForceTerm<D> {
 template <int D>
 class RoughBed final : public ForceTerm<D> {
  public:
-  RoughBed(const YAML::Node& n, const std::string& where) {
-    for (const auto& kv : n) {
-      const auto k = kv.first.as<std::string>();
-      if (k != "type" && k != "cd" && k != "diameter" && k != "bed" && k != "thickness" && k != "shape" && k != "factor")
-        throw InputError(fmt::format("{}: unknown key '{}' for rough_bed (known: cd, diameter, bed, thickness, shape, factor)", where, k));
-    }
-    auto num = [&](const char* k, double def, bool required) {
-      if (!n[k]) {
-        if (required) throw InputError(fmt::format("{}: rough_bed needs '{}'", where, k));
-        return def;
-      }
-      return n[k].as<double>();
-    };
-    cd_ = num("cd", 1.0, false);
-    ds_ = num("diameter", 0.0, true);
-    bed_ = num("bed", 0.0, false);
-    rd_ = num("thickness", 0.0, true);
-    factor_ = num("factor", 0.5, false);
-    if (!(ds_ > 0.0)) throw InputError(fmt::format("{}: rough_bed.diameter: expected the sphere diameter d_s > 0 in m", where));
-    if (!(rd_ > 0.0 && rd_ <= ds_)) throw InputError(fmt::format("{}: rough_bed.thickness: expected R_d in (0, diameter] (the layer between the numerical bed and the crest)", where));
-    if (!(cd_ >= 0.0)) throw InputError(fmt::format("{}: rough_bed.cd: expected a drag coefficient >= 0", where));
-    const std::string shape = n["shape"] ? n["shape"].as<std::string>() : "fragment";
-    if (shape != "fragment" && shape != "point") throw InputError(fmt::format("{}: rough_bed.shape: expected fragment or point (got '{}')", where, shape));
-    point_ = shape == "point";
+  explicit RoughBed(Reader& r) {
+    r.valid({"cd", "diameter", "bed", "thickness", "shape", "factor"});
+    cd_ = r.in_range("cd", 1.0, 0.0, 100.0);
+    ds_ = r.positive("diameter", 0.0, true);
+    bed_ = r.scalar<double>("bed", 0.0);
+    rd_ = r.positive("thickness", 0.0, true);
+    if (!(rd_ <= ds_)) r.fail_at(r.get("thickness"), r.key_path("thickness"), "R_d in (0, diameter] (the layer between the numerical bed and the crest)");
+    factor_ = r.in_range("factor", 0.5, 0.0, 100.0);
+    point_ = r.choice("shape", "fragment", {"fragment", "point"}) == "point";
+    r.finish();
   }
   const char* name() const override { return "rough_bed"; }
   void add(System<D>& S) override {
@@ -121,21 +98,16 @@ class RoughBed final : public ForceTerm<D> {
 template <int D>
 class ImaginaryWall final : public ForceTerm<D> {
  public:
-  ImaginaryWall(const YAML::Node& n, const std::string& where) {
-    for (const auto& kv : n) {
-      const auto k = kv.first.as<std::string>();
-      if (k != "type" && k != "x" && k != "bed" && k != "height" && k != "layers" && k != "relax")
-        throw InputError(fmt::format("{}: unknown key '{}' for imaginary_wall (known: x, bed, height, layers, relax)", where, k));
-    }
-    if constexpr (D != 2) throw InputError(fmt::format("{}: imaginary_wall is 2D in this version", where));
-    if (!n["x"] || !n["height"]) throw InputError(fmt::format("{}: imaginary_wall needs 'x' (the outlet line X_o) and 'height' (H_ow above the bed)", where));
-    xo_ = n["x"].as<double>();
-    bed_ = n["bed"] ? n["bed"].as<double>() : 0.0;
-    how_ = n["height"].as<double>();
-    layers_ = n["layers"] ? n["layers"].as<int>() : 3;
-    relax_ = n["relax"] ? n["relax"].as<bool>() : true;
-    if (!(how_ > 0.0)) throw InputError(fmt::format("{}: imaginary_wall.height: expected H_ow > 0 in m", where));
-    if (layers_ < 1 || layers_ > 10) throw InputError(fmt::format("{}: imaginary_wall.layers: expected 1 to 10", where));
+  ImaginaryWall(Reader& r, const Node& n) {
+    r.valid({"x", "bed", "height", "layers", "relax"});
+    if constexpr (D != 2) r.fail_at(n, r.key_path("type"), "a 2D case (imaginary_wall is 2D in this version)");
+    xo_ = r.required<double>("x", "the outlet line X_o in m");
+    bed_ = r.scalar<double>("bed", 0.0);
+    how_ = r.positive("height", 0.0, true);
+    layers_ = r.scalar<int>("layers", 3);
+    if (layers_ < 1 || layers_ > 10) r.fail_at(r.get("layers"), r.key_path("layers"), "an integer from 1 to 10");
+    relax_ = r.scalar<bool>("relax", true);
+    r.finish();
   }
   const char* name() const override { return "imaginary_wall"; }
   void add(System<D>& S) override {
@@ -196,18 +168,33 @@ double rough_bed_shape(double z, double z_centre, double d_s, double l0) {
 }
 
 template <int D>
-Registry<ForceTerm<D>, const YAML::Node&, const std::string&>& force_registry() {
-  static Registry<ForceTerm<D>, const YAML::Node&, const std::string&> r = [] {
-    Registry<ForceTerm<D>, const YAML::Node&, const std::string&> reg;
-    reg.add("body_force", [](const YAML::Node& n, const std::string& w) { return std::make_unique<BodyForce<D>>(n, w); });
-    reg.add("rough_bed", [](const YAML::Node& n, const std::string& w) { return std::make_unique<RoughBed<D>>(n, w); });
-    reg.add("imaginary_wall", [](const YAML::Node& n, const std::string& w) { return std::make_unique<ImaginaryWall<D>>(n, w); });
+Registry<ForceTerm<D>, Reader&, const Node&>& force_registry() {
+  static Registry<ForceTerm<D>, Reader&, const Node&> r = [] {
+    Registry<ForceTerm<D>, Reader&, const Node&> reg;
+    reg.add("body_force", [](Reader& q, const Node&) { return std::make_unique<BodyForce<D>>(q); });
+    reg.add("rough_bed", [](Reader& q, const Node&) { return std::make_unique<RoughBed<D>>(q); });
+    reg.add("imaginary_wall", [](Reader& q, const Node& n) { return std::make_unique<ImaginaryWall<D>>(q, n); });
     return reg;
   }();
   return r;
 }
 
-template Registry<ForceTerm<2>, const YAML::Node&, const std::string&>& force_registry<2>();
-template Registry<ForceTerm<3>, const YAML::Node&, const std::string&>& force_registry<3>();
+template <int D>
+void add_force_terms(const Node& list, const std::string& file, System<D>& S) {
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const Node& n = list[i];
+    Reader r(n, file, fmt::format("forces.{}", i));
+    std::string known;
+    for (const auto& k : force_registry<D>().names()) known += (known.empty() ? "" : ", ") + k;
+    const std::string type = r.required<std::string>("type", "a force term: " + known);
+    if (!force_registry<D>().has(type)) r.fail_at(r.get("type"), r.key_path("type"), "one of " + known + " (got '" + type + "')");
+    S.forces.push_back(force_registry<D>().create(type, r, n));
+  }
+}
+
+template void add_force_terms<2>(const Node&, const std::string&, System<2>&);
+template void add_force_terms<3>(const Node&, const std::string&, System<3>&);
+template Registry<ForceTerm<2>, Reader&, const Node&>& force_registry<2>();
+template Registry<ForceTerm<3>, Reader&, const Node&>& force_registry<3>();
 
 }  // namespace sph

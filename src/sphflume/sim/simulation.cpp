@@ -87,19 +87,7 @@ void setup(const Case& c, System<D>& S, BuildReport& rep, std::unique_ptr<Scheme
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: {}", c.file, e.what()));
   }
-  if (c.forces.IsDefined())
-    for (std::size_t i = 0; i < c.forces.size(); ++i) {
-      const YAML::Node n = c.forces[i];
-      const std::string where = fmt::format("{}: line {}: forces.{}", c.file, n.Mark().line + 1, i);
-      if (!n.IsMap() || !n["type"]) throw InputError(where + ": expected {type: NAME, ...}");
-      try {
-        S.forces.push_back(force_registry<D>().create(n["type"].as<std::string>(), n, where));
-      } catch (const std::invalid_argument& e) {
-        throw InputError(fmt::format("{}: {}", where, e.what()));
-      } catch (const YAML::Exception& e) {
-        throw InputError(fmt::format("{}: {}", where, e.msg));
-      }
-    }
+  add_force_terms<D>(c.forces, c.file, S);
 }
 
 /// The box particles must stay in: the case's domain, or the initial bounding box with
@@ -163,7 +151,7 @@ struct Run {
   explicit Run(const Case& cs) : c(cs), open(cs) {
     setup(c, S, rep, scheme);
     domain_box(c, S, lo, hi);  // from the case's geometry, so a restart gets the same box
-    rs.case_text = case_fingerprint(c.raw);
+    rs.case_text = c.fingerprint;
     open.setup(S, rs.open);  // fluid inside the zones becomes inflow/outflow particles
     if (S.transport) S.transport->impose(S);  // the inflow particles' prescribed values
     if (open.needs_prepare()) S.before_rates = [this](System<D>& s) { open.prepare(s); };
