@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
 
   try {
     const sph::Case c = sph::load_case(case_file, sets);
+    for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
     if (check->parsed()) {
       fmt::print("{}", sph::check_case(c));
       return 0;

@@ -503,7 +503,11 @@ Case build_case(const Node& root, const std::string& file) {
   }
   if (top.has("scheme")) {
     Reader r(top.get("scheme"), file, "scheme");
-    c.scheme.type = r.choice("type", "wcsph", {"wcsph"});
+    c.scheme.type = r.choice("type", "wcsph", {"wcsph", "isph"});
+    if (c.scheme.type == "isph") {
+      read_isph_options(r, c.isph);
+      for (const auto& k : c.isph.ignored) c.warnings.push_back(fmt::format("{}: {}: ignored under scheme.type: isph", file, k));
+    } else {
     const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "verlet"});
     c.scheme.integrator = integ == "symplectic" ? Integrator::Symplectic
                           : integ == "verlet"   ? Integrator::Verlet : Integrator::PredictorCorrector;
@@ -533,6 +537,7 @@ Case build_case(const Node& root, const std::string& file) {
     c.scheme.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);
     c.scheme.frozen = r.scalar<bool>("frozen", false);
     r.finish();
+    }
   }
   if (top.has("walls")) {
     Reader r(top.get("walls"), file, "walls");

@@ -15,6 +15,7 @@
 #include "sphflume/core/node.hpp"
 #include "sphflume/physics/eos.hpp"
 #include "sphflume/physics/shifting.hpp"
+#include "sphflume/schemes/isph_options.hpp"
 
 namespace sph {
 
@@ -51,6 +52,7 @@ struct SchemeConfig {
   double force_coefficient = 0.25;     // dt <= coef * sqrt(h / |a|_max)
   double eta2 = 0.01;  // η²/h² regularising 1/(r²+η²) in viscous and diffusion terms (theses: 0.01)
   bool frozen = false;  // the flow is not integrated (particles fixed): only scalars are transported
+  bool pressure = true;  // not a case key: false = the pair loop without pressure (ISPH's force pass)
 };
 
 /// Eddy-viscosity turbulence (Kazemi ch. 3 and 6): nu_t from the strain rate |S| of the
@@ -291,7 +293,9 @@ struct Case {
   std::vector<double> domain_min, domain_max;  // empty = bounding box of the geometry
   std::vector<int> periodic;                   // axes
   FluidConfig fluid;
-  SchemeConfig scheme;
+  SchemeConfig scheme;  // type, and the weakly-compressible scheme's options
+  IsphConfig isph;      // the projection scheme's options (scheme.type: isph)
+  std::vector<std::string> warnings;  // input that is accepted but ignored (printed; summary.json)
   WallConfig walls;
   std::vector<ShapeConfig> shapes;
   int geometry_line = 0;  // line of the 'geometry' key (for messages about the shapes as a whole)

@@ -520,7 +520,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     }
   }
 
-  if (c.walls.backup) {  // first-layer wall particles: the vector to their surface point (depth and normal)
+  if (c.walls.backup || c.scheme.type == "isph") {  // every wall particle: the vector to its surface point (depth, normal)
     auto& to = P.vector("wall_to_surface");
     for (std::size_t k = 0; k < wall_x.size(); ++k) to[first_wall + k] = wall_s[k] - wall_x[k];
   }

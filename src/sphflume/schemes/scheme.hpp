@@ -1,5 +1,6 @@
-// A scheme advances the shared System by one time step. WCSPH now; ISPH (projection + PPE)
-// plugs in the same way, reusing particles, neighbour search, walls, force terms and I/O.
+// A scheme advances the shared System by one time step: WCSPH (schemes/wcsph.*) and ISPH
+// (projection + PPE, schemes/isph.*) share particles, neighbour search, walls, force terms and
+// I/O. A new scheme: a class behind this interface plus one line in schemes/registry.cpp.
 #pragma once
 #include <map>
 #include <stdexcept>
@@ -31,6 +32,12 @@ class Scheme {
   /// restore() puts it back, so that a restarted run goes on bit for bit.
   virtual std::map<std::string, double> state() const { return {}; }
   virtual void restore(const std::map<std::string, double>&) {}
+  /// True when a step much shorter than the last one disturbs the scheme (the driver then
+  /// splits the time left before an output into two equal steps instead of leaving a sliver).
+  virtual bool even_steps() const { return false; }
+  /// The scheme's own block in summary.json (`"key": value` lines, comma-separated, no
+  /// trailing comma), or empty.
+  virtual std::string summary_json() const { return {}; }
 };
 
 template <int D>

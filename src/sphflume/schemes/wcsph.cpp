@@ -49,7 +49,13 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     if (b) f(std::true_type{});
     else f(std::false_type{});
   };
-  if (!S.phase_eos.empty()) {  // several phases (setup refuses them with turbulence or porosity)
+  if (!cfg_.pressure) {  // the forces alone (ISPH's prediction: no pressure, no XSPH, one phase)
+    with_bool(turb, [&](auto tu) {
+      with_bool(static_cast<bool>(S.porous), [&](auto po) {
+        this->template sweep<K, false, decltype(tu)::value, decltype(po)::value, false, false>(S, ker);
+      });
+    });
+  } else if (!S.phase_eos.empty()) {  // several phases (setup refuses them with turbulence or porosity)
     with_bool(cfg_.xsph > 0.0, [&](auto xs) { this->template sweep<K, decltype(xs)::value, false, false, true>(S, ker); });
   } else {
     with_bool(cfg_.xsph > 0.0, [&](auto xs) {
@@ -64,7 +70,7 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
 }
 
 template <int D>
-template <class K, bool Xsph, bool Turb, bool Porous, bool Multi>
+template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press>
 void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const bool dyn = S.walls->evolves_density();
@@ -299,7 +305,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           // (phases: within a phase only; the density jump between phases is no error to diffuse)
           const F32 same = Multi ? (bphs[k] == pha ? F32(1) : F32(0)) : F32(1);
           dd += same * fb * (deva - devb - ffour * rsum * inv_csum * gr) * fr * Vb;
-          const F32 pterm = fsym * mbp * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - fsym) * (pa + pb) * Vb * inv_rhoa;
+          const F32 pterm = Press ? fsym * mbp * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - fsym) * (pa + pb) * Vb * inv_rhoa
+                                  : F32(0);
           // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
           const F32 mv = fb + (F32(1) - fb) * fvisc_wall;
           const F32 w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : F32(0);
@@ -662,16 +669,5 @@ std::size_t WCSPH<D>::bytes() const {
 template class WCSPH<2>;
 template class WCSPH<3>;
 
-template <int D>
-Registry<Scheme<D>, const Case&>& scheme_registry() {
-  static Registry<Scheme<D>, const Case&> r = [] {
-    Registry<Scheme<D>, const Case&> reg;
-    reg.add("wcsph", [](const Case& c) { return std::make_unique<WCSPH<D>>(c); });
-    return reg;
-  }();
-  return r;
-}
-template Registry<Scheme<2>, const Case&>& scheme_registry<2>();
-template Registry<Scheme<3>, const Case&>& scheme_registry<3>();
 
 }  // namespace sph

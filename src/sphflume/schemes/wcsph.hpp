@@ -29,7 +29,10 @@ namespace sph {
 template <int D>
 class WCSPH final : public Scheme<D> {
  public:
-  explicit WCSPH(const Case& c) : cfg_(c.scheme), turb_(c.turbulence), shift_(c.scheme.shifting) {}
+  explicit WCSPH(const Case& c) : WCSPH(c.scheme, c.turbulence) {}
+  /// From the plain configurations; `cfg.pressure = false` makes rates() the force pass of a
+  /// projection scheme (gravity, viscosity, turbulence, walls, force terms, porous drag rate).
+  WCSPH(const SchemeConfig& cfg, const TurbulenceConfig& turb) : cfg_(cfg), turb_(turb), shift_(cfg.shifting) {}
   const char* name() const override { return "wcsph"; }
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
@@ -51,7 +54,7 @@ class WCSPH final : public Scheme<D> {
  private:
   template <class K>
   void pair_loop(System<D>& S, const K& kernel);
-  template <class K, bool Xsph, bool Turb, bool Porous, bool Multi>
+  template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press = true>
   void sweep(System<D>& S, const K& kernel);
   void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);

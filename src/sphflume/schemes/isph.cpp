@@ -1,0 +1,384 @@
+#include "sphflume/schemes/isph.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "sphflume/boundaries/walls.hpp"
+#include "sphflume/physics/porous.hpp"
+
+namespace sph {
+namespace {
+
+/// The force pass's options: WCSPH's pair loop without pressure, density diffusion or XSPH.
+SchemeConfig force_config(const Case& c) {
+  SchemeConfig f = c.scheme;
+  f.pressure = false;
+  f.density_diffusion = DensityDiffusion::None;
+  f.delta = 0.0;
+  f.xsph = 0.0;
+  f.shifting = ShiftingConfig{};
+  f.frozen = false;
+  f.viscosity = c.isph.viscosity ? ViscosityModel::Laminar : ViscosityModel::None;
+  f.eta2 = c.isph.eta2;
+  return f;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+template <int D>
+ISPH<D>::ISPH(const Case& c)
+    : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(make_eigen_solver(c.isph.tolerance, c.isph.max_iterations)) {
+  // the shared models this scheme supports (the rest: a clear refusal, not a silent misuse)
+  auto refuse = [&](int line, const std::string& what, const std::string& fix) {
+    throw InputError(fmt::format("{}: {}{} is not supported with scheme.type: isph in this version: {}", c.file,
+                                 line > 0 ? fmt::format("line {}: ", line) : std::string(), what, fix));
+  };
+  if (c.walls.type != "dummy" || c.walls.repulsive)
+    refuse(0, fmt::format("walls.type: {}{}", c.walls.type, c.walls.repulsive ? " with repulsion" : ""),
+           "use walls.type: dummy (the first wall layer carries the PPE's wall pressure, the deeper ones copy it)");
+  if (!c.open_boundaries.empty()) refuse(c.open_boundaries[0].line, "open_boundaries", "use scheme.type: wcsph");
+  if (c.multiphase.on()) refuse(c.multiphase.line, "multiphase", "use scheme.type: wcsph");
+  if (c.transport.on()) refuse(0, "transport", "use scheme.type: wcsph");
+}
+
+template <int D>
+void ISPH<D>::initialise(System<D>& S) {
+  // ρ_ref: the kernel summed over a full lattice of spacing dx (a particle inside the water)
+  const double m = S.eos.rho0 * std::pow(S.dx, D);
+  rho_ref_ = S.with_kernel([&](const auto& K) {
+    const int n = static_cast<int>(std::ceil(K.support / S.dx)) + 1;
+    double sum = 0.0;
+    for (int a = -n; a <= n; ++a)
+      for (int b = -n; b <= n; ++b)
+        for (int e = (D == 3 ? -n : 0); e <= (D == 3 ? n : 0); ++e) {
+          const double r = S.dx * std::sqrt(double(a * a + b * b + e * e));
+          if (r < K.support) sum += K.W(r);
+        }
+    return m * sum;
+  });
+  // the starting pressure (the hydrostatic state of the set-up) is the first solve's warm start
+  auto& P = S.particles;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    P.p[i] = P.kind[i] == Kind::Fluid ? S.eos.pressure(P.rho[i]) - S.eos.background : 0.0;
+  S.update_neighbours();
+}
+
+template <int D>
+double ISPH<D>::time_step(const System<D>& S) const {
+  const auto& P = S.particles;
+  double umax2 = 0.0;
+  const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static) reduction(max : umax2)
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid) umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
+  double dt = std::numeric_limits<double>::infinity();
+  if (umax2 > 0.0) dt = o_.cfl * S.dx / std::sqrt(umax2);
+  const double a = std::max(norm(S.gravity), amax_);
+  if (a > 0.0) dt = std::min(dt, o_.force_coefficient * std::sqrt(S.h / a));
+  if (o_.viscosity && S.nu > 0.0) dt = std::min(dt, o_.viscous_coefficient * S.h * S.h / S.nu);
+  // the cap: the Courant limit at the flow's reference speed (c0/10: sqrt(2 g H), or the
+  // case's fluid.reference_velocity), so that a flow starting from rest does not take one long
+  // step into the walls (Tsurudome's runs start at 2.5e-4 ... 5e-4 s)
+  dt = std::min(dt, o_.dt_max > 0.0 ? o_.dt_max : o_.cfl * S.dx / (0.1 * S.eos.c0));
+  if (!std::isfinite(dt)) dt = o_.dt_max > 0.0 ? o_.dt_max : o_.cfl * S.dx;  // no flow, no gravity
+  return dt;
+}
+
+template <int D>
+void ISPH<D>::step(System<D>& S, double dt) {
+  auto& P = S.particles;
+  // 1. prediction at r_t
+  S.update_neighbours();
+  forces_.rates(S);
+  auto& x0 = P.vector("x0");
+  auto& v0 = P.vector("v0");
+  const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
+  const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
+  const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    x0[i] = P.pos[i];
+    v0[i] = P.vel[i];
+    if (P.kind[i] != Kind::Fluid) continue;
+    // porous drag point-implicit: u* = (u_t + Δt a/M) / (1 + Δt K/M)
+    P.vel[i] = kr ? (1.0 / (1.0 + dt * kr[i])) * (P.vel[i] + (dt * im[i]) * P.acc[i]) : P.vel[i] + dt * P.acc[i];
+    P.pos[i] += dt * P.vel[i];
+  }
+  // 2-4 at r*
+  S.update_neighbours();
+  if (S.porous) S.porous->update(S);
+  solve_pressure(S, dt);
+  S.with_kernel([&](const auto& K) { this->correct(S, K, dt); });
+  if (shift_.on()) shift_.compute(S, dt);  // from r* and u_{t+1} (the lists of r*)
+  double amax2 = 0.0;
+  const auto& x0s = P.vector("x0");
+  const auto& v0s = P.vector("v0");
+#pragma omp parallel for schedule(static) reduction(max : amax2)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const Vec<D> dv = P.vel[i] - v0s[i];
+    amax2 = std::max(amax2, dot(dv, dv));
+    P.pos[i] = x0s[i] + (0.5 * dt) * (v0s[i] + P.vel[i]);  // trapezoidal (Tsurudome eq 3.2.6)
+  }
+  amax_ = std::sqrt(amax2) / dt;
+  if (shift_.on()) shift_.apply(S);
+  S.periodic.wrap(P);
+  S.time += dt;
+  ++S.step;
+}
+
+template <int D>
+void ISPH<D>::classify(System<D>& S) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double beta_rho = o_.fs_threshold * rho_ref_;
+  const double beta_div = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
+  // at the free surface: the density (Tsurudome eq 4.2.3) or the position divergence (in drho)
+  auto free = [&](std::size_t i) { return o_.fs_divergence ? P.drho[i] < beta_div : P.rho[i] < beta_rho; };
+  const std::vector<Vec<D>>* to = P.vector_fields().count("wall_to_surface") ? &P.vector("wall_to_surface") : nullptr;
+  if (!to) throw std::logic_error("isph: the geometry made no wall surface vectors (wall_to_surface)");
+  cls_.assign(n, 1);
+  unknown_.assign(n, -1);
+  map_.assign(n, -1);
+  std::size_t fs = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Kind k = P.kind[i];
+    if (k == Kind::Fluid) {
+      cls_[i] = free(i) ? 1 : 0;
+      fs += cls_[i];
+    } else if (k == Kind::Wall) {
+      const double depth = norm((*to)[i]);
+      if (depth < S.dx) cls_[i] = P.rho[i] < beta_rho ? 1 : 0;  // first layer: wet, or dry (P = 0) by its density
+      else cls_[i] = 2;
+    }
+  }
+  stats_.free_surface = fs;
+  // each dummy carries the pressure of the first-layer particle at the foot of its normal
+  const double half = 0.5 * S.dx;
+  const double reach = S.support;
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (cls_[i] != 2) continue;
+    const Vec<D> s = (*to)[i];
+    const double len = norm(s);
+    const Vec<D> target = P.pos[i] + ((len - half) / len) * s;
+    double best = reach * reach;
+    int pick = -1;
+    S.cells.for_neighbours(P.pos, target, reach, [&](std::uint32_t j, const Vec<D>&, double r2) {
+      const std::size_t o = j < n ? j : P.image_source[j - n];
+      if (P.kind[o] != Kind::Wall || !(norm((*to)[o]) < S.dx)) return;
+      if (r2 < best) { best = r2; pick = static_cast<int>(o); }
+    });
+    map_[i] = pick;
+  }
+  int k = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (cls_[i] == 0) unknown_[i] = k++;
+}
+
+template <int D>
+void ISPH<D>::solve_pressure(System<D>& S, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const auto t0 = std::chrono::steady_clock::now();
+  // summation density of every owned particle (fluid and walls) at r*
+  S.with_kernel([&](const auto& K) {
+    const double w0 = K.W(0.0);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
+      double s = P.mass[i] * w0;
+      S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
+        if (r2 > 0.0) s += P.mass[j] * K.W(std::sqrt(r2));
+      });
+      P.drho[i] = s;  // scratch (the sums read masses only)
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = P.drho[i];
+  if (o_.fs_divergence) {  // ∇·r_i = −Σ V_j r_ij·∇_i W_ij, V_j = m_j/ρ_j (walls: m/ρ_ref), into drho
+    P.refresh_images();
+    S.with_kernel([&](const auto& K) {
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
+        double s = 0.0;
+        S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
+          if (!(r2 > 0.0)) return;
+          const std::size_t o = j < n ? j : P.image_source[j - n];
+          const double rho_j = P.kind[o] == Kind::Wall ? rho_ref_ : P.rho[j];
+          s -= P.mass[j] / rho_j * K.F(std::sqrt(r2)) * r2;
+        });
+        P.drho[i] = s;
+      }
+    });
+  }
+  classify(S);
+  // the walls' density in the pressure terms: the reference (a wall is no fluid to compress)
+  for (std::size_t i = 0; i < n; ++i) {
+    P.drho[i] = 0.0;
+    if (P.kind[i] == Kind::Wall) P.rho[i] = rho_ref_;
+  }
+  P.refresh_images();
+  S.with_kernel([&](const auto& K) { this->assemble(S, K, dt); });
+  // warm start: the pressures the unknowns had
+  x_.assign(sys_.rows(), 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (unknown_[i] >= 0) x_[static_cast<std::size_t>(unknown_[i])] = P.p[i];
+  stats_.assemble_s += seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  const SolveReport rep = solver_->solve(sys_, x_);
+  stats_.solve_s += seconds_since(t1);
+  ++stats_.solves;
+  stats_.iterations += rep.iterations;
+  stats_.max_iterations = std::max(stats_.max_iterations, rep.iterations);
+  stats_.max_residual = std::max(stats_.max_residual, rep.residual);
+  stats_.unknowns = rep.unknowns;
+  stats_.nonzeros = rep.nonzeros;
+  if (!rep.converged)
+    throw SimulationError(fmt::format(
+        "at step {}, t = {:.6g} s: the pressure Poisson equation did not converge ({} unknowns, {} iterations, "
+        "relative residual {:.3g} > scheme.solver.tolerance {:.3g}); likely causes: a time step too large for the "
+        "flow (lower scheme.cfl), or particles packed into a wall (check the walls)",
+        S.step, S.time, rep.unknowns, rep.iterations, rep.residual, o_.tolerance));
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
+    P.p[i] = unknown_[i] >= 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (cls_[i] == 2) P.p[i] = map_[i] >= 0 ? P.p[static_cast<std::size_t>(map_[i])] : 0.0;
+  P.refresh_images();
+}
+
+template <int D>
+template <class K>
+void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double eta2 = o_.eta2 * S.h * S.h;
+  const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : o_.source == PpeSource::DivergenceFree ? 1.0 : 0.0;
+  const double rr = rho_ref_;
+  const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
+  // each row into its own slot (parallel), then concatenated in row order (deterministic)
+  std::vector<std::vector<std::pair<int, double>>> row(rows);
+  std::vector<double> rhs(rows, 0.0);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < n; ++i) {
+    const int me = unknown_[i];
+    if (me < 0) continue;
+    auto& e = row[static_cast<std::size_t>(me)];
+    double diag = 0.0, div = 0.0;
+    const double ri = P.rho[i];
+    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
+      if (!(r2 > 0.0)) return;
+      const std::size_t o = j < n ? j : P.image_source[j - n];
+      const Kind kj = P.kind[o];
+      if (kj != Kind::Fluid && kj != Kind::Wall) return;
+      const double F = ker.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
+      const double rs = ri + P.rho[j];
+      const double c = -8.0 * P.mass[j] / (rs * rs) * F * r2 / (r2 + eta2);
+      div += P.mass[j] * F * dot(P.vel[j] - P.vel[i], rij);
+      int col = -1;
+      if (cls_[o] == 0) col = unknown_[o];
+      else if (cls_[o] == 2 && map_[o] >= 0 && cls_[static_cast<std::size_t>(map_[o])] == 0)
+        col = unknown_[static_cast<std::size_t>(map_[o])];
+      if (col == me) return;  // the particle itself (a dummy under it, or its own image): cancels
+      diag -= c;
+      if (col >= 0) e.emplace_back(col, c);
+    });
+    std::sort(e.begin(), e.end());
+    std::vector<std::pair<int, double>> merged;
+    merged.reserve(e.size() + 1);
+    bool placed = false;
+    for (const auto& [col, v] : e) {
+      if (!placed && col > me) { merged.emplace_back(me, diag); placed = true; }
+      if (!merged.empty() && merged.back().first == col) merged.back().second += v;
+      else merged.emplace_back(col, v);
+    }
+    if (!placed) merged.emplace_back(me, diag);
+    e.swap(merged);
+    const double b_hs = div / (rr * dt);
+    const double b_std = (rr - ri) / (rr * dt * dt);
+    rhs[static_cast<std::size_t>(me)] = gamma * b_hs + (1.0 - gamma) * b_std;
+  }
+  sys_.start.assign(1, 0);
+  sys_.col.clear();
+  sys_.val.clear();
+  for (const auto& e : row) {
+    for (const auto& [col, v] : e) { sys_.col.push_back(col); sys_.val.push_back(v); }
+    sys_.start.push_back(sys_.col.size());
+  }
+  sys_.rhs.swap(rhs);
+}
+
+template <int D>
+template <class K>
+void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const double pi = P.p[i] / (P.rho[i] * P.rho[i]);
+    Vec<D> grad{};
+    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
+      if (!(r2 > 0.0)) return;
+      const Kind kj = P.kind[j];
+      if (kj != Kind::Fluid && kj != Kind::Wall) return;
+      const double F = ker.F(std::sqrt(r2));
+      grad += (P.mass[j] * (pi + P.p[j] / (P.rho[j] * P.rho[j])) * F) * rij;
+    });
+    P.vel[i] -= dt * grad;
+  }
+}
+
+template <int D>
+std::size_t ISPH<D>::bytes() const {
+  const std::size_t n = std::max<std::size_t>(cls_.size(), 1);
+  const std::size_t own = cls_.capacity() + (unknown_.capacity() + map_.capacity()) * sizeof(int) +
+                          sys_.col.capacity() * sizeof(int) + sys_.val.capacity() * sizeof(double) +
+                          (sys_.start.capacity() + 0) * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double);
+  return (own + solver_->bytes()) / n;
+}
+
+template <int D>
+std::map<std::string, double> ISPH<D>::state() const {
+  return {{"amax", amax_},
+          {"ppe_solves", double(stats_.solves)},
+          {"ppe_iterations", double(stats_.iterations)},
+          {"ppe_max_iterations", double(stats_.max_iterations)},
+          {"ppe_max_residual", stats_.max_residual}};
+}
+
+template <int D>
+void ISPH<D>::restore(const std::map<std::string, double>& s) {
+  auto get = [&](const char* k, double def) { auto it = s.find(k); return it == s.end() ? def : it->second; };
+  amax_ = get("amax", 0.0);
+  stats_.solves = static_cast<long>(get("ppe_solves", 0.0));
+  stats_.iterations = static_cast<long>(get("ppe_iterations", 0.0));
+  stats_.max_iterations = static_cast<int>(get("ppe_max_iterations", 0.0));
+  stats_.max_residual = get("ppe_max_residual", 0.0);
+}
+
+template <int D>
+std::string ISPH<D>::summary_json() const {
+  const double mean = stats_.solves > 0 ? double(stats_.iterations) / double(stats_.solves) : 0.0;
+  return fmt::format(
+      "  \"pressure_solver\": {{\"name\": \"{}\", \"solves\": {}, \"mean_iterations\": {:.2f}, \"max_iterations\": {}, "
+      "\"max_residual\": {:.3e}, \"tolerance\": {:.3e}, \"unknowns\": {}, \"nonzeros\": {}, \"free_surface\": {}, "
+      "\"assemble_seconds\": {:.3f}, \"solve_seconds\": {:.3f}, \"reference_density\": {:.6g}}}",
+      solver_->name(), stats_.solves, mean, stats_.max_iterations, stats_.max_residual, o_.tolerance, stats_.unknowns,
+      stats_.nonzeros, stats_.free_surface, stats_.assemble_s, stats_.solve_s, rho_ref_);
+}
+
+template class ISPH<2>;
+template class ISPH<3>;
+
+}  // namespace sph

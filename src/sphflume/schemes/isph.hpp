@@ -1,0 +1,80 @@
+// Incompressible SPH (Tsurudome 2020, ch. 3-4; Shao & Lo 2003; Asai et al. 2012): a projection
+// scheme on the particles, neighbour search, walls and force terms the weakly-compressible
+// scheme uses. One step (digest §12):
+//  1. prediction at r_t: u* = u_t + Δt (g + ν∇²u + ∇·τ/ρ + force terms), the porous drag
+//     point-implicit, r* = r_t + Δt u* (the forces are WCSPH's pair loop with the pressure off:
+//     one particle loop for both schemes);
+//  2. at r*: summation density ρ*_i = Σ m_j W_ij; free surface where ρ* < β ρ_ref (ρ_ref: the
+//     lattice sum of the kernel, so that a full support reads 1); pressure P = 0 there;
+//  3. the PPE  Σ_j 8 m_j/(ρ_i+ρ_j)² P_ij r_ij·∇W/(r²+η²) = γ ∇·u*/Δt + (1−γ)(ρ_ref−ρ*)/(ρ_ref Δt²)
+//     for the fluid and the first layer of wall particles; the deeper (dummy) wall particles
+//     carry the pressure of the first-layer particle at their foot (homogeneous Neumann);
+//     solved by a PressureSolver from the last step's pressure;
+//  4. correction u_{t+1} = u* − Δt Σ m_j (P_i/ρ_i² + P_j/ρ_j²) ∇W, r_{t+1} = r_t + Δt (u_t + u_{t+1})/2.
+// Time step: Δt = min(cfl dx/|u|max, coef sqrt(h/|a|max), viscous limit, dt_max).
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sphflume/schemes/isph_options.hpp"
+#include "sphflume/schemes/pressure_solver.hpp"
+#include "sphflume/schemes/scheme.hpp"
+#include "sphflume/schemes/wcsph.hpp"
+
+namespace sph {
+
+/// Counters of the pressure solves since the start of the run (summary.json "pressure_solver").
+struct PpeStats {
+  long solves = 0;
+  long iterations = 0;
+  int max_iterations = 0;
+  double max_residual = 0.0;
+  std::size_t unknowns = 0, nonzeros = 0, free_surface = 0;  // last solve
+  double assemble_s = 0.0, solve_s = 0.0;
+};
+
+template <int D>
+class ISPH final : public Scheme<D> {
+ public:
+  explicit ISPH(const Case& c);
+  const char* name() const override { return "isph"; }
+  void initialise(System<D>& S) override;
+  double time_step(const System<D>& S) const override;
+  void step(System<D>& S, double dt) override;
+  int passes_per_step() const override { return 3; }  // forces, density + PPE, correction
+  std::size_t bytes() const override;
+  std::map<std::string, double> state() const override;
+  void restore(const std::map<std::string, double>& s) override;
+  std::string summary_json() const override;
+  bool even_steps() const override { return true; }
+
+  /// The reference density: the kernel's sum over a full lattice of spacing dx (exposed for tests).
+  double reference_density() const { return rho_ref_; }
+  const PpeStats& stats() const { return stats_; }
+  /// Steps 2-4 at the current positions (r*): densities, free surface, PPE, pressures of every
+  /// particle (exposed for tests: a still tank's pressure).
+  void solve_pressure(System<D>& S, double dt);
+
+ private:
+  template <class K> void assemble(System<D>& S, const K& ker, double dt);
+  template <class K> void correct(System<D>& S, const K& ker, double dt);
+  void classify(System<D>& S);
+
+  IsphConfig o_;
+  WCSPH<D> forces_;
+  Shifting<D> shift_;
+  std::unique_ptr<PressureSolver> solver_;
+  double rho_ref_ = 0.0;
+  double amax_ = 0.0;  // largest net acceleration of the last step
+  PpeStats stats_;
+  // per solve (indexed by owned particle): 0 unknown, 1 P = 0 (free surface or dry wall),
+  // 2 dummy (P of map_[i]); unknown numbers; the system
+  std::vector<char> cls_;
+  std::vector<int> unknown_, map_;
+  SparseRows sys_;
+  std::vector<double> x_;
+};
+
+}  // namespace sph

@@ -1,0 +1,57 @@
+#include "sphflume/schemes/isph_options.hpp"
+
+#include <fmt/format.h>
+
+namespace sph {
+
+void read_isph_options(Reader& r, IsphConfig& o) {
+  // keys of the weakly-compressible scheme: meaningless here, reported, not refused
+  for (const char* k : {"integrator", "verlet_steps", "density_diffusion", "delta", "alpha", "pressure_gradient",
+                        "shepard_every", "xsph", "frozen"})
+    if (r.has(k)) {
+      const Node& n = r.get(k);
+      o.ignored.push_back(fmt::format("{}: scheme.{}", n.key_line() > 0 ? fmt::format("line {}", n.key_line())
+                                                                      : std::string("(given with --set)"), k));
+    }
+  o.cfl = r.in_range("cfl", 0.2, 1e-4, 1.0);
+  o.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
+  o.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
+  o.dt_max = r.in_range("dt_max", 0.0, 0.0, 1e3);
+  o.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);
+  const std::string vm = r.choice("viscosity", "laminar", {"none", "laminar", "artificial"});
+  if (vm == "artificial")  // the projection scheme has no sound speed to scale Monaghan's term
+    o.ignored.push_back(fmt::format("{}: scheme.viscosity: artificial (the laminar term is used)",
+                                    Reader::where(r.get("viscosity"))));
+  o.viscosity = vm != "none";
+  if (r.has("shifting")) {  // the same keys as under wcsph (physics/shifting.hpp)
+    Reader q(r.get("shifting"), r.file(), "scheme.shifting");
+    o.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
+    o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
+    q.finish();
+  }
+  if (r.has("source")) {
+    Reader q(r.get("source"), r.file(), "scheme.source");
+    const std::string t = q.choice("type", "hybrid", {"hybrid", "standard", "divergence_free"});
+    o.source = t == "hybrid" ? PpeSource::Hybrid : t == "standard" ? PpeSource::Standard : PpeSource::DivergenceFree;
+    o.gamma = q.in_range("gamma", 0.97, 0.0, 1.0);
+    q.finish();
+  }
+  if (r.has("free_surface")) {
+    Reader q(r.get("free_surface"), r.file(), "scheme.free_surface");
+    o.fs_divergence = q.choice("criterion", "density", {"density", "divergence"}) == "divergence";
+    o.fs_threshold = o.fs_divergence ? q.in_range("threshold", 0.0, 0.0, 3.0) : q.in_range("threshold", 0.99, 0.5, 1.2);
+    q.finish();
+  }
+  if (r.has("solver")) {
+    Reader q(r.get("solver"), r.file(), "scheme.solver");
+    (void)q.choice("type", "bicgstab", {"bicgstab"});
+    o.tolerance = q.in_range("tolerance", 1e-6, 1e-14, 1e-2);
+    o.max_iterations = q.scalar<int>("max_iterations", 2000);
+    if (o.max_iterations < 1 || o.max_iterations > 1000000)
+      q.fail_at(q.get("max_iterations"), "scheme.solver.max_iterations", "an integer in [1, 1000000]");
+    q.finish();
+  }
+  r.finish();
+}
+
+}  // namespace sph

@@ -1,0 +1,45 @@
+// The linear solver behind a projection scheme's pressure Poisson equation (PPE). The scheme
+// assembles A x = b in compressed-row form (one row per pressure unknown) and hands it over; a
+// solver solves it from a warm start and reports what it did. The Eigen solver (BiCGSTAB with a
+// diagonal preconditioner) implements it for one process; a distributed solver (hypre) can
+// implement the same interface.
+#pragma once
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sph {
+
+/// A sparse system in compressed-row form: row r's entries are col[start[r] .. start[r+1]).
+struct SparseRows {
+  std::vector<std::size_t> start{0};
+  std::vector<int> col;
+  std::vector<double> val;
+  std::vector<double> rhs;
+  std::size_t rows() const { return start.size() - 1; }
+  std::size_t nonzeros() const { return col.size(); }
+};
+
+struct SolveReport {
+  int iterations = 0;
+  double residual = 0.0;  // |b − A x| / |b| at the end
+  bool converged = false;
+  std::size_t unknowns = 0, nonzeros = 0;
+};
+
+class PressureSolver {
+ public:
+  virtual ~PressureSolver() = default;
+  virtual const char* name() const = 0;
+  /// Solve `sys` for x; x holds the warm start on entry (resized with zeros if it does not fit).
+  virtual SolveReport solve(const SparseRows& sys, std::vector<double>& x) = 0;
+  /// Bytes the solver holds (matrix copies, preconditioner, Krylov vectors).
+  virtual std::size_t bytes() const = 0;
+};
+
+/// Eigen's BiCGSTAB with a Jacobi (diagonal) preconditioner: the matrix is not symmetric once
+/// the dummy wall particles are folded into their wall particle's unknown.
+std::unique_ptr<PressureSolver> make_eigen_solver(double tolerance, int max_iterations);
+
+}  // namespace sph

@@ -1,0 +1,20 @@
+// The schemes a case can name in `scheme.type`: one line each.
+#include "sphflume/schemes/isph.hpp"
+#include "sphflume/schemes/wcsph.hpp"
+
+namespace sph {
+
+template <int D>
+Registry<Scheme<D>, const Case&>& scheme_registry() {
+  static Registry<Scheme<D>, const Case&> r = [] {
+    Registry<Scheme<D>, const Case&> reg;
+    reg.add("wcsph", [](const Case& c) { return std::make_unique<WCSPH<D>>(c); });
+    reg.add("isph", [](const Case& c) { return std::make_unique<ISPH<D>>(c); });
+    return reg;
+  }();
+  return r;
+}
+template Registry<Scheme<2>, const Case&>& scheme_registry<2>();
+template Registry<Scheme<3>, const Case&>& scheme_registry<3>();
+
+}  // namespace sph
