@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "sphflume/core/system.hpp"
-#include "sphflume/io/case.hpp"
+#include "sphflume/core/config.hpp"
 
 namespace sph {
 

@@ -30,7 +30,7 @@
 
 #include "sphflume/core/registry.hpp"
 #include "sphflume/core/system.hpp"
-#include "sphflume/io/case.hpp"
+#include "sphflume/core/config.hpp"
 
 namespace sph {
 

@@ -32,6 +32,12 @@ inline std::vector<std::array<double, 2>> read_vertices(Reader& r, const Node& n
 /// A region (RegionConfig) from the keys shape (box | circle | polygon), min/max, center/radius
 /// or vertices of the mapping `r` reads.
 RegionConfig read_region(Reader& r, const Node& n, int dim);
+/// The model sections (io/case_models.cpp): `scheme:` (WCSPH keys, or the scheme's own reader),
+/// `walls:`, `turbulence:`, `porous:`.
+void read_scheme(const Node& n, const std::string& file, Case& c);
+void read_walls(const Node& n, const std::string& file, Case& c);
+void read_turbulence(const Node& n, const std::string& file, Case& c);
+void read_porous(const Node& n, const std::string& file, Case& c);
 /// The `transport:` section (scalars) and the `multiphase:` section.
 void read_transport(const Node& n, const std::string& file, Case& c);
 void read_multiphase(const Node& n, const std::string& file, Case& c);

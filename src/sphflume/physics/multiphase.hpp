@@ -20,7 +20,7 @@
 // Colagrossi–Landrini formulation).
 #pragma once
 #include "sphflume/core/system.hpp"
-#include "sphflume/io/case.hpp"
+#include "sphflume/core/config.hpp"
 
 namespace sph {
 

@@ -9,7 +9,7 @@
 #include "sphflume/core/errors.hpp"
 #include "sphflume/core/registry.hpp"
 #include "sphflume/core/system.hpp"
-#include "sphflume/io/case.hpp"
+#include "sphflume/core/config.hpp"
 
 namespace sph {
 
