@@ -70,7 +70,7 @@ TEST(ISPH, PressureSolverSolvesPoisson1D) {
 }
 
 // A particle inside the block has a full kernel support on the lattice: its summation density is
-// the reference density (the lattice sum of m W), and still water without gravity has no
+// the reference density (the lattice sum of m W, which the scheme normalises to ρ0), and still water without gravity has no
 // pressure: the PPE's right-hand side vanishes (no divergence, no density error) and the outer
 // rows are the free surface (P = 0).
 TEST(ISPH, StillBlockWithoutGravityHasNoPressure) {
@@ -80,7 +80,8 @@ TEST(ISPH, StillBlockWithoutGravityHasNoPressure) {
   b.isph.solve_pressure(S, 1e-3);
   const auto& P = S.particles;
   const std::size_t c = b.nearest(0.15, 0.15);
-  EXPECT_NEAR(P.rho[c] / b.isph.reference_density(), 1.0, 1e-12);
+  // its density, normalised by the lattice's own sum, is ρ0 (its volume is dx² there)
+  EXPECT_NEAR(P.rho[c] / 1000.0, 1.0, 1e-12);
   // ρ_ref / ρ0 for Wendland C2 at h/dx 1.5 on a square lattice (docs/design/isph-plan.md §1.1)
   EXPECT_NEAR(b.isph.reference_density() / 1000.0, 1.0051, 5e-4);
   double pmax = 0.0;
@@ -90,6 +91,26 @@ TEST(ISPH, StillBlockWithoutGravityHasNoPressure) {
   // 0.981 of the reference, the third a full support (threshold 0.99)
   EXPECT_GT(b.isph.stats().free_surface, 0u);
   EXPECT_LE(b.isph.stats().free_surface, 4u * 2u * 30u);
+}
+
+// κ, the gradient's lattice moment the scheme computes from the kernel, is the moment of the particle
+// set itself: −(1/D) Σ_j V_j F(r_ij) r_ij² at an interior particle of the lattice block (V = dx²),
+// below 1 by the kernel's truncation on a lattice (the still tank's 1 % steeper pressure at h/dx 1.5).
+TEST(ISPH, GradientMomentIsTheLatticeSum) {
+  IsphBlock b;
+  auto& S = b.s.S;
+  S.update_neighbours();
+  const auto& P = S.particles;
+  const std::size_t c = b.nearest(0.15, 0.15);
+  double mom = 0.0;
+  S.with_kernel([&](const auto& K) {
+    S.cells.for_neighbours(P.pos, P.pos[c], K.support, [&](std::uint32_t, const Vec<2>&, double r2) {
+      if (r2 > 0.0) mom -= 0.5 * 0.01 * 0.01 * K.F(std::sqrt(r2)) * r2;
+    });
+  });
+  EXPECT_NEAR(b.isph.gradient_moment(), mom, 1e-12);
+  EXPECT_GT(b.isph.gradient_moment(), 0.98);
+  EXPECT_LT(b.isph.gradient_moment(), 1.0);
 }
 
 // Tsurudome's erratum 2: the divergence-free source must make a compressing flow build pressure.
@@ -119,13 +140,15 @@ TEST(ISPH, CompressionBuildsPositivePressure) {
 TEST(ISPH, OptionsAreReadAndWcsphKeysReported) {
   const Case c = parse_case(kLattice2D, "t.yaml",
                             {"scheme={type: isph, delta: 0.1, cfl: 0.1, source: {type: hybrid, gamma: 0.9},"
-                             " free_surface: {threshold: 0.98}, solver: {tolerance: 1e-8, max_iterations: 50}}"});
+                             " free_surface: {threshold: 0.98}, solver: {tolerance: 1e-8, max_iterations: 50},"
+                             " gradient_normalisation: lattice}"});
   EXPECT_EQ(c.scheme.type, "isph");
   EXPECT_DOUBLE_EQ(c.isph.cfl, 0.1);
   EXPECT_DOUBLE_EQ(c.isph.gamma, 0.9);
   EXPECT_DOUBLE_EQ(c.isph.fs_threshold, 0.98);
   EXPECT_DOUBLE_EQ(c.isph.tolerance, 1e-8);
   EXPECT_EQ(c.isph.max_iterations, 50);
+  EXPECT_TRUE(c.isph.gradient_lattice);
   ASSERT_EQ(c.warnings.size(), 1u);
   EXPECT_NE(c.warnings[0].find("scheme.delta"), std::string::npos);
   EXPECT_NE(c.warnings[0].find("ignored under scheme.type: isph"), std::string::npos);

@@ -41,9 +41,11 @@ def kill_after(args, out, k):
     p.send_signal(signal.SIGKILL)
     p.wait()
     return snapshots(out), p.returncode
-for integ in ["verlet", "symplectic"]:
-    sets = ["--set", "particles.dx=0.0073", "--set", "time.end=0.5", "--set", "time.output_interval=0.02",
-            "--set", f"scheme.integrator={integ}"]
+# each WCSPH integrator, and the projection scheme (its pressures are the next solve's warm start)
+for integ in ["verlet", "symplectic", "isph"]:
+    scheme = ["--set", "scheme.type=isph", "--set", "scheme.shifting.coefficient=2"] if integ == "isph" else \
+        ["--set", f"scheme.integrator={integ}"]
+    sets = ["--set", "particles.dx=0.0073", "--set", "time.end=0.5", "--set", "time.output_interval=0.02"] + scheme
     args = ["run", case, "-q", "--threads", "2"] + sets
     ref, ref2, killed = (os.path.join(work, f"{integ}_{n}") for n in ("ref", "ref2", "killed"))
     rc, log = run(binary, args + ["-o", ref])

@@ -68,7 +68,9 @@ struct IsphConfig {
   bool viscosity = true;             // the laminar (Lo & Shao) viscous term; false = inviscid
   PpeSource source = PpeSource::Hybrid;
   double gamma = 0.97;               // hybrid source: γ div-free + (1 − γ) density-invariant
+  bool density_deficit = true;       // the density-invariant part acts on deficits too (the thesis)
   bool fs_divergence = false;        // free surface by ∇·r < threshold (Lee et al. 2008) instead of the density
+  bool gradient_lattice = false;     // the pressure gradient divided by its lattice moment κ (not in the thesis)
   double fs_threshold = 0.99;        // density: ρ_sum < threshold ρ_ref (Tsurudome eq 4.2.3; thesis 1.0);
                                      // divergence: 1.5 (2D), 2.4 (3D) unless given
   double tolerance = 1e-6;           // the PPE's relative residual

@@ -50,24 +50,33 @@ ISPH<D>::ISPH(const Case& c)
 
 template <int D>
 void ISPH<D>::initialise(System<D>& S) {
-  // ρ_ref: the kernel summed over a full lattice of spacing dx (a particle inside the water)
-  const double m = S.eos.rho0 * std::pow(S.dx, D);
-  rho_ref_ = S.with_kernel([&](const auto& K) {
-    const int n = static_cast<int>(std::ceil(K.support / S.dx)) + 1;
-    double sum = 0.0;
-    for (int a = -n; a <= n; ++a)
-      for (int b = -n; b <= n; ++b)
-        for (int e = (D == 3 ? -n : 0); e <= (D == 3 ? n : 0); ++e) {
-          const double r = S.dx * std::sqrt(double(a * a + b * b + e * e));
-          if (r < K.support) sum += K.W(r);
-        }
-    return m * sum;
-  });
+  set_reference(S);
   // the starting pressure (the hydrostatic state of the set-up) is the first solve's warm start
   auto& P = S.particles;
   for (std::size_t i = 0; i < P.n_owned(); ++i)
     P.p[i] = P.kind[i] == Kind::Fluid ? S.eos.pressure(P.rho[i]) - S.eos.background : 0.0;
   S.update_neighbours();
+}
+
+template <int D>
+void ISPH<D>::set_reference(const System<D>& S) {
+  // ρ_ref: the kernel summed over a full lattice of spacing dx (a particle inside the water)
+  const double m = S.eos.rho0 * std::pow(S.dx, D);
+  // κ: the gradient's moment on the same lattice, −(1/D) Σ V F(r) r² (1 for the exact integral)
+  const auto sums = S.with_kernel([&](const auto& K) {
+    const int n = static_cast<int>(std::ceil(K.support / S.dx)) + 1;
+    double sum = 0.0, mom = 0.0;
+    for (int a = -n; a <= n; ++a)
+      for (int b = -n; b <= n; ++b)
+        for (int e = (D == 3 ? -n : 0); e <= (D == 3 ? n : 0); ++e) {
+          const double r = S.dx * std::sqrt(double(a * a + b * b + e * e));
+          if (r < K.support) sum += K.W(r);
+          if (r > 0.0 && r < K.support) mom -= K.F(r) * r * r;
+        }
+    return std::pair<double, double>(m * sum, mom * std::pow(S.dx, D) / D);
+  });
+  rho_ref_ = sums.first;
+  kappa_ = sums.second;
 }
 
 template <int D>
@@ -94,6 +103,7 @@ double ISPH<D>::time_step(const System<D>& S) const {
 template <int D>
 void ISPH<D>::step(System<D>& S, double dt) {
   auto& P = S.particles;
+  if (!(rho_ref_ > 0.0)) set_reference(S);  // a run restarted from a snapshot (no initialise)
   // 1. prediction at r_t
   S.update_neighbours();
   forces_.rates(S);
@@ -138,7 +148,7 @@ template <int D>
 void ISPH<D>::classify(System<D>& S) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
-  const double beta_rho = o_.fs_threshold * rho_ref_;
+  const double beta_rho = o_.fs_threshold * S.eos.rho0;  // densities normalised by ρ_ref/ρ0
   const double beta_div = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
   // at the free surface: the density (Tsurudome eq 4.2.3) or the position divergence (in drho)
   auto free = [&](std::size_t i) { return o_.fs_divergence ? P.drho[i] < beta_div : P.rho[i] < beta_rho; };
@@ -201,9 +211,12 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
       P.drho[i] = s;  // scratch (the sums read masses only)
     }
   });
+  // normalised by the lattice's own sum: a full support reads ρ0 exactly (the particle's volume is
+  // dx^D there), so the 1/ρ factors and volumes carry no lattice bias (+0.5 % at h/dx 1.5)
+  const double norm_rho = S.eos.rho0 / rho_ref_;
   for (std::size_t i = 0; i < n; ++i)
-    if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = P.drho[i];
-  if (o_.fs_divergence) {  // ∇·r_i = −Σ V_j r_ij·∇_i W_ij, V_j = m_j/ρ_j (walls: m/ρ_ref), into drho
+    if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = P.drho[i] * norm_rho;
+  if (o_.fs_divergence) {  // ∇·r_i = −Σ V_j r_ij·∇_i W_ij, V_j = m_j/ρ_j (walls: m/ρ0), into drho
     P.refresh_images();
     S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
@@ -213,7 +226,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
         S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
           if (!(r2 > 0.0)) return;
           const std::size_t o = j < n ? j : P.image_source[j - n];
-          const double rho_j = P.kind[o] == Kind::Wall ? rho_ref_ : P.rho[j];
+          const double rho_j = P.kind[o] == Kind::Wall ? S.eos.rho0 : P.rho[j];
           s -= P.mass[j] / rho_j * K.F(std::sqrt(r2)) * r2;
         });
         P.drho[i] = s;
@@ -224,7 +237,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   // the walls' density in the pressure terms: the reference (a wall is no fluid to compress)
   for (std::size_t i = 0; i < n; ++i) {
     P.drho[i] = 0.0;
-    if (P.kind[i] == Kind::Wall) P.rho[i] = rho_ref_;
+    if (P.kind[i] == Kind::Wall) P.rho[i] = S.eos.rho0;
   }
   P.refresh_images();
   S.with_kernel([&](const auto& K) { this->assemble(S, K, dt); });
@@ -264,7 +277,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   const std::size_t n = P.n_owned();
   const double eta2 = o_.eta2 * S.h * S.h;
   const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : o_.source == PpeSource::DivergenceFree ? 1.0 : 0.0;
-  const double rr = rho_ref_;
+  const double rr = S.eos.rho0;  // the densities are normalised (solve_pressure)
   const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
   // each row into its own slot (parallel), then concatenated in row order (deterministic)
   std::vector<std::vector<std::pair<int, double>>> row(rows);
@@ -305,7 +318,9 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     if (!placed) merged.emplace_back(me, diag);
     e.swap(merged);
     const double b_hs = div / (rr * dt);
-    const double b_std = (rr - ri) / (rr * dt * dt);
+    // the density-invariant part: a deficit (a truncated support at the free surface, or a
+    // particle the flow has just left room around) is not sucked back unless asked for
+    const double b_std = (o_.density_deficit ? rr - ri : std::min(rr - ri, 0.0)) / (rr * dt * dt);
     rhs[static_cast<std::size_t>(me)] = gamma * b_hs + (1.0 - gamma) * b_std;
   }
   sys_.start.assign(1, 0);
@@ -323,6 +338,9 @@ template <class K>
 void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
+  // the gradient normalised by its lattice moment (gradient_normalisation: lattice): exact for a
+  // linear pressure on a full lattice (κ = 0.99 for Wendland C2 at h/dx 1.5)
+  const double inv_kappa = o_.gradient_lattice && kappa_ > 0.0 ? 1.0 / kappa_ : 1.0;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
@@ -335,7 +353,7 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
       const double F = ker.F(std::sqrt(r2));
       grad += (P.mass[j] * (pi + P.p[j] / (P.rho[j] * P.rho[j])) * F) * rij;
     });
-    P.vel[i] -= dt * grad;
+    P.vel[i] -= (dt * inv_kappa) * grad;
   }
 }
 
@@ -373,9 +391,9 @@ std::string ISPH<D>::summary_json() const {
   return fmt::format(
       "  \"pressure_solver\": {{\"name\": \"{}\", \"solves\": {}, \"mean_iterations\": {:.2f}, \"max_iterations\": {}, "
       "\"max_residual\": {:.3e}, \"tolerance\": {:.3e}, \"unknowns\": {}, \"nonzeros\": {}, \"free_surface\": {}, "
-      "\"assemble_seconds\": {:.3f}, \"solve_seconds\": {:.3f}, \"reference_density\": {:.6g}}}",
+      "\"assemble_seconds\": {:.3f}, \"solve_seconds\": {:.3f}, \"reference_density\": {:.6g}, \"gradient_moment\": {:.6g}}}",
       solver_->name(), stats_.solves, mean, stats_.max_iterations, stats_.max_residual, o_.tolerance, stats_.unknowns,
-      stats_.nonzeros, stats_.free_surface, stats_.assemble_s, stats_.solve_s, rho_ref_);
+      stats_.nonzeros, stats_.free_surface, stats_.assemble_s, stats_.solve_s, rho_ref_, kappa_);
 }
 
 template class ISPH<2>;

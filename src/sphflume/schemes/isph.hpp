@@ -52,6 +52,8 @@ class ISPH final : public Scheme<D> {
 
   /// The reference density: the kernel's sum over a full lattice of spacing dx (exposed for tests).
   double reference_density() const { return rho_ref_; }
+  /// −(1/D) Σ dx^D F(r) r² over the same lattice: the symmetric gradient of a linear field is κ ∇P.
+  double gradient_moment() const { return kappa_; }
   const PpeStats& stats() const { return stats_; }
   /// Steps 2-4 at the current positions (r*): densities, free surface, PPE, pressures of every
   /// particle (exposed for tests: a still tank's pressure).
@@ -61,12 +63,14 @@ class ISPH final : public Scheme<D> {
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
   template <class K> void correct(System<D>& S, const K& ker, double dt);
   void classify(System<D>& S);
+  void set_reference(const System<D>& S);
 
   IsphConfig o_;
   WCSPH<D> forces_;
   Shifting<D> shift_;
   std::unique_ptr<PressureSolver> solver_;
   double rho_ref_ = 0.0;
+  double kappa_ = 1.0;  // the gradient's lattice moment
   double amax_ = 0.0;  // largest net acceleration of the last step
   PpeStats stats_;
   // per solve (indexed by owned particle): 0 unknown, 1 P = 0 (free surface or dry wall),

@@ -29,11 +29,13 @@ void read_isph_options(Reader& r, IsphConfig& o) {
     o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
     q.finish();
   }
+  o.gradient_lattice = r.choice("gradient_normalisation", "none", {"none", "lattice"}) == "lattice";
   if (r.has("source")) {
     Reader q(r.get("source"), r.file(), "scheme.source");
     const std::string t = q.choice("type", "hybrid", {"hybrid", "standard", "divergence_free"});
     o.source = t == "hybrid" ? PpeSource::Hybrid : t == "standard" ? PpeSource::Standard : PpeSource::DivergenceFree;
     o.gamma = q.in_range("gamma", 0.97, 0.0, 1.0);
+    o.density_deficit = q.choice("density_error", "both", {"both", "compression"}) == "both";
     q.finish();
   }
   if (r.has("free_surface")) {
