@@ -113,6 +113,39 @@ TEST(ISPH, GradientMomentIsTheLatticeSum) {
   EXPECT_LT(b.isph.gradient_moment(), 1.0);
 }
 
+// Digest §19 U1/U2: the PPE's Laplacian (eq 3.4.53, with η² = 0.01 h²) of Φ = x² + y² is 4 at an
+// interior particle of the lattice, and the symmetric gradient (eq 3.4.51) of a linear field is
+// κ ∇Φ (κ the lattice moment, 0.997 at h/dx 1.5). Tolerances: on a square lattice the Laplacian
+// of a quadratic is exact up to the kernel's lattice moment (|κ − 1| = 0.3 %) and the η² term
+// (η²/r² ≤ 0.01 h²/dx² = 2.25 % for the nearest neighbours, less on average): 3 % in all.
+TEST(ISPH, LatticeOperatorsLaplacianAndGradient) {
+  IsphBlock b;
+  auto& S = b.s.S;
+  S.update_neighbours();
+  const auto& P = S.particles;
+  const std::size_t c = b.nearest(0.15, 0.15);
+  const auto phi = [](const Vec<2>& x) { return x[0] * x[0] + x[1] * x[1]; };
+  const auto lin = [](const Vec<2>& x) { return 3.0 + 2.0 * x[0] - 5.0 * x[1]; };
+  const double rho = 1000.0, m = rho * 0.01 * 0.01, eta2 = 0.01 * S.h * S.h;
+  double lap = 0.0;
+  Vec<2> grad{};
+  S.with_kernel([&](const auto& K) {
+    S.cells.for_neighbours(P.pos, P.pos[c], K.support, [&](std::uint32_t j, const Vec<2>& rij, double r2) {
+      if (!(r2 > 0.0)) return;
+      const double F = K.F(std::sqrt(r2));
+      // ρ = ρ0 everywhere: ∇·(∇Φ/ρ) = ∇²Φ/ρ0
+      lap += ISPH<2>::laplacian_weight(m, rho, rho, F, r2, eta2) * (phi(P.pos[j]) - phi(P.pos[c]));
+      grad += ISPH<2>::gradient_weight(m, lin(P.pos[c]), rho, lin(P.pos[j]), rho, F) * rij;
+    });
+  });
+  EXPECT_NEAR(lap * rho / 4.0, 1.0, 0.03);
+  // the weights are positive: the operator is a positive-weight sum of P_j − P_i (a Laplacian's sign)
+  S.with_kernel([&](const auto& K) { EXPECT_GT(ISPH<2>::laplacian_weight(m, rho, rho, K.F(0.01), 1e-4, eta2), 0.0); });
+  const double kappa = b.isph.gradient_moment();
+  EXPECT_NEAR(grad[0] * rho, 2.0 * kappa, 1e-9);
+  EXPECT_NEAR(grad[1] * rho, -5.0 * kappa, 1e-9);
+}
+
 // Tsurudome's erratum 2: the divergence-free source must make a compressing flow build pressure.
 // u = −ε (r − r_c) compresses the block uniformly (∇·u = −2ε): the PPE gives P > 0 inside,
 // highest at the centre, and the correction decelerates the compression.

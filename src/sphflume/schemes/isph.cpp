@@ -51,6 +51,7 @@ ISPH<D>::ISPH(const Case& c)
 template <int D>
 void ISPH<D>::initialise(System<D>& S) {
   set_reference(S);
+  S.particles.scalar("free_surface");  // the flag (set by each solve) exists from the first snapshot
   // the starting pressure (the hydrostatic state of the set-up) is the first solve's warm start
   auto& P = S.particles;
   for (std::size_t i = 0; i < P.n_owned(); ++i)
@@ -170,6 +171,9 @@ void ISPH<D>::classify(System<D>& S) {
     }
   }
   stats_.free_surface = fs;
+  // the flag in the snapshots (1: free surface, P = 0), for the user and the checks
+  auto& flag = P.scalar("free_surface");
+  for (std::size_t i = 0; i < n; ++i) flag[i] = P.kind[i] == Kind::Fluid && cls_[i] == 1 ? 1.0 : 0.0;
   // each dummy carries the pressure of the first-layer particle at the foot of its normal
   const double half = 0.5 * S.dx;
   const double reach = S.support;
@@ -295,8 +299,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       const Kind kj = P.kind[o];
       if (kj != Kind::Fluid && kj != Kind::Wall) return;
       const double F = ker.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
-      const double rs = ri + P.rho[j];
-      const double c = -8.0 * P.mass[j] / (rs * rs) * F * r2 / (r2 + eta2);
+      const double c = laplacian_weight(P.mass[j], ri, P.rho[j], F, r2, eta2);
       div += P.mass[j] * F * dot(P.vel[j] - P.vel[i], rij);
       int col = -1;
       if (cls_[o] == 0) col = unknown_[o];
@@ -344,14 +347,13 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
-    const double pi = P.p[i] / (P.rho[i] * P.rho[i]);
     Vec<D> grad{};
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
       if (!(r2 > 0.0)) return;
       const Kind kj = P.kind[j];
       if (kj != Kind::Fluid && kj != Kind::Wall) return;
       const double F = ker.F(std::sqrt(r2));
-      grad += (P.mass[j] * (pi + P.p[j] / (P.rho[j] * P.rho[j])) * F) * rij;
+      grad += gradient_weight(P.mass[j], P.p[i], P.rho[i], P.p[j], P.rho[j], F) * rij;
     });
     P.vel[i] -= (dt * inv_kappa) * grad;
   }

@@ -55,6 +55,18 @@ class ISPH final : public Scheme<D> {
   /// −(1/D) Σ dx^D F(r) r² over the same lattice: the symmetric gradient of a linear field is κ ∇P.
   double gradient_moment() const { return kappa_; }
   const PpeStats& stats() const { return stats_; }
+  /// The PPE's weight of neighbour j in row i (Tsurudome eq 3.4.53 with η²): the Laplacian
+  /// ∇·(∇P/ρ)_i = Σ_j c_ij (P_j − P_i), c_ij = −8 m_j F r²/((ρ_i+ρ_j)² (r² + η²)) ≥ 0, where
+  /// ∇_i W_ij = F r_ij. Exposed so that the operator is tested on a lattice (digest §19 U1).
+  static double laplacian_weight(double mj, double rhoi, double rhoj, double F, double r2, double eta2) {
+    const double rs = rhoi + rhoj;
+    return -8.0 * mj / (rs * rs) * F * r2 / (r2 + eta2);
+  }
+  /// The symmetric pressure-gradient pair term (eq 3.4.51): (∇P/ρ)_i = Σ_j m_j (P_i/ρ_i² + P_j/ρ_j²) F r_ij,
+  /// returned as the scalar that multiplies r_ij.
+  static double gradient_weight(double mj, double pi, double rhoi, double pj, double rhoj, double F) {
+    return mj * (pi / (rhoi * rhoi) + pj / (rhoj * rhoj)) * F;
+  }
   /// Steps 2-4 at the current positions (r*): densities, free surface, PPE, pressures of every
   /// particle (exposed for tests: a still tank's pressure).
   void solve_pressure(System<D>& S, double dt);

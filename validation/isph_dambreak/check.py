@@ -1,0 +1,150 @@
+#!/usr/bin/python3
+"""2D dam break under both schemes (issue 21, validation 4): cases/dambreak_2d.yaml run as it is (WCSPH) and with
+`scheme.type: isph` (plus shifting, coefficient 2), at the same dx, to t = 0.4 s, side by side.
+
+Metrics:
+  1. surge front (gauge `front`), ISPH against WCSPH at every output time with both fronts short of the far wall
+     (x < 0.55 m): max |x_ISPH - x_WCSPH| / x_WCSPH <= 3 % (issue 21, "front within 3 % of WCSPH's at a/40");
+  2. high-frequency content of the pressure at the downstream wall (gauge `p_wall_right`, a/10 above the bed), from
+     the impact + 0.02 s to the end: RMS of the signal minus its 0.02 s centred moving average, over the mean |p| of
+     the same window; ISPH's must be the smaller (issue 21: "ISPH must be the smoother");
+  3. both runs exit 0 and conserve the fluid mass (round-off).
+Information: impact time and peak at the wall, total energy (gauge `energy`) of both runs against the initial
+potential energy (the energy ISPH dissipates), wall time of each run and the pressure solver's share.
+Outputs every 2 ms (the gauges are written at the output interval).
+Usage: /usr/bin/python3 validation/isph_dambreak/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
+"""
+import json
+import os
+import sys
+
+import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from common import Report, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "dambreak_2d.yaml"))
+NAME = "isph_dambreak"
+A = 0.146
+MODES = {
+    # only resolution and end time differ between the modes
+    "coarse": {"dx": A / 20, "end": 0.4},
+    "fine": {"dx": A / 40, "end": 0.4},
+}
+FRONT_TOL = 0.03
+X_WALL = 0.55
+WINDOW = 0.02  # s: the moving average that separates the slow pressure from the high-frequency content
+
+
+def gauge(out, name):
+    hdr, rows = read_rows(os.path.join(out, "gauges", f"{name}.csv"))
+    return {h: rows[:, k] for k, h in enumerate(hdr)}
+
+
+def hf_content(t, p, t0):
+    dt = np.median(np.diff(t))
+    k = max(1, int(round(WINDOW / dt)) | 1)
+    smooth = np.convolve(p, np.ones(k) / k, mode="same")
+    w = (t >= t0) & (t <= t[-1] - WINDOW / 2) & (t >= t[0] + WINDOW / 2)
+    return float(np.sqrt(np.mean((p[w] - smooth[w]) ** 2)) / np.mean(np.abs(p[w]))), smooth
+
+
+def main():
+    a = validation_args(NAME, __doc__, MODES)
+    m = MODES[a.mode]
+    os.makedirs(a.out, exist_ok=True)
+    base = {"particles.dx": m["dx"], "time.end": m["end"], "time.output_interval": 0.002, **parse_sets(a.set)}
+    runs = {}
+    for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.shifting": "{coefficient: 2}"})):
+        out = os.path.join(a.out, f"{scheme}_dx{m['dx']:g}")
+        s, wall, rc = run_case(a.sphflume, CASE, out, {**base, **extra}, a.threads, a.reuse)
+        runs[scheme] = (out, s, wall, rc)
+    rep = Report()
+    print(f"\n== {NAME} ({a.mode}: dx = {m['dx']:.5g} m = a/{A / m['dx']:.0f}, t_end = {m['end']} s)")
+    for scheme, (out, s, wall, rc) in runs.items():
+        ok = s is not None and s["simulated_time"] >= m["end"] * (1 - 1e-6)
+        rep.metric(f"{scheme} run reached t_end", f"exit {rc}", ok, "exit 0", "issue 21")
+        if s is not None:
+            rep.metric(f"{scheme} fluid mass balance", f"{s['mass']['relative_error']:.1e}",
+                       abs(s["mass"]["relative_error"]) <= 1e-12, "|.| <= 1e-12", "closed tank")
+    if any(r[1] is None for r in runs.values()):
+        return 2
+    g = {k: {n: gauge(r[0], n) for n in ("front", "p_wall_right", "energy")} for k, r in runs.items()}
+
+    # 1. front
+    tw, xw = g["wcsph"]["front"]["time"], g["wcsph"]["front"]["front"]
+    ti, xi = g["isph"]["front"]["time"], g["isph"]["front"]["front"]
+    xi_on = np.interp(tw, ti, xi)
+    sel = (xw < X_WALL) & (xi_on < X_WALL) & (tw > 0.0)
+    rel = (xi_on[sel] - xw[sel]) / xw[sel]
+    worst = float(np.max(np.abs(rel)))
+    for tt in (0.05, 0.1, 0.15, 0.2, 0.25):
+        k = int(np.argmin(np.abs(tw - tt)))
+        if sel[k]:
+            print(f"  front at t = {tw[k]:.3f} s: WCSPH {xw[k]:.4f} m, ISPH {xi_on[k]:.4f} m ({100 * (xi_on[k] / xw[k] - 1):+.2f} %)")
+    rep.metric(f"front, max |ISPH - WCSPH| / WCSPH while x < {X_WALL} m (t <= {tw[sel][-1]:.3f} s)", f"{100 * worst:.2f} %",
+               worst <= FRONT_TOL, f"<= {100 * FRONT_TOL:g} %", "issue 21 (at a/40)")
+
+    # 2. wall pressure and its high-frequency content
+    hf, sm, imp = {}, {}, {}
+    for k in g:
+        t, p = g[k]["p_wall_right"]["time"], np.nan_to_num(g[k]["p_wall_right"]["pressure"])  # NaN: dry gauge, p = 0
+        hit = np.nonzero(p > 0.05 * 1000 * 9.81 * 2 * A)[0]
+        imp[k] = float(t[hit[0]]) if len(hit) else float("nan")
+        hf[k], sm[k] = hf_content(t, p, imp[k] + 0.02)
+        print(f"  wall pressure {k}: impact at t = {imp[k]:.3f} s, peak {p.max():.0f} Pa at t = {t[np.argmax(p)]:.3f} s, "
+              f"high-frequency content {100 * hf[k]:.1f} % of the mean |p| after the impact")
+    rep.metric("high-frequency content of the wall pressure, ISPH / WCSPH", f"{hf['isph'] / hf['wcsph']:.3f}",
+               hf["isph"] < hf["wcsph"], "< 1 (ISPH the smoother)", "issue 21")
+
+    # energy (information)
+    for k in g:
+        e = g[k]["energy"]
+        cols = [c for c in e if c != "time"]
+        tot = e["total"] if "total" in e else sum(e[c] for c in cols)
+        print(f"  (info) energy {k}: total {tot[0]:.4f} -> {tot[-1]:.4f} J/m ({100 * (tot[-1] / tot[0] - 1):+.1f} %)")
+    for k, (out, s, wall, rc) in runs.items():
+        ps = s.get("pressure_solver")
+        extra = (f"; PPE {ps['solves']} solves, {ps['mean_iterations']} iterations on average, assembly "
+                 f"{ps['assemble_seconds']} s + solve {ps['solve_seconds']} s") if ps else ""
+        print(f"  (info) {k}: {s['steps']} steps, {wall:.1f} s wall{extra}")
+
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4.5))
+    ax[0].plot(tw, xw / A, "-", label="WCSPH")
+    ax[0].plot(ti, xi / A, "--", label="ISPH")
+    ax[0].set_xlabel("t (s)")
+    ax[0].set_ylabel("front x / a")
+    ax[0].set_title(f"surge front, a/{A / m['dx']:.0f}: max diff {100 * worst:.1f} %")
+    ax[0].legend()
+    for k, st in (("wcsph", "-"), ("isph", "-")):
+        t, p = g[k]["p_wall_right"]["time"], np.nan_to_num(g[k]["p_wall_right"]["pressure"])
+        ax[1].plot(t, p / (1000 * 9.81 * A), st, lw=0.8, label=f"{k} (HF {100 * hf[k]:.0f} %)")
+    ax[1].set_xlabel("t (s)")
+    ax[1].set_ylabel("p / (rho g a)")
+    ax[1].set_title("pressure on the downstream wall, z = a/10")
+    ax[1].legend()
+    for k in g:
+        e = g[k]["energy"]
+        cols = [c for c in e if c != "time"]
+        tot = e["total"] if "total" in e else sum(e[c] for c in cols)
+        ax[2].plot(e["time"], tot / tot[0], label=k)
+    ax[2].set_xlabel("t (s)")
+    ax[2].set_ylabel("E / E(0)")
+    ax[2].set_title("total energy")
+    ax[2].legend()
+    fig.tight_layout()
+    save_figure(fig, HERE, NAME, a.mode, a.out)
+    if rep.failed:
+        print(f"\n{NAME} {a.mode}: FAILED: {', '.join(rep.failed)}")
+        return 1
+    print(f"\n{NAME} {a.mode}: all metrics pass")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
