@@ -1,0 +1,92 @@
+#!/usr/bin/python3
+"""ISPH against WCSPH, side by side in one run of this script (issue 21, performance).
+
+Part 1, time to solution: cases/dambreak_2d.yaml to t = 0.4 s at a/40 (and a/80 with --full), once with the case's
+WCSPH and once with `scheme.type: isph` (+ shifting A = 2); wall time, ratio ISPH / WCSPH (issue 21's target
+<= 0.5), steps, the PPE's share (assembly + solve), bytes per particle (summary.json, matrix included).
+Part 2, the pressure solver against N: cases/hydrostatic_isph.yaml at dx giving about 5 k, 20 k and 80 k fluid
+particles (--full; 5 k and 20 k otherwise), a fixed number of steps; mean BiCGSTAB iterations per solve,
+solve time per solve and iterations x N relative to the smallest (issue 21: at most linear growth of
+iterations x N means iterations constant; a Jacobi-preconditioned Krylov solver on a 2D Poisson matrix needs
+iterations ~ N^(1/2), so iterations x N grows as N^1.5).
+Prints the machine (CPU model, cores) and the commit. Usage:
+  /usr/bin/python3 bench/isph_vs_wcsph.py [--sphflume PATH] [--threads 2] [--full] [--out DIR]
+"""
+import argparse
+import json
+import os
+import platform
+import subprocess
+import tempfile
+import time
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+A = 0.146
+
+
+def run(exe, case, out, sets, threads):
+    cmd = [exe, "run", os.path.join(ROOT, "cases", case), "--output", out, "-q", "--threads", str(threads)]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
+    t0 = time.time()
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.time() - t0
+    if r.returncode != 0:
+        raise SystemExit(f"run failed ({r.returncode}): {' '.join(cmd)}\n{r.stderr[-1500:]}")
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f), wall
+
+
+def machine():
+    cpu = "?"
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+    return f"{cpu}, {os.cpu_count()} cores, {platform.system()}; commit {commit or '?'}"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sphflume", default=os.environ.get("SPHFLUME", os.path.join(ROOT, "build", "sphflume")))
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--full", action="store_true", help="also a/80 and the 80 k tank")
+    ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-bench-isph"))
+    a = ap.parse_args()
+    print(f"machine: {machine()}; {a.threads} threads")
+    print("\n1. dam break to t = 0.4 s, same dx, same script run")
+    print(f"{'dx':>10} {'scheme':>6} {'particles':>9} {'steps':>6} {'wall s':>8} {'PPE share':>9} {'iter/solve':>10} {'B/particle':>10}")
+    for n in ([40, 80] if a.full else [40]):
+        dx = A / n
+        walls = {}
+        for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.shifting": "{coefficient: 2}"})):
+            out = os.path.join(a.out, f"dambreak_a{n}_{scheme}")
+            s, wall = run(a.sphflume, "dambreak_2d.yaml", out,
+                          {"particles.dx": dx, "time.end": 0.4, "time.output_interval": 0.1, **extra}, a.threads)
+            walls[scheme] = wall
+            ps = s.get("pressure_solver")
+            share = f"{100 * (ps['assemble_seconds'] + ps['solve_seconds']) / s['wall_seconds']:.0f} %" if ps else "-"
+            it = f"{ps['mean_iterations']:.1f}" if ps else "-"
+            print(f"{'a/' + str(n):>10} {scheme:>6} {s['particles']['total']:>9} {s['steps']:>6} {wall:>8.2f} {share:>9} {it:>10} "
+                  f"{s.get('bytes_per_particle', float('nan')):>10.0f}", flush=True)
+        print(f"{'':>10} ISPH / WCSPH wall time: {walls['isph'] / walls['wcsph']:.2f} (target <= 0.5)")
+    print("\n2. the pressure solver against N (still tank, 20 steps each)")
+    print(f"{'dx':>8} {'N fluid':>8} {'unknowns':>8} {'iter/solve':>10} {'ms/solve':>9} {'iter x N (rel.)':>15}")
+    base = None
+    for dx in ([0.0046, 0.0023, 0.00115] if a.full else [0.0046, 0.0023]):
+        dt = 0.2 * dx / (0.1 * 10 * (2 * 9.81 * 0.21) ** 0.5)  # the scheme's cap cfl dx / U_ref
+        out = os.path.join(a.out, f"tank_dx{dx:g}")
+        s, wall = run(a.sphflume, "hydrostatic_isph.yaml", out,
+                      {"particles.dx": dx, "time.end": 20.5 * dt, "time.output_interval": 20.5 * dt}, a.threads)
+        ps = s["pressure_solver"]
+        n = s["particles"]["fluid"]
+        work = ps["mean_iterations"] * n
+        base = base or work
+        print(f"{dx:>8g} {n:>8} {ps['unknowns']:>8} {ps['mean_iterations']:>10.1f} {1e3 * ps['solve_seconds'] / ps['solves']:>9.2f} "
+              f"{work / base:>15.2f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
