@@ -46,6 +46,11 @@ def gauge(out, name):
     return {h: rows[:, k] for k, h in enumerate(hdr)}
 
 
+def total_energy(e):
+    """The energy gauge's total (its `total` column, else the sum of its columns)."""
+    return e["total"] if "total" in e else sum(v for c, v in e.items() if c != "time")
+
+
 def hf_content(t, p, t0):
     dt = np.median(np.diff(t))
     k = max(1, int(round(WINDOW / dt)) | 1)
@@ -103,10 +108,8 @@ def main():
                hf["isph"] < hf["wcsph"], "< 1 (ISPH the smoother)", "issue 21")
 
     # energy (information)
-    for k in g:
-        e = g[k]["energy"]
-        cols = [c for c in e if c != "time"]
-        tot = e["total"] if "total" in e else sum(e[c] for c in cols)
+    energy = {k: total_energy(g[k]["energy"]) for k in g}
+    for k, tot in energy.items():
         print(f"  (info) energy {k}: total {tot[0]:.4f} -> {tot[-1]:.4f} J/m ({100 * (tot[-1] / tot[0] - 1):+.1f} %)")
     for k, (out, s, wall, rc) in runs.items():
         ps = s.get("pressure_solver")
@@ -128,11 +131,8 @@ def main():
     ax[1].set_ylabel("p / (rho g a)")
     ax[1].set_title("pressure on the downstream wall, z = a/10")
     ax[1].legend()
-    for k in g:
-        e = g[k]["energy"]
-        cols = [c for c in e if c != "time"]
-        tot = e["total"] if "total" in e else sum(e[c] for c in cols)
-        ax[2].plot(e["time"], tot / tot[0], label=k)
+    for k, tot in energy.items():
+        ax[2].plot(g[k]["energy"]["time"], tot / tot[0], label=k)
     ax[2].set_xlabel("t (s)")
     ax[2].set_ylabel("E / E(0)")
     ax[2].set_title("total energy")
