@@ -78,6 +78,44 @@ void ISPH<D>::set_reference(const System<D>& S) {
   });
   rho_ref_ = sums.first;
   kappa_ = sums.second;
+  rho_ref_phi_.clear();
+  if (S.porous) {
+    // the same sum on the lattice the fluid takes inside a medium of porosity φ (same mass, same h)
+    phi_lo_ = std::max(0.05, S.porous->min_porosity() - 0.05);
+    const int n_tab = 96;
+    rho_ref_phi_.resize(n_tab + 1);
+    rho_ref_exact_.clear();
+    for (std::size_t r = 0; r < S.porous->size(); ++r) rho_ref_exact_.emplace_back(S.porous->region(r).porosity, 0.0);
+    S.with_kernel([&](const auto& K) {
+      auto lattice_sum = [&](double phi) {
+        const double s = S.dx / std::pow(phi, 1.0 / D);
+        const int nl = static_cast<int>(std::ceil(K.support / s)) + 1;
+        double sum = 0.0;
+        for (int a = -nl; a <= nl; ++a)
+          for (int b = -nl; b <= nl; ++b)
+            for (int e = (D == 3 ? -nl : 0); e <= (D == 3 ? nl : 0); ++e) {
+              const double r = s * std::sqrt(double(a * a + b * b + e * e));
+              if (r < K.support) sum += K.W(r);
+            }
+        return m * sum;
+      };
+      for (int t = 0; t <= n_tab; ++t) rho_ref_phi_[static_cast<std::size_t>(t)] = lattice_sum(phi_lo_ + (1.0 - phi_lo_) * t / n_tab);
+      for (auto& [phi, ref] : rho_ref_exact_) ref = lattice_sum(phi);  // a medium's own porosity: exact
+    });
+    rho_ref_phi_.back() = rho_ref_;  // φ = 1: the plain lattice, bit for bit
+  }
+}
+
+template <int D>
+double ISPH<D>::reference_at(double phi) const {
+  if (rho_ref_phi_.empty() || !(phi < 1.0)) return rho_ref_;
+  for (const auto& [p0, ref] : rho_ref_exact_)
+    if (phi == p0) return ref;
+  const double n_tab = double(rho_ref_phi_.size() - 1);
+  const double u = std::clamp((phi - phi_lo_) / (1.0 - phi_lo_), 0.0, 1.0) * n_tab;
+  const std::size_t k = std::min(static_cast<std::size_t>(u), rho_ref_phi_.size() - 2);
+  const double f = u - double(k);
+  return (1.0 - f) * rho_ref_phi_[k] + f * rho_ref_phi_[k + 1];
 }
 
 template <int D>
@@ -112,6 +150,7 @@ void ISPH<D>::step(System<D>& S, double dt) {
   auto& v0 = P.vector("v0");
   const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
   const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
+  double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;  // walls: 1
   const std::size_t n = P.n_owned();
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -120,6 +159,10 @@ void ISPH<D>::step(System<D>& S, double dt) {
     if (P.kind[i] != Kind::Fluid) continue;
     // porous drag point-implicit: u* = (u_t + Δt a/M) / (1 + Δt K/M)
     P.vel[i] = kr ? (1.0 / (1.0 + dt * kr[i])) * (P.vel[i] + (dt * im[i]) * P.acc[i]) : P.vel[i] + dt * P.acc[i];
+    // porous: the pressure acceleration meets the same point-implicit drag and added mass,
+    // u_{t+1} = u* − Δt m_d ∇P/ρ with m_d = (1/M)/(1 + Δt K/M), and the PPE carries m_d in its
+    // conductivity (a medium of fine grains conducts the pressure's impulse as Darcy's law does)
+    if (kr) mob[i] = im[i] / (1.0 + dt * kr[i]);
     P.pos[i] += dt * P.vel[i];
   }
   // 2-4 at r*
@@ -202,24 +245,31 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const auto t0 = std::chrono::steady_clock::now();
+  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
   // summation density of every owned particle (fluid and walls) at r*
   S.with_kernel([&](const auto& K) {
     const double w0 = K.W(0.0);
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
-      double s = P.mass[i] * w0;
+      // porous: Σ (m_j/φ_j) W_ij, each fluid particle by its volume m/(φρ) (walls φ = 1), so that
+      // the sum reads the intrinsic density at any porosity and across the medium's outline
+      double s = (phi ? P.mass[i] / phi[i] : P.mass[i]) * w0;
       S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
-        if (r2 > 0.0) s += P.mass[j] * K.W(std::sqrt(r2));
+        if (r2 > 0.0) s += (phi ? P.mass[j] / phi[j] : P.mass[j]) * K.W(std::sqrt(r2));
       });
       P.drho[i] = s;  // scratch (the sums read masses only)
     }
   });
   // normalised by the lattice's own sum: a full support reads ρ0 exactly (the particle's volume is
   // dx^D there), so the 1/ρ factors and volumes carry no lattice bias (+0.5 % at h/dx 1.5)
+  // porous media: by the reference of the local porosity's lattice (Σ m W there, over φ), so that ρ
+  // is the intrinsic density, ρ0 inside a saturated medium too (the free-surface test of Tsurudome
+  // eq 4.2.5 with the reference from the local porosity)
   const double norm_rho = S.eos.rho0 / rho_ref_;
   for (std::size_t i = 0; i < n; ++i)
-    if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = P.drho[i] * norm_rho;
+    if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)
+      P.rho[i] = phi && P.kind[i] == Kind::Fluid ? P.drho[i] * (S.eos.rho0 * phi[i] / reference_at(phi[i])) : P.drho[i] * norm_rho;
   if (o_.fs_divergence) {  // ∇·r_i = −Σ V_j r_ij·∇_i W_ij, V_j = m_j/ρ_j (walls: m/ρ0), into drho
     P.refresh_images();
     S.with_kernel([&](const auto& K) {
@@ -283,6 +333,8 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : o_.source == PpeSource::DivergenceFree ? 1.0 : 0.0;
   const double rr = S.eos.rho0;  // the densities are normalised (solve_pressure)
   const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
+  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
   // each row into its own slot (parallel), then concatenated in row order (deterministic)
   std::vector<std::vector<std::pair<int, double>>> row(rows);
   std::vector<double> rhs(rows, 0.0);
@@ -299,8 +351,21 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       const Kind kj = P.kind[o];
       if (kj != Kind::Fluid && kj != Kind::Wall) return;
       const double F = ker.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
-      const double c = laplacian_weight(P.mass[j], ri, P.rho[j], F, r2, eta2);
-      div += P.mass[j] * F * dot(P.vel[j] - P.vel[i], rij);
+      double c;
+      if (phi) {
+        // porous (SPHAM): (1/φ_i) ∇·(φ ∇P/ρ) = (1/φ_i) ∇·(φ u*)/Δt + ...; a fluid neighbour's volume
+        // m/(φ ρ), a wall's its own (dx^D); a wall continues the medium of the fluid it faces
+        const bool fi = P.kind[i] == Kind::Fluid, fj = kj == Kind::Fluid;
+        const double pa = fi ? phi[i] : (fj ? phi[j] : 1.0), pb = fj ? phi[j] : pa;
+        const double mj = fj ? P.mass[j] / pb : P.mass[j];
+        // the conductivity φ m_d: the correction meets the drag as the prediction does (below)
+        const double ka = pa * (fi ? mob[i] : (fj ? mob[j] : 1.0)), kb = pb * (fj ? mob[j] : ka / pa);
+        c = laplacian_weight(mj, ri, P.rho[j], F, r2, eta2) * (2.0 * ka * kb / ((ka + kb) * pa));
+        div += mj * F * dot(pb * P.vel[j] - pa * P.vel[i], rij) / pa;
+      } else {
+        c = laplacian_weight(P.mass[j], ri, P.rho[j], F, r2, eta2);
+        div += P.mass[j] * F * dot(P.vel[j] - P.vel[i], rij);
+      }
       int col = -1;
       if (cls_[o] == 0) col = unknown_[o];
       else if (cls_[o] == 2 && map_[o] >= 0 && cls_[static_cast<std::size_t>(map_[o])] == 0)
@@ -344,6 +409,8 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   // the gradient normalised by its lattice moment (gradient_normalisation: lattice): exact for a
   // linear pressure on a full lattice (κ = 0.99 for Wendland C2 at h/dx 1.5)
   const double inv_kappa = o_.gradient_lattice && kappa_ > 0.0 ? 1.0 / kappa_ : 1.0;
+  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
@@ -353,9 +420,10 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
       const Kind kj = P.kind[j];
       if (kj != Kind::Fluid && kj != Kind::Wall) return;
       const double F = ker.F(std::sqrt(r2));
-      grad += gradient_weight(P.mass[j], P.p[i], P.rho[i], P.p[j], P.rho[j], F) * rij;
+      const double mj = phi && kj == Kind::Fluid ? P.mass[j] / phi[j] : P.mass[j];  // porous: volume m/(φρ)
+      grad += gradient_weight(mj, P.p[i], P.rho[i], P.p[j], P.rho[j], F) * rij;
     });
-    P.vel[i] -= (dt * inv_kappa) * grad;
+    P.vel[i] -= (dt * inv_kappa * (mob ? mob[i] : 1.0)) * grad;
   }
 }
 

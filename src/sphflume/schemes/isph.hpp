@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sphflume/schemes/isph_options.hpp"
@@ -82,6 +83,12 @@ class ISPH final : public Scheme<D> {
   Shifting<D> shift_;
   std::unique_ptr<PressureSolver> solver_;
   double rho_ref_ = 0.0;
+  // porous media: the reference density of a lattice of spacing dx/φ^(1/D) (the fluid inside a
+  // medium of porosity φ), tabulated over φ ∈ [phi_lo_, 1] (Tsurudome eq 4.2.4, digest §8)
+  std::vector<double> rho_ref_phi_;
+  double phi_lo_ = 1.0;
+  std::vector<std::pair<double, double>> rho_ref_exact_;  // (φ0, reference) of each region's own porosity
+  double reference_at(double phi) const;
   double kappa_ = 1.0;  // the gradient's lattice moment
   double amax_ = 0.0;  // largest net acceleration of the last step
   PpeStats stats_;
