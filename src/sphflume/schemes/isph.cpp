@@ -150,7 +150,6 @@ void ISPH<D>::step(System<D>& S, double dt) {
   auto& v0 = P.vector("v0");
   const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
   const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
-  double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;  // walls: 1
   const std::size_t n = P.n_owned();
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -159,10 +158,6 @@ void ISPH<D>::step(System<D>& S, double dt) {
     if (P.kind[i] != Kind::Fluid) continue;
     // porous drag point-implicit: u* = (u_t + Δt a/M) / (1 + Δt K/M)
     P.vel[i] = kr ? (1.0 / (1.0 + dt * kr[i])) * (P.vel[i] + (dt * im[i]) * P.acc[i]) : P.vel[i] + dt * P.acc[i];
-    // porous: the pressure acceleration meets the same point-implicit drag and added mass,
-    // u_{t+1} = u* − Δt m_d ∇P/ρ with m_d = (1/M)/(1 + Δt K/M), and the PPE carries m_d in its
-    // conductivity (a medium of fine grains conducts the pressure's impulse as Darcy's law does)
-    if (kr) mob[i] = im[i] / (1.0 + dt * kr[i]);
     P.pos[i] += dt * P.vel[i];
   }
   // 2-4 at r*
@@ -246,6 +241,17 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   const std::size_t n = P.n_owned();
   const auto t0 = std::chrono::steady_clock::now();
   const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  if (phi) {
+    // porous: the pressure acceleration meets the prediction's point-implicit drag and added mass,
+    // u_{t+1} = u* − Δt m_d ∇P/ρ with the mobility m_d = (1/M)/(1 + Δt K/M) (1 where no drag was
+    // computed), and the PPE carries m_d in its conductivity (a medium of fine grains conducts the
+    // pressure's impulse as Darcy's law does)
+    auto& mob = P.scalar("_mobility");
+    const auto* kr = P.find_scalar("drag_rate");
+    const auto* im = P.find_scalar("inertia");
+    for (std::size_t i = 0; i < n; ++i)
+      mob[i] = kr && im && P.kind[i] == Kind::Fluid ? (*im)[i] / (1.0 + dt * (*kr)[i]) : 1.0;
+  }
   // summation density of every owned particle (fluid and walls) at r*
   S.with_kernel([&](const auto& K) {
     const double w0 = K.W(0.0);
