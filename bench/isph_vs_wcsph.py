@@ -5,7 +5,8 @@ Part 1, time to solution: cases/dambreak_2d.yaml to t = 0.4 s at a/40 (and a/80 
 WCSPH and once with `scheme.type: isph` (+ shifting A = 2); wall time, ratio ISPH / WCSPH (issue 21's target
 <= 0.5), steps, the PPE's share (assembly + solve), bytes per particle (summary.json, matrix included).
 Part 2, the pressure solver against N: cases/hydrostatic_isph.yaml at dx giving about 5 k, 20 k and 80 k fluid
-particles (--full; 5 k and 20 k otherwise), a fixed number of steps; mean BiCGSTAB iterations per solve,
+particles (--full; 5 k and 20 k otherwise), a fixed number of steps, for each solver (--solvers: Eigen's
+Jacobi BiCGSTAB, hypre's BoomerAMG-preconditioned BiCGSTAB); mean iterations per solve,
 solve time per solve and iterations x N relative to the smallest (issue 21: at most linear growth of
 iterations x N means iterations constant; a Jacobi-preconditioned Krylov solver on a 2D Poisson matrix needs
 iterations ~ N^(1/2), so iterations x N grows as N^1.5).
@@ -53,9 +54,18 @@ def main():
     ap.add_argument("--sphflume", default=os.environ.get("SPHFLUME", os.path.join(ROOT, "build", "sphflume")))
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--full", action="store_true", help="also a/80 and the 80 k tank")
+    ap.add_argument("--part", choices=["1", "2", "both"], default="both")
+    ap.add_argument("--solvers", default="bicgstab,boomeramg", help="scheme.solver.type values for part 2")
     ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-bench-isph"))
     a = ap.parse_args()
     print(f"machine: {machine()}; {a.threads} threads")
+    if a.part in ("1", "both"):
+        dambreak(a)
+    if a.part in ("2", "both"):
+        solver_scaling(a)
+
+
+def dambreak(a):
     print("\n1. dam break to t = 0.4 s, same dx, same script run")
     print(f"{'dx':>10} {'scheme':>6} {'particles':>9} {'steps':>6} {'wall s':>8} {'PPE share':>9} {'iter/solve':>10} {'B/particle':>10}")
     for n in ([40, 80] if a.full else [40]):
@@ -72,20 +82,28 @@ def main():
             print(f"{'a/' + str(n):>10} {scheme:>6} {s['particles']['total']:>9} {s['steps']:>6} {wall:>8.2f} {share:>9} {it:>10} "
                   f"{s.get('bytes_per_particle', float('nan')):>10.0f}", flush=True)
         print(f"{'':>10} ISPH / WCSPH wall time: {walls['isph'] / walls['wcsph']:.2f} (target <= 0.5)")
+
+
+def solver_scaling(a):
     print("\n2. the pressure solver against N (still tank, 20 steps each)")
-    print(f"{'dx':>8} {'N fluid':>8} {'unknowns':>8} {'iter/solve':>10} {'ms/solve':>9} {'iter x N (rel.)':>15}")
-    base = None
-    for dx in ([0.0046, 0.0023, 0.00115] if a.full else [0.0046, 0.0023]):
-        dt = 0.2 * dx / (0.1 * 10 * (2 * 9.81 * 0.21) ** 0.5)  # the scheme's cap cfl dx / U_ref
-        out = os.path.join(a.out, f"tank_dx{dx:g}")
-        s, wall = run(a.sphflume, "hydrostatic_isph.yaml", out,
-                      {"particles.dx": dx, "time.end": 20.5 * dt, "time.output_interval": 20.5 * dt}, a.threads)
-        ps = s["pressure_solver"]
-        n = s["particles"]["fluid"]
-        work = ps["mean_iterations"] * n
-        base = base or work
-        print(f"{dx:>8g} {n:>8} {ps['unknowns']:>8} {ps['mean_iterations']:>10.1f} {1e3 * ps['solve_seconds'] / ps['solves']:>9.2f} "
-              f"{work / base:>15.2f}", flush=True)
+    print(f"{'solver':>10} {'dx':>8} {'N fluid':>8} {'unknowns':>8} {'iter/solve':>10} {'ms/solve':>9} {'iter x N (rel.)':>15}"
+          f" {'ms/solve/unknown (rel.)':>23}")
+    for solver in a.solvers.split(","):
+        base = base_t = None
+        for dx in ([0.0046, 0.0023, 0.00115] if a.full else [0.0046, 0.0023]):
+            dt = 0.2 * dx / (0.1 * 10 * (2 * 9.81 * 0.21) ** 0.5)  # the scheme's cap cfl dx / U_ref
+            out = os.path.join(a.out, f"tank_{solver}_dx{dx:g}")
+            s, wall = run(a.sphflume, "hydrostatic_isph.yaml", out,
+                          {"particles.dx": dx, "time.end": 20.5 * dt, "time.output_interval": 20.5 * dt,
+                           "scheme.solver": f"{{type: {solver}}}"}, a.threads)
+            ps = s["pressure_solver"]
+            n = s["particles"]["fluid"]
+            work = ps["mean_iterations"] * n
+            per = ps["solve_seconds"] / ps["solves"] / ps["unknowns"]
+            base = base or work
+            base_t = base_t or per
+            print(f"{solver:>10} {dx:>8g} {n:>8} {ps['unknowns']:>8} {ps['mean_iterations']:>10.1f} "
+                  f"{1e3 * ps['solve_seconds'] / ps['solves']:>9.2f} {work / base:>15.2f} {per / base_t:>23.2f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -75,6 +75,7 @@ struct IsphConfig {
                                      // divergence: 1.5 (2D), 2.4 (3D) unless given
   double tolerance = 1e-6;           // the PPE's relative residual
   int max_iterations = 2000;
+  bool amg = false;                  // solver.type: boomeramg (hypre) instead of bicgstab (Eigen)
   ShiftingConfig shifting;           // particle shifting after the step (off by default, as in the thesis)
   std::vector<std::string> ignored;  // WCSPH keys given here: "line N: scheme.KEY"
 };

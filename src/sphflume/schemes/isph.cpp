@@ -34,7 +34,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 template <int D>
 ISPH<D>::ISPH(const Case& c)
-    : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(make_eigen_solver(c.isph.tolerance, c.isph.max_iterations)) {
+    : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(c.isph.amg ? make_hypre_solver(c.isph.tolerance, c.isph.max_iterations)
+                          : make_eigen_solver(c.isph.tolerance, c.isph.max_iterations)) {
   // the shared models this scheme supports (the rest: a clear refusal, not a silent misuse)
   auto refuse = [&](int line, const std::string& what, const std::string& fix) {
     throw InputError(fmt::format("{}: {}{} is not supported with scheme.type: isph in this version: {}", c.file,

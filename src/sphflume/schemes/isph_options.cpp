@@ -1,4 +1,5 @@
 #include "sphflume/schemes/isph_options.hpp"
+#include "sphflume/schemes/pressure_solver.hpp"
 
 #include <fmt/format.h>
 
@@ -46,7 +47,10 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   }
   if (r.has("solver")) {
     Reader q(r.get("solver"), r.file(), "scheme.solver");
-    (void)q.choice("type", "bicgstab", {"bicgstab"});
+    o.amg = q.choice("type", "bicgstab", {"bicgstab", "boomeramg"}) == "boomeramg";
+    if (o.amg && !have_hypre())
+      q.fail_at(q.get("type"), "scheme.solver.type",
+                "bicgstab: this build has no hypre (install libhypre-dev, scripts/install-deps.sh, and rebuild)");
     o.tolerance = q.in_range("tolerance", 1e-6, 1e-14, 1e-2);
     o.max_iterations = q.scalar<int>("max_iterations", 2000);
     if (o.max_iterations < 1 || o.max_iterations > 1000000)

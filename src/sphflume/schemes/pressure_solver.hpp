@@ -42,4 +42,9 @@ class PressureSolver {
 /// the dummy wall particles are folded into their wall particle's unknown.
 std::unique_ptr<PressureSolver> make_eigen_solver(double tolerance, int max_iterations);
 
+/// hypre's BiCGSTAB with a BoomerAMG V-cycle as the preconditioner (scheme.solver.type: boomeramg),
+/// when SPHFlume was built with hypre (have_hypre()).
+bool have_hypre();
+std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations);
+
 }  // namespace sph
