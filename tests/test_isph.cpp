@@ -208,6 +208,24 @@ TEST(ISPH, PorousMediumReadsTheIntrinsicDensity) {
   EXPECT_LE(-pmin, 1000.0 * 0.03 * eps / 1e-6 * 0.3 * 0.3 / 8.0);
 }
 
+// Tsurudome §4.5: a step whose prediction breaks the Courant condition is redone with the step it
+// allows. The block translates at 1 m/s without forces (no pressure, u* = u): offered Δt = 10 Courant
+// steps (Courant number 2 at cfl 0.2), the scheme redoes once and advances by cfl dx/|u| = 0.002 s;
+// offered that step, it takes it as is.
+TEST(ISPH, StepBreakingTheCourantConditionIsRedone) {
+  IsphBlock b;
+  auto& S = b.s.S;
+  auto& P = S.particles;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) P.vel[i] = Vec<2>{1.0, 0.0};
+  const double allowed = 0.2 * 0.01 / 1.0;
+  b.isph.step(S, 10.0 * allowed);
+  EXPECT_EQ(b.isph.stats().redone, 1);
+  EXPECT_NEAR(S.time, allowed, 1e-12);
+  b.isph.step(S, allowed);
+  EXPECT_EQ(b.isph.stats().redone, 1);
+  EXPECT_NEAR(S.time, 2.0 * allowed, 1e-12);
+}
+
 // Tsurudome's erratum 2: the divergence-free source must make a compressing flow build pressure.
 // u = −ε (r − r_c) compresses the block uniformly (∇·u = −2ε): the PPE gives P > 0 inside,
 // highest at the centre, and the correction decelerates the compression.
