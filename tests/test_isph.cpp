@@ -37,13 +37,8 @@ struct IsphBlock {
   }
 };
 
-}  // namespace
-
-// The Eigen BiCGSTAB behind the interface solves the 1D Dirichlet Poisson problem
-// x_{i-1} - 2 x_i + x_{i+1} = -2 (x_0 = x_{N+1} = 0), whose exact discrete solution is
-// x_i = i (N + 1 - i), to the requested tolerance.
-TEST(ISPH, PressureSolverSolvesPoisson1D) {
-  const int n = 200;
+/// x_{i-1} − 2 x_i + x_{i+1} = −2 with x_0 = x_{n+1} = 0 (exact solution x_i = i (n + 1 − i)).
+SparseRows poisson_1d(int n) {
   SparseRows sys;
   for (int i = 0; i < n; ++i) {
     if (i > 0) { sys.col.push_back(i - 1); sys.val.push_back(1.0); }
@@ -52,6 +47,17 @@ TEST(ISPH, PressureSolverSolvesPoisson1D) {
     sys.start.push_back(sys.col.size());
     sys.rhs.push_back(-2.0);
   }
+  return sys;
+}
+
+}  // namespace
+
+// The Eigen BiCGSTAB behind the interface solves the 1D Dirichlet Poisson problem
+// x_{i-1} - 2 x_i + x_{i+1} = -2 (x_0 = x_{N+1} = 0), whose exact discrete solution is
+// x_i = i (N + 1 - i), to the requested tolerance.
+TEST(ISPH, PressureSolverSolvesPoisson1D) {
+  const int n = 200;
+  const SparseRows sys = poisson_1d(n);
   auto solver = make_eigen_solver(1e-10, 10000);
   std::vector<double> x;  // no warm start: resized to zeros
   const SolveReport r = solver->solve(sys, x);
@@ -75,14 +81,7 @@ TEST(ISPH, PressureSolverSolvesPoisson1D) {
 TEST(ISPH, HypreSolverSolvesPoisson1D) {
   if (!have_hypre()) GTEST_SKIP() << "built without hypre";
   const int n = 200;
-  SparseRows sys;
-  for (int i = 0; i < n; ++i) {
-    if (i > 0) { sys.col.push_back(i - 1); sys.val.push_back(1.0); }
-    sys.col.push_back(i); sys.val.push_back(-2.0);
-    if (i < n - 1) { sys.col.push_back(i + 1); sys.val.push_back(1.0); }
-    sys.start.push_back(sys.col.size());
-    sys.rhs.push_back(-2.0);
-  }
+  const SparseRows sys = poisson_1d(n);
   auto solver = make_hypre_solver(1e-10, 1000);
   std::vector<double> x;
   const SolveReport r = solver->solve(sys, x);
