@@ -38,6 +38,7 @@ class DummyWalls final : public WallModel<D> {
     const double* __restrict prs = P.p.data();
     const Kind* __restrict kind = P.kind.data();
     const double rho_bg = S.eos.density(S.eos.background);
+    const Vec<D>* aw = P.find_vector("wall_acc") ? P.find_vector("wall_acc")->data() : nullptr;  // moving walls
     enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
     S.with_kernel([&](const auto& K) {
       const double support2 = K.support2;
@@ -119,7 +120,7 @@ class DummyWalls final : public WallModel<D> {
             double pw = S.eos.background;
             Vec<D> g = vel[i];
             if (sw > 0.0) {
-              pw = (sp + dot(S.gravity, srr)) / sw;  // fixed walls: wall acceleration a_w = 0
+              pw = (sp + dot(aw ? S.gravity - aw[i] : S.gravity, srr)) / sw;  // (g − a_w)·Σ ρ r W
               g = 2.0 * vel[i] - (1.0 / sw) * sv;
             }
             if (clamp) pw = std::max(pw, S.eos.background);

@@ -71,6 +71,10 @@ struct IsphConfig {
   bool density_deficit = true;       // the density-invariant part acts on deficits too (the thesis)
   bool fs_divergence = false;        // free surface by ∇·r < threshold (Lee et al. 2008) instead of the density
   bool gradient_lattice = false;     // the pressure gradient divided by its lattice moment κ (not in the thesis)
+  // dummy wall particles: P of the first-layer particle at the foot of their normal (copy: the
+  // thesis's homogeneous Neumann condition) plus ρ0 (g − a_w)·(x_dummy − x_foot) (body_force: the
+  // Neumann condition ∂P/∂n = ρ (g − a_w)·n of a wall accelerating at a_w, as Adami's dummies)
+  bool dummy_body_force = false;
   double fs_threshold = 0.99;        // density: ρ_sum < threshold ρ_ref (Tsurudome eq 4.2.3; thesis 1.0);
                                      // divergence: 1.5 (2D), 2.4 (3D) unless given
   double tolerance = 1e-6;           // the PPE's relative residual
@@ -129,6 +133,26 @@ struct ShapeConfig {
   double thickness = 0.0;                       // plane: 0 = wall layers
   bool open_top = true;                         // tank
   std::vector<double> velocity;                 // initial velocity
+  std::string motion;  // wall shapes: the name of the prescribed motion that moves them (`motions:`); empty = fixed
+  int line = 0;
+};
+
+/// A prescribed rigid translation of the wall particles of the shapes that name it (a piston
+/// wave maker): x = x_0 + X(t) e along the unit direction e (boundaries/motion.hpp, laws in
+/// boundaries/paddle.hpp).
+struct MotionConfig {
+  std::string name;
+  std::string law;                  // solitary | regular | stokes2 | table
+  std::vector<double> direction;    // e (normalised by the reader); default +x
+  std::string theory = "rayleigh";  // solitary: rayleigh (implicit, Newton) | goring | rayleigh_explicit
+  double height = 0.0;              // H: solitary and regular waves [m]
+  double depth = 0.0;               // h0: still water depth at the paddle [m]
+  double period = 0.0;              // regular, stokes2: T [s]
+  double start = 0.0;               // the law's time origin: the paddle rests before it [s]
+  double ramp = 0.0;                // regular, stokes2, table: start-up ramp (1 - cos)/2 over this time [s]
+  std::string file;                 // table: CSV of time, displacement (as written in the case, resolved by the reader)
+  std::vector<double> table_t, table_x;  // table: the samples
+  double gravity = 9.81;            // |g| (set from the case's gravity)
   int line = 0;
 };
 
@@ -323,6 +347,7 @@ struct Case {
   std::vector<std::string> warnings;  // input that is accepted but ignored (printed; summary.json)
   WallConfig walls;
   std::vector<ShapeConfig> shapes;
+  std::vector<MotionConfig> motions;  // prescribed wall motions (wave makers), by name
   int geometry_line = 0;  // line of the 'geometry' key (for messages about the shapes as a whole)
   double t_end = 0.0, output_interval = 0.0;
   std::vector<GaugeConfig> gauges;

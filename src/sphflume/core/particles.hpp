@@ -88,6 +88,10 @@ class ParticleStore {
     auto it = scalar_fields_.find(name);
     return it == scalar_fields_.end() ? nullptr : &it->second;
   }
+  const std::vector<V>* find_vector(const std::string& name) const {
+    auto it = vector_fields_.find(name);
+    return it == vector_fields_.end() ? nullptr : &it->second;
+  }
   const std::map<std::string, std::vector<double>>& scalar_fields() const { return scalar_fields_; }
   const std::map<std::string, std::vector<V>>& vector_fields() const { return vector_fields_; }
 

@@ -19,6 +19,7 @@ template <int D> class WallModel;
 template <int D> class ForceTerm;
 template <int D> class PorousMedia;
 template <int D> class ScalarTransport;
+template <int D> class WallMotion;
 
 template <int D>
 struct System {
@@ -36,6 +37,9 @@ struct System {
   /// Porous regions (null without a `porous:` section): the porosity field and drag closures
   /// of the SPHAM equations; particles then carry the store field "porosity".
   std::shared_ptr<PorousMedia<D>> porous;
+  /// Prescribed wall motions (null without a `motions:` section): the wave makers. Schemes move
+  /// the walls to the time of each rates pass with move_walls (boundaries/motion.hpp).
+  std::shared_ptr<WallMotion<D>> motion;
   /// Transported scalars (null without a `transport:` section): each a store field named after it.
   std::shared_ptr<ScalarTransport<D>> transport;
   /// Equations of state of the fluid phases (empty: one phase, `eos`); particles then carry

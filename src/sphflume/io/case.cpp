@@ -70,7 +70,7 @@ int axis_index(const std::string& a, int dim) {
 
 ShapeConfig read_shape(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity"});
+  r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity", "motion"});
   ShapeConfig s;
   s.line = n.line();
   (void)r.required<std::string>("type", "a shape type: box, tank, polygon or plane");
@@ -110,25 +110,30 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
     if (s.thickness < 0) r.fail_at(r.get("thickness"), r.key_path("thickness"), "a thickness >= 0 in m (0 = the wall layers)");
   }
   s.velocity = r.vec("velocity", d, std::vector<double>(d, 0.0));
+  if (r.has("motion")) {
+    s.motion = r.scalar<std::string>("motion", "");
+    if (s.fill != "wall") r.fail_at(r.get("motion"), r.key_path("motion"), "a wall shape (only walls follow a prescribed motion; set fill: wall)");
+  }
   r.finish();
   return s;
 }
 
 GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field"});
+  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field", "motion"});
   GaugeConfig g;
   g.line = n.line();
   g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume, water_volume, scalar, scalar_profile, scalar_mass, scalar_flux or phase");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume", "scalar", "scalar_profile", "scalar_mass", "scalar_flux", "phase"});
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume, water_volume, scalar, scalar_profile, scalar_mass, scalar_flux, phase or paddle");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume", "scalar", "scalar_profile", "scalar_mass", "scalar_flux", "phase", "paddle"});
   const std::size_t d = static_cast<std::size_t>(dim);
   const bool scalar_gauge = g.type.rfind("scalar", 0) == 0;
   if (scalar_gauge) g.field = r.required<std::string>("field", "the name of a transported scalar (transport.scalars)");
   if (g.type == "phase") g.field = r.required<std::string>("field", "the name of a phase (multiphase.phases)");
+  if (g.type == "paddle") g.field = r.required<std::string>("motion", "the name of a wall motion (motions)");
   if (g.type == "water_level") {
     g.point = r.vec("point", d);
     if (g.point.empty()) {
@@ -333,7 +338,7 @@ Case build_case(const Node& root, const std::string& file) {
   c.file = file;
   Reader top(root, file, "");
   top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
-             "gauges", "forces", "turbulence", "porous", "transport", "multiphase"});
+             "gauges", "forces", "turbulence", "porous", "transport", "multiphase", "motions"});
   for (const char* k : {"particles", "fluid", "geometry", "time"})
     if (!top.has(k)) top.misspelt(k);
   c.name = top.scalar<std::string>("name", "case");
@@ -444,6 +449,7 @@ Case build_case(const Node& root, const std::string& file) {
       if (!(out.x0 > in.x1)) top.fail_at(ob, "open_boundaries", "the outflow zone downstream (+x) of the inflow zone");
     }
   }
+  caseio::read_motions(top, file, c);
   if (top.has("turbulence")) caseio::read_turbulence(top.get("turbulence"), file, c);
   if (top.has("porous")) caseio::read_porous(top.get("porous"), file, c);
   if (top.has("transport")) caseio::read_transport(top.get("transport"), file, c);
@@ -451,7 +457,13 @@ Case build_case(const Node& root, const std::string& file) {
   if (c.scheme.frozen && !c.transport.on())
     top.fail_at(top.get("scheme"), "scheme.frozen", "a 'transport:' section too (a frozen flow only transports scalars)");
   for (const auto& g : c.gauges)
-    if (g.type == "phase") {
+    if (g.type == "paddle") {
+      bool known = false;
+      for (const auto& m : c.motions) known |= m.name == g.field;
+      if (!known)
+        throw InputError(fmt::format("{}: line {}: gauge '{}': motion '{}' is not defined (define it under 'motions')",
+                                     file, g.line, g.name, g.field));
+    } else if (g.type == "phase") {
       bool known = false;
       for (const auto& ph : c.multiphase.phases) known |= ph.name == g.field;
       if (!known)

@@ -41,5 +41,8 @@ void read_porous(const Node& n, const std::string& file, Case& c);
 /// The `transport:` section (scalars) and the `multiphase:` section.
 void read_transport(const Node& n, const std::string& file, Case& c);
 void read_multiphase(const Node& n, const std::string& file, Case& c);
+/// The `motions:` section (prescribed wall motions, io/case_motion.cpp), and the check that every
+/// shape's `motion:` names one; after the shapes and walls are read.
+void read_motions(Reader& top, const std::string& file, Case& c);
 
 }  // namespace sph::caseio

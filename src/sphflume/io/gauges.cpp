@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/boundaries/motion.hpp"
 #include "sphflume/core/interpolate.hpp"
 #include "sphflume/io/snapshot.hpp"
 #include "sphflume/physics/transport.hpp"
@@ -85,6 +86,7 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     else if (g.type == "scalar_mass") *f << (D == 2 ? ",mass,min,max,x,z,source" : ",mass,min,max,x,y,z,source");
     else if (g.type == "scalar_flux") *f << ",flux";
     else if (g.type == "phase") *f << ",area,top,x,z";
+    else if (g.type == "paddle") *f << (D == 2 ? ",displacement,velocity,acceleration,force_x,force_z" : ",displacement,velocity,acceleration,force_x,force_y,force_z");
     else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" ||
              g.type == "scalar_profile") {
       std::string pts = "index,x,y,z\n";
@@ -240,6 +242,18 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     for (int d = 0; d < D; ++d) x[d] = v[d];
     return x;
   };
+  if (g.type == "paddle") {  // the motion's law at t, and the fluid's pressure force on its walls
+    std::vector<double> out(3 + D, nan);
+    if (!S.motion) return out;
+    const std::size_t k = S.motion->index(g.field);
+    const auto& law = S.motion->law(k);
+    out[0] = law.displacement(S.time);
+    out[1] = law.velocity(S.time);
+    out[2] = law.acceleration(S.time);
+    const Vec<D> f = S.motion->pressure_force(S, k);
+    for (int d = 0; d < D; ++d) out[3 + static_cast<std::size_t>(d)] = f[d];
+    return out;
+  }
   if (g.type == "pressure") {
     auto v = interpolate_mls(S, at(g.point), [&](std::uint32_t b) { return P.p[b]; });
     return {v ? *v : nan};

@@ -339,6 +339,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
 
   std::vector<Vec<D>> fluid_x, fluid_v, wall_x, wall_s;  // wall_s: nearest point of the wall surface
   std::vector<std::uint32_t> fluid_shape;  // which shape made each fluid point
+  std::vector<std::uint32_t> wall_shape;   // which shape made each wall point
   std::vector<double> fluid_half;          // half the lattice spacing of each fluid point
   for (std::size_t si = 0; si < c.shapes.size(); ++si) {
     const auto& s = c.shapes[si];
@@ -348,7 +349,11 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
         if (zone_of(x) >= 0) return;  // filled at the zone's spacing below
         fluid_x.push_back(x); fluid_v.push_back(v0); fluid_shape.push_back(static_cast<std::uint32_t>(si));
         fluid_half.push_back(0.5 * dx);
-      } else { wall_x.push_back(x); wall_s.push_back(surface_point<D>(s, x)); }
+      } else {
+        wall_x.push_back(x);
+        wall_s.push_back(surface_point<D>(s, x));
+        wall_shape.push_back(static_cast<std::uint32_t>(si));
+      }
     };
     Vec<D> lo, hi;
     shape_box<D>(s, dx, layers, lo, hi);
@@ -507,6 +512,17 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     P.add(x, Vec<D>{}, rho_wall, m, Kind::Wall);
     ++rep.wall;
   }
+  if (!c.motions.empty()) {  // moving walls: the motion of each wall particle and its place at X = 0
+    auto& grp = P.scalar("motion_group");
+    auto& org = P.vector("motion_origin");
+    P.vector("wall_acc");
+    for (std::size_t k = 0; k < wall_x.size(); ++k) {
+      const std::string& mname = c.shapes[wall_shape[k]].motion;
+      org[first_wall + k] = wall_x[k];
+      for (std::size_t q = 0; q < c.motions.size(); ++q)
+        if (!mname.empty() && c.motions[q].name == mname) grp[first_wall + k] = double(q + 1);
+    }
+  }
   if (c.walls.type == "fixed_ghost") {  // each ghost's interpolation point, mirrored into the fluid
     auto& mir = P.vector("ghost_mirror");
     for (std::size_t k = 0; k < wall_x.size(); ++k) mir[first_wall + k] = 2.0 * wall_s[k] - wall_x[k];
@@ -520,7 +536,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     }
   }
 
-  if (c.walls.backup || c.scheme.type == "isph") {  // every wall particle: the vector to its surface point (depth, normal)
+  if (c.walls.backup || c.scheme.type == "isph" || !c.motions.empty()) {  // every wall particle: the vector to its surface point (depth, normal)
     auto& to = P.vector("wall_to_surface");
     for (std::size_t k = 0; k < wall_x.size(); ++k) to[first_wall + k] = wall_s[k] - wall_x[k];
   }

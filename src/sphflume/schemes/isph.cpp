@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/porous.hpp"
 
@@ -181,6 +182,7 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
       P.vel[i] = kr ? (1.0 / (1.0 + dt * kr[i])) * (P.vel[i] + (dt * im[i]) * P.acc[i]) : P.vel[i] + dt * P.acc[i];
       P.pos[i] += dt * P.vel[i];
     }
+    move_walls(S, S.time + dt);  // the paddle at t + Δt with its velocity (Tsurudome §3.7: moved each prediction)
     if (const double allowed = courant_step(); slack * allowed < dt && attempt < 4) {  // the prediction's check
       dt = allowed;
       ++stats_.redone;
@@ -266,6 +268,15 @@ void ISPH<D>::classify(System<D>& S) {
   int k = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (cls_[i] == 0) unknown_[i] = k++;
+  dummy_off_.assign(n, 0.0);
+  if (o_.dummy_body_force) {
+    const auto* aw = P.find_vector("wall_acc");
+    for (std::size_t i = 0; i < n; ++i)
+      if (cls_[i] == 2 && map_[i] >= 0) {
+        const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
+        dummy_off_[i] = S.eos.rho0 * dot(g, P.pos[i] - P.pos[static_cast<std::size_t>(map_[i])]);
+      }
+  }
 }
 
 template <int D>
@@ -359,7 +370,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
     P.p[i] = unknown_[i] >= 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
   }
   for (std::size_t i = 0; i < n; ++i)
-    if (cls_[i] == 2) P.p[i] = map_[i] >= 0 ? P.p[static_cast<std::size_t>(map_[i])] : 0.0;
+    if (cls_[i] == 2) P.p[i] = map_[i] >= 0 ? P.p[static_cast<std::size_t>(map_[i])] + dummy_off_[i] : 0.0;
   P.refresh_images();
 }
 
@@ -382,7 +393,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     const int me = unknown_[i];
     if (me < 0) continue;
     auto& e = row[static_cast<std::size_t>(me)];
-    double diag = 0.0, div = 0.0;
+    double diag = 0.0, div = 0.0, known = 0.0;
     const double ri = P.rho[i];
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
       if (!(r2 > 0.0)) return;
@@ -409,6 +420,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       if (cls_[o] == 0) col = unknown_[o];
       else if (cls_[o] == 2 && map_[o] >= 0 && cls_[static_cast<std::size_t>(map_[o])] == 0)
         col = unknown_[static_cast<std::size_t>(map_[o])];
+      if (cls_[o] == 2) known -= c * dummy_off_[o];  // a dummy's P_foot + offset: the offset is known
       if (col == me) return;  // the particle itself (a dummy under it, or its own image): cancels
       diag -= c;
       if (col >= 0) e.emplace_back(col, c);
@@ -428,7 +440,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     // the density-invariant part: a deficit (a truncated support at the free surface, or a
     // particle the flow has just left room around) is not sucked back unless asked for
     const double b_std = (o_.density_deficit ? rr - ri : std::min(rr - ri, 0.0)) / (rr * dt * dt);
-    rhs[static_cast<std::size_t>(me)] = gamma * b_hs + (1.0 - gamma) * b_std;
+    rhs[static_cast<std::size_t>(me)] = gamma * b_hs + (1.0 - gamma) * b_std + known;
   }
   sys_.start.assign(1, 0);
   sys_.col.clear();

@@ -97,6 +97,7 @@ class ISPH final : public Scheme<D> {
   // 2 dummy (P of map_[i]); unknown numbers; the system
   std::vector<char> cls_;
   std::vector<int> unknown_, map_;
+  std::vector<double> dummy_off_;  // dummy_pressure body_force: P_dummy − P_foot
   SparseRows sys_;
   std::vector<double> x_;
 };

@@ -30,6 +30,7 @@ void read_isph_options(Reader& r, IsphConfig& o) {
     o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
     q.finish();
   }
+  o.dummy_body_force = r.choice("dummy_pressure", "copy", {"copy", "body_force"}) == "body_force";
   o.gradient_lattice = r.choice("gradient_normalisation", "none", {"none", "lattice"}) == "lattice";
   if (r.has("source")) {
     Reader q(r.get("source"), r.file(), "scheme.source");

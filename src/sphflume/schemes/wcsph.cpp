@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
@@ -171,6 +172,7 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
     }
     vprev[i] = v;
   }
+  move_walls(S, S.time + dt);  // the walls of the next rates pass (at t + dt)
   if (S.transport) S.transport->advance(S, dt, true);
 }
 
@@ -216,6 +218,7 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
     }
   }
   if (S.transport) S.transport->advance(S, hdt, false);
+  move_walls(S, S.time + hdt);
   update_pressure(S);
   // stage 2: rates at t^{n+1/2}
   S.update_neighbours();
@@ -249,6 +252,7 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
       P.vel[i] = advance(i, v0[i], dt, kr, im);
     }
   }
+  move_walls(S, S.time + dt);
   if (S.transport) S.transport->advance(S, dt, true);
 }
 

@@ -18,6 +18,7 @@
 #include <omp.h>
 #endif
 
+#include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/open_boundary.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/gauges.hpp"
@@ -88,6 +89,7 @@ void setup(const Case& c, System<D>& S, BuildReport& rep, std::unique_ptr<Scheme
     throw InputError(fmt::format("{}: {}", c.file, e.what()));
   }
   add_force_terms<D>(c.forces, c.file, S);
+  if (!c.motions.empty()) S.motion = std::make_shared<WallMotion<D>>(c.motions, c.file);
 }
 
 /// The box particles must stay in: the case's domain, or the initial bounding box with

@@ -1,0 +1,127 @@
+// The `motions:` section: prescribed wall motions (piston wave makers), each named and moved by a
+// paddle law (boundaries/paddle.hpp). Shapes join one with `motion: NAME`.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "sphflume/io/case_reader.hpp"
+
+namespace sph::caseio {
+namespace {
+
+/// Two columns (time [s], displacement [m]) of a CSV file; a first line that does not parse as
+/// numbers is a header; '#' starts a comment.
+void read_table(Reader& r, const std::string& file, MotionConfig& m) {
+  namespace fs = std::filesystem;
+  fs::path p(m.file);
+  if (p.is_relative()) p = fs::path(file).parent_path() / p;
+  std::ifstream in(p);
+  if (!in)
+    r.fail_at(r.get("file"), r.key_path("file"),
+              fmt::format("a readable CSV file of time, displacement (relative to the case file's folder; tried {})", p.string()));
+  std::string line;
+  int ln = 0;
+  bool header_seen = false;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    for (char& ch : line)
+      if (ch == ',' || ch == ';' || ch == '\t') ch = ' ';
+    if (line.find_first_not_of(' ') == std::string::npos) continue;  // blank or comment
+    std::istringstream ss(line);
+    double t, x;
+    if (!(ss >> t >> x) || !std::isfinite(t) || !std::isfinite(x)) {
+      if (m.table_t.empty() && !header_seen) { header_seen = true; continue; }  // the header
+      r.fail_at(r.get("file"), r.key_path("file"), fmt::format("rows of two finite numbers (time, displacement); {} line {} is not", p.string(), ln));
+    }
+    if (!m.table_t.empty() && !(t > m.table_t.back()))
+      r.fail_at(r.get("file"), r.key_path("file"), fmt::format("strictly increasing times; {} line {} goes back to t = {}", p.string(), ln, t));
+    m.table_t.push_back(t);
+    m.table_x.push_back(x);
+  }
+  if (m.table_t.size() < 2) r.fail_at(r.get("file"), r.key_path("file"), fmt::format("at least two rows of time, displacement in {}", p.string()));
+}
+
+MotionConfig read_motion(const Node& n, const std::string& file, const std::string& path, const Case& c) {
+  Reader r(n, file, path);
+  r.valid({"name", "law", "direction", "theory", "height", "depth", "period", "start", "ramp", "file"});
+  MotionConfig m;
+  m.line = n.line();
+  m.name = r.required<std::string>("name", "a motion name (shapes join it with 'motion: NAME')");
+  (void)r.required<std::string>("law", "a paddle law: solitary, regular, stokes2 or table");
+  m.law = r.choice("law", "", {"solitary", "regular", "stokes2", "table"});
+  const std::size_t d = static_cast<std::size_t>(c.dimension);
+  std::vector<double> e(d, 0.0);
+  e[0] = 1.0;
+  m.direction = r.vec("direction", d, e);
+  double len = 0.0;
+  for (double v : m.direction) len += v * v;
+  if (!(len > 0.0)) r.fail_at(r.get("direction"), r.key_path("direction"), "a non-zero direction of the translation");
+  for (double& v : m.direction) v /= std::sqrt(len);
+  double g2 = 0.0;
+  for (double v : c.gravity) g2 += v * v;
+  m.gravity = std::sqrt(g2);
+  m.start = r.scalar<double>("start", 0.0);
+  if (!(m.start >= 0.0)) r.fail_at(r.get("start"), r.key_path("start"), "a time >= 0 in s (the paddle rests before it)");
+  m.ramp = r.scalar<double>("ramp", 0.0);
+  if (!(m.ramp >= 0.0)) r.fail_at(r.get("ramp"), r.key_path("ramp"), "a duration >= 0 in s (0: no ramp)");
+  if (m.law == "solitary" || m.law == "regular" || m.law == "stokes2") {
+    if (!(m.gravity > 0.0)) r.fail_at(n, path, "gravity (the wave laws need |g| > 0)");
+    m.height = r.positive("height", 0.0, true);
+    m.depth = r.positive("depth", 0.0, true);
+    if (m.law == "solitary") {
+      m.theory = r.choice("theory", "rayleigh", {"rayleigh", "goring", "rayleigh_explicit"});
+      if (!(m.height < 0.8 * m.depth))
+        r.fail_at(r.get("height"), r.key_path("height"), fmt::format("a wave height below 0.8 depth (a solitary wave breaks at H/h0 ~ 0.78; depth = {} m)", m.depth));
+      if (r.has("ramp")) r.fail_at(r.get("ramp"), r.key_path("ramp"), "no ramp for a solitary wave (its law starts from rest)");
+    } else {
+      m.period = r.positive("period", 0.0, true);
+    }
+  } else {  // table
+    m.file = r.required<std::string>("file", "a CSV file of time [s], displacement [m]");
+    read_table(r, file, m);
+  }
+  r.finish();
+  return m;
+}
+
+}  // namespace
+
+void read_motions(Reader& top, const std::string& file, Case& c) {
+  if (top.has("motions")) {
+    const Node& ms = top.get("motions");
+    if (!ms.is_sequence()) top.fail_at(ms, "motions", "a list of wall motions, each starting with '- name: NAME'");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < ms.size(); ++i) {
+      c.motions.push_back(read_motion(ms[i], file, fmt::format("motions.{}", i), c));
+      if (!names.insert(c.motions.back().name).second)
+        top.fail_at(ms[i], fmt::format("motions.{}.name", i), "a name not used by another motion");
+    }
+  }
+  std::set<std::string> used;
+  for (std::size_t i = 0; i < c.shapes.size(); ++i) {
+    const auto& s = c.shapes[i];
+    if (s.motion.empty()) continue;
+    bool known = false;
+    for (const auto& m : c.motions) known |= m.name == s.motion;
+    if (!known)
+      throw InputError(fmt::format("{}: line {}: geometry.{}.motion: '{}' is not a motion: expected a name defined under "
+                                   "'motions'", file, s.line, i, s.motion));
+    used.insert(s.motion);
+  }
+  for (const auto& m : c.motions)
+    if (!used.count(m.name))
+      throw InputError(fmt::format("{}: line {}: motion '{}' moves no wall: add 'motion: {}' to a wall shape under "
+                                   "'geometry'", file, m.line, m.name, m.name));
+  if (!c.motions.empty() && c.walls.type == "fixed_ghost")
+    top.fail_at(top.get("motions"), "motions",
+                "walls.type dummy, dynamic or repulsive (fixed ghost particles do not follow a moving wall in this version)");
+  if (!c.motions.empty() && !c.periodic.empty())
+    top.fail_at(top.get("motions"), "motions", "a domain that is not periodic (moving walls across a periodic seam are not supported)");
+}
+
+}  // namespace sph::caseio
