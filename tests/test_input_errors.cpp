@@ -284,3 +284,36 @@ TEST(InputErrors, ShiftingKeysAreChecked) {
   e = error_of(replaced(kCase, "time:", "scheme: {shifting: {coeficient: 2}}\ntime:"));
   EXPECT_HAS(e, "unknown key 'scheme.shifting.coeficient' (did you mean 'scheme.shifting.coefficient'?)");
 }
+
+// Wave makers (issue 22): a paddle law above the theory's breaking limit, a time series that
+// cannot be read, a motion no wall follows, a shape naming no motion: line-numbered errors.
+TEST(InputErrors, MotionsAreChecked) {
+  const std::string moving = replaced(kCase, "  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.3]}\n",
+                                      "  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.3]}\n"
+                                      "  - {type: box, fill: wall, min: [-0.04, 0.0], max: [0.0, 0.3], motion: paddle}\n");
+  // line 15: motions.0
+  auto with = [&](const std::string& motion) { return moving + "motions:\n  - " + motion + "\n"; };
+  EXPECT_EQ(error_of(with("{name: paddle, law: solitary, height: 0.02, depth: 0.1}")), "");
+  std::string m = error_of(with("{name: paddle, law: solitary, height: 0.09, depth: 0.1}"));
+  EXPECT_HAS(m, "line 15");
+  EXPECT_HAS(m, "motions.0.height");
+  EXPECT_HAS(m, "0.78 depth");
+  m = error_of(with("{name: paddle, law: regular, height: 0.09, depth: 0.1, period: 0.5}"));
+  EXPECT_HAS(m, "Miche");
+  m = error_of(with("{name: paddle, law: table, file: no_such_file.csv}"));
+  EXPECT_HAS(m, "line 15");
+  EXPECT_HAS(m, "motions.0.file");
+  EXPECT_HAS(m, "no_such_file.csv");
+  m = error_of(with("{name: paddle, law: solitary, theory: boussinesq, height: 0.02, depth: 0.1}"));
+  EXPECT_HAS(m, "motions.0.theory");
+  m = error_of(with("{name: other, law: solitary, height: 0.02, depth: 0.1}"));
+  EXPECT_HAS(m, "line 9");
+  EXPECT_HAS(m, "geometry.1.motion");
+  m = error_of(moving);  // no motions section
+  EXPECT_HAS(m, "'paddle' is not a motion");
+  m = error_of(replaced(with("{name: paddle, law: solitary, height: 0.02, depth: 0.1}"), ", motion: paddle}", "}"));
+  EXPECT_HAS(m, "moves no wall");
+  m = error_of(replaced(kCase, "max: [0.1, 0.1]}", "max: [0.1, 0.1], motion: paddle}"));
+  EXPECT_HAS(m, "geometry.1.motion");
+  EXPECT_HAS(m, "a wall shape");
+}

@@ -3,11 +3,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "sphflume/boundaries/paddle.hpp"
 #include "sphflume/io/case_reader.hpp"
 
 namespace sph::caseio {
@@ -75,11 +77,16 @@ MotionConfig read_motion(const Node& n, const std::string& file, const std::stri
     m.depth = r.positive("depth", 0.0, true);
     if (m.law == "solitary") {
       m.theory = r.choice("theory", "rayleigh", {"rayleigh", "goring", "rayleigh_explicit"});
-      if (!(m.height < 0.8 * m.depth))
-        r.fail_at(r.get("height"), r.key_path("height"), fmt::format("a wave height below 0.8 depth (a solitary wave breaks at H/h0 ~ 0.78; depth = {} m)", m.depth));
+      if (!(m.height < 0.78 * m.depth))
+        r.fail_at(r.get("height"), r.key_path("height"), fmt::format("a wave height below 0.78 depth (McCowan's breaking limit of a solitary wave; depth = {} m)", m.depth));
       if (r.has("ramp")) r.fail_at(r.get("ramp"), r.key_path("ramp"), "no ramp for a solitary wave (its law starts from rest)");
     } else {
       m.period = r.positive("period", 0.0, true);
+      // Miche's limit of a progressive wave: H/L < 0.142 tanh(kh)
+      const double k = wave_number(2.0 * std::numbers::pi / m.period, m.depth, m.gravity);
+      const double hmax = 0.142 * (2.0 * std::numbers::pi / k) * std::tanh(k * m.depth);
+      if (!(m.height < hmax))
+        r.fail_at(r.get("height"), r.key_path("height"), fmt::format("a wave height below Miche's breaking limit 0.142 L tanh(kh) = {:.4g} m (L = {:.4g} m for period {} s in depth {} m)", hmax, 2.0 * std::numbers::pi / k, m.period, m.depth));
     }
   } else {  // table
     m.file = r.required<std::string>("file", "a CSV file of time [s], displacement [m]");
