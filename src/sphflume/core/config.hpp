@@ -165,7 +165,11 @@ struct GaugeConfig {
   double direction = 1.0;  // front: +1 or -1
   // profiles and flux: also write NAME.mean.csv, the mean of the samples at t >= average_from
   double average_from = std::numeric_limits<double>::infinity();
-  std::string field;  // scalar gauges: the transported scalar's name
+  std::string field;  // scalar gauges: the transported scalar's name; paddle: the motion's name
+  // runup: still-water level z, the reach from the slope line [m] (0 = 1.5 dx) and the fewest fluid
+  // neighbours within 2 dx a particle needs to count
+  double level = 0.0, reach = 0.0;
+  int neighbours = 4;
   int line = 0;
 };
 
@@ -350,6 +354,7 @@ struct Case {
   std::vector<MotionConfig> motions;  // prescribed wall motions (wave makers), by name
   int geometry_line = 0;  // line of the 'geometry' key (for messages about the shapes as a whole)
   double t_end = 0.0, output_interval = 0.0;
+  long snapshot_every = 1;  // a snapshot at every N-th output (time.snapshot_interval = N output_interval); gauges at every one
   std::vector<GaugeConfig> gauges;
   Node forces;  // list of registered force terms, each {type: NAME, ...} (read when the run is set up)
   std::vector<OpenBoundaryConfig> open_boundaries;

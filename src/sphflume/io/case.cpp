@@ -120,15 +120,15 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
 
 GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field", "motion"});
+  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field", "motion", "level", "reach", "neighbours"});
   GaugeConfig g;
   g.line = n.line();
   g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume, water_volume, scalar, scalar_profile, scalar_mass, scalar_flux, phase or paddle");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume", "scalar", "scalar_profile", "scalar_mass", "scalar_flux", "phase", "paddle"});
+  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume, water_volume, scalar, scalar_profile, scalar_mass, scalar_flux, phase, paddle, velocity or runup");
+  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume", "scalar", "scalar_profile", "scalar_mass", "scalar_flux", "phase", "paddle", "velocity", "runup"});
   const std::size_t d = static_cast<std::size_t>(dim);
   const bool scalar_gauge = g.type.rfind("scalar", 0) == 0;
   if (scalar_gauge) g.field = r.required<std::string>("field", "the name of a transported scalar (transport.scalars)");
@@ -141,7 +141,20 @@ GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string
       g.point.assign(d, 0.0);
       g.point[0] = g.x;
     }
-  } else if (g.type == "pressure" || g.type == "scalar") {
+  } else if (g.type == "runup") {
+    if (dim != 2) r.fail_at(n, path, "a 2D case (run-up gauges are 2D in this version)");
+    g.start = r.vec("start", d);
+    g.end = r.vec("end", d);
+    for (const char* k : {"start", "end"})
+      if (!r.has(k)) r.misspelt(k);
+    if (g.start.empty() || g.end.empty()) r.fail_at(n, path, "'start' and 'end': the toe and the top of the slope's surface line");
+    if (!(g.end[d - 1] > g.start[d - 1])) r.fail_at(r.get("end"), r.key_path("end"), "an end above the start (the line runs up the slope)");
+    g.level = r.required<double>("level", "the still-water level z [m] the run-up is measured from");
+    g.reach = r.scalar<double>("reach", 0.0);
+    if (!(g.reach >= 0.0)) r.fail_at(r.get("reach"), r.key_path("reach"), "a distance >= 0 in m (0 = 1.5 dx)");
+    g.neighbours = r.scalar<int>("neighbours", 4);
+    if (g.neighbours < 0 || g.neighbours > 50) r.fail_at(r.get("neighbours"), r.key_path("neighbours"), "an integer in [0, 50]");
+  } else if (g.type == "pressure" || g.type == "scalar" || g.type == "velocity") {
     g.point = r.vec("point", d);
     if (g.point.empty()) r.misspelt("point");
     if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
@@ -423,6 +436,14 @@ Case build_case(const Node& root, const std::string& file) {
       r.fail_at(r.get("output_interval"), "time.output_interval",
                 fmt::format("at most {:.0e} output times up to time.end = {} s (got {:.3g}): use output_interval >= {:.3g} s",
                             kMaxOutputs, c.t_end, c.t_end / c.output_interval, c.t_end / kMaxOutputs));
+    if (r.has("snapshot_interval")) {
+      const double si = r.positive("snapshot_interval", c.output_interval);
+      const double ratio = si / c.output_interval;
+      if (!(std::abs(ratio - std::round(ratio)) <= 1e-6 * ratio) || std::round(ratio) < 1.0)
+        r.fail_at(r.get("snapshot_interval"), "time.snapshot_interval",
+                  fmt::format("a whole multiple of time.output_interval = {} s (got {} s)", c.output_interval, si));
+      c.snapshot_every = std::lround(ratio);
+    }
     r.finish();
   }
   if (top.has("gauges")) {

@@ -51,7 +51,8 @@ Vec<D> line_normal(const GaugeConfig& g, double& ds) {
 template <int D>
 GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
                       double resume_after)
-    : cfg_(gauges), level_top_(level_top), dir_(dir), means_(gauges.size()) {
+    : cfg_(gauges), level_top_(level_top), dir_(dir), means_(gauges.size()),
+      runmax_(gauges.size(), -std::numeric_limits<double>::infinity()) {
   if (gauges.empty()) return;
   std::filesystem::create_directories(dir + "/gauges");
   const char* ax = D == 2 ? "xz" : "xyz";
@@ -63,7 +64,15 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
       std::string kept, line;
       bool header = true;
       while (std::getline(in, line)) {
-        if (header || std::strtod(line.c_str(), nullptr) <= resume_after * (1.0 + 1e-8)) kept += line + "\n";
+        if (header || std::strtod(line.c_str(), nullptr) <= resume_after * (1.0 + 1e-8)) {
+          kept += line + "\n";
+          // a run-up gauge's running maximum goes on from the kept rows' last one
+          if (!header && g.type == "runup") {
+            const auto comma = line.rfind(',');
+            const double mx = std::strtod(line.c_str() + comma + 1, nullptr);
+            if (std::isfinite(mx)) runmax_[static_cast<std::size_t>(&g - gauges.data())] = mx;
+          }
+        }
         header = false;
       }
       write_file_atomically(path, kept);
@@ -86,6 +95,8 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     else if (g.type == "scalar_mass") *f << (D == 2 ? ",mass,min,max,x,z,source" : ",mass,min,max,x,y,z,source");
     else if (g.type == "scalar_flux") *f << ",flux";
     else if (g.type == "phase") *f << ",area,top,x,z";
+    else if (g.type == "velocity") *f << (D == 2 ? ",ux,uz" : ",ux,uy,uz");
+    else if (g.type == "runup") *f << ",runup,x,max";
     else if (g.type == "paddle") *f << (D == 2 ? ",displacement,velocity,acceleration,force_x,force_z" : ",displacement,velocity,acceleration,force_x,force_y,force_z");
     else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" ||
              g.type == "scalar_profile") {
@@ -242,6 +253,37 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     for (int d = 0; d < D; ++d) x[d] = v[d];
     return x;
   };
+  if (g.type == "velocity") {
+    std::vector<double> out(D, nan);
+    for (int d = 0; d < D; ++d) {
+      const auto v = interpolate_shepard(S, at(g.point), [&](std::uint32_t b) { return P.vel[b][d]; });
+      if (v) out[static_cast<std::size_t>(d)] = *v;
+    }
+    return out;
+  }
+  if (g.type == "runup") {  // the waterline on a slope (2D): highest fluid particle near the slope line
+    const Vec<D> a = at(g.start), b = at(g.end);
+    const Vec<D> t = b - a;
+    const double len2 = dot(t, t);
+    const double reach = g.reach > 0.0 ? g.reach : 1.5 * S.dx;
+    const double r = 2.0 * S.dx;
+    double best = -std::numeric_limits<double>::infinity(), bx = nan;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid || !(P.pos[i][D - 1] > best)) continue;
+      const Vec<D> q = P.pos[i] - a;
+      const double s = std::clamp(dot(q, t) / len2, 0.0, 1.0);
+      const Vec<D> off = q - s * t;
+      if (dot(off, off) > reach * reach) continue;
+      int nb = 0;
+      S.cells.for_neighbours(P.pos, P.pos[i], r, [&](std::uint32_t j, const Vec<D>&, double r2) {
+        nb += (P.kind[j] == Kind::Fluid && r2 > 0.0);
+      });
+      if (nb < g.neighbours) continue;
+      best = P.pos[i][D - 1];
+      bx = P.pos[i][0];
+    }
+    return {std::isfinite(best) ? best - g.level : nan, bx, nan};  // max: filled by sample()
+  }
   if (g.type == "paddle") {  // the motion's law at t, and the fluid's pressure force on its walls
     std::vector<double> out(3 + D, nan);
     if (!S.motion) return out;
@@ -381,7 +423,11 @@ void GaugeSet<D>::sample(const System<D>& S) {
   for (std::size_t k = 0; k < cfg_.size(); ++k) {
     auto& f = *files_[k];
     f << fmt::format("{:.9g}", S.time);
-    const auto v = evaluate(cfg_[k], S, top);
+    auto v = evaluate(cfg_[k], S, top);
+    if (cfg_[k].type == "runup") {
+      if (std::isfinite(v[0])) runmax_[k] = std::max(runmax_[k], v[0]);
+      v[2] = std::isfinite(runmax_[k]) ? runmax_[k] : std::numeric_limits<double>::quiet_NaN();
+    }
     // budgets (scalar and water masses) are checked to round-off: full precision for them
     const bool exact = cfg_[k].type == "scalar_mass" || cfg_[k].type == "water_volume" || cfg_[k].type == "phase";
     for (double x : v) f << (exact ? fmt::format(",{:.17g}", x) : fmt::format(",{:.9g}", x));

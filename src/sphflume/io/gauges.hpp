@@ -23,6 +23,12 @@
 //                    cumulative mass released by the scalar's wall sources
 //  scalar_flux       flux ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m] (2D;
 //                    D molecular)
+//  paddle            displacement, velocity, acceleration of a motion's law, and the water's
+//                    pressure force on its walls (force_x, (force_y,) force_z)
+//  velocity          ux, (uy,) uz at a point (Shepard average of the fluid)
+//  runup             runup: highest fluid particle within `reach` of the slope line start-end
+//                    (with >= `neighbours` fluid neighbours within 2 dx: no lone drops) minus
+//                    `level`; x of that particle; max: the largest runup so far
 //  phase             area (volume in 3D) Σ m/ρ of the phase `field`, its top (highest
 //                    particle) and area centroid x, z
 #pragma once
@@ -65,6 +71,7 @@ class GaugeSet {
   double level_top_;
   std::string dir_;
   std::vector<Mean> means_;
+  std::vector<double> runmax_;  // runup gauges: the largest run-up so far (column max)
 };
 
 }  // namespace sph

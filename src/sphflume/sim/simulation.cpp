@@ -393,19 +393,26 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   std::string restart_point = restart ? o.restart : std::string();
   const std::string checkpoint = o.output + "/checkpoint.h5";
 
-  auto output = [&] {
+  auto output = [&](bool always) {
     if (!o.write_output) return;
     S.update_neighbours();
-    const RunState st = R.state();
-    snaps.write(S.particles, S.time, S.step, &st);
+    // snapshots at every snapshot_every-th output time (and the first and last); gauges at each
+    const long k = std::lround(S.time / c.output_interval);
+    const bool snap = always || c.snapshot_every <= 1 || k % c.snapshot_every == 0 || S.time >= c.t_end * (1.0 - 1e-12);
+    if (snap) {
+      const RunState st = R.state();
+      snaps.write(S.particles, S.time, S.step, &st);
+    }
     S.counters["inflow_mass"] = R.rs.open.inflow_mass;
     S.counters["outflow_mass"] = R.rs.open.outflow_mass;
     S.counters["backflow_mass"] = R.rs.open.backflow_mass;
     if (S.transport)
       for (std::size_t k = 0; k < S.transport->count(); ++k) S.counters["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
     gauges->sample(S);
-    last_snapshot_step = S.step;
-    restart_point = snaps.last_path();
+    if (snap) {
+      last_snapshot_step = S.step;
+      restart_point = snaps.last_path();
+    }
   };
 
   const bool tty = isatty(fileno(stderr));
@@ -415,7 +422,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   double particle_steps = 0.0, fluid_particle_steps = 0.0;
   SignalGuard signals;
   try {
-    if (!resume) output();
+    if (!resume) output(true);
     while (S.time < c.t_end * (1.0 - 1e-12) && (o.max_steps == 0 || steps_done < o.max_steps)) {
       const std::size_t n_before = S.particles.n_owned();
       const bool out = R.advance(dt);
@@ -424,7 +431,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       pairs_total += S.pairs_last_pass * static_cast<std::uint64_t>(R.scheme->passes_per_step());
       particle_steps += static_cast<double>(n_before);
       fluid_particle_steps += static_cast<double>(S.particles.count(Kind::Fluid));
-      if (out) output();
+      if (out) output(false);
       const double w = elapsed();
       auto write_checkpoint = [&] {
         RunState st = R.state();
@@ -525,7 +532,7 @@ std::string check_dim(const Case& c) {
   s += fmt::format("\ndx = {} m, kernel {} with h = {:.4g} m (h/dx = {}), support {:.4g} m\n", c.dx, kernel_name(c.kernel), S.h, c.h_over_dx, S.support);
   s += fmt::format("sound speed c0 = {:.4g} m/s, fluid height {:.4g} m\n", S.eos.c0, rep.fluid_height);
   s += fmt::format("estimated time step {:.3e} s: about {:.0f} steps to t = {} s, {} snapshots\n", dt, std::ceil(c.t_end / dt), c.t_end,
-                   static_cast<long>(std::floor(c.t_end / c.output_interval + 1e-9)) + 1);
+                   static_cast<long>(std::floor(c.t_end / (c.output_interval * double(c.snapshot_every)) + 1e-9)) + 1);
   return s;
 }
 
