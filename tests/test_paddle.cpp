@@ -8,6 +8,7 @@
 
 #include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/paddle.hpp"
+#include "sphflume/io/gauges.hpp"
 #include "test_helpers.hpp"
 
 using namespace sph;
@@ -210,4 +211,43 @@ time: {end: 1.0}
   const Vec<2> f = S.motion->pressure_force(S, 0);
   const double thrust = 1000.0 * 9.81 * 0.2 * 0.2 / 2.0;
   EXPECT_NEAR(-f[0], thrust, 0.02 * thrust);
+}
+
+// The run-up gauge on still water against a 1:2 slope: the waterline particle is the highest fluid
+// particle on the slope, whose centre lies within dx of the still-water line (lattice points sit at
+// (i + 1/2) dx, and the wedge's last columns are cut by the slope), so |runup| <= dx. The velocity
+// probe reads a uniform velocity exactly (a Shepard average of equal values).
+TEST(Gauges, RunupAndVelocityOnStillWater) {
+  const char* kCase = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+walls: {type: dummy}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.0, 0.4]}
+  - {type: polygon, fill: wall, vertices: [[0.4, 0.0], [1.0, 0.3], [1.0, 0.0]]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.0, 0.15], velocity: [0.2, 0.0]}
+time: {end: 1.0}
+)";
+  test::Setup<2> T(kCase);
+  T.S.update_neighbours();
+  GaugeConfig g;
+  g.type = "runup";
+  g.start = {0.4, 0.0};
+  g.end = {1.0, 0.3};
+  g.level = 0.15;
+  const auto r = GaugeSet<2>::evaluate(g, T.S, 1.0);
+  EXPECT_LE(std::abs(r[0]), 0.01) << "runup " << r[0] << " at x " << r[1];
+  // the shoreline of the 1:2 slope is at x = 0.7; the waterline particle sits up to reach = 1.5 dx
+  // normal to the slope from it, i.e. up to 1.5 sqrt(5) dx = 0.034 m short horizontally
+  EXPECT_NEAR(r[1], 0.4 + 2.0 * 0.15, 0.035);
+  GaugeConfig v;
+  v.type = "velocity";
+  v.point = {0.2, 0.07};
+  const auto u = GaugeSet<2>::evaluate(v, T.S, 1.0);
+  EXPECT_NEAR(u[0], 0.2, 1e-12);
+  EXPECT_NEAR(u[1], 0.0, 1e-12);
+  v.point = {0.2, 0.3};  // dry
+  EXPECT_TRUE(std::isnan(GaugeSet<2>::evaluate(v, T.S, 1.0)[0]));
 }
