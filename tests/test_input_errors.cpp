@@ -317,3 +317,33 @@ TEST(InputErrors, MotionsAreChecked) {
   EXPECT_HAS(m, "geometry.1.motion");
   EXPECT_HAS(m, "a wall shape");
 }
+
+// Slopes (issue 22): a slope given by toe, gradient ('1:2.08' or rise/run) and top is the polygon
+// of its wedge; a slope reaching outside the tank, a gradient that is not one, a top under the toe
+// are line-numbered errors.
+TEST(InputErrors, SlopesAreChecked) {
+  auto with = [&](const std::string& slope) {
+    return replaced(kCase, "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}\n",
+                    "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}\n  - " + slope + "\n");
+  };  // line 10: geometry.2
+  const Case c = parse_case(with("{type: slope, toe: [0.2, 0.0], gradient: '1:2', top: 0.1}"), "case.yaml");
+  ASSERT_EQ(c.shapes.size(), 3u);
+  const auto& v = c.shapes[2].vertices;
+  ASSERT_EQ(v.size(), 3u);  // toe, top, foot of the back
+  EXPECT_DOUBLE_EQ(v[1][0], 0.4);
+  EXPECT_DOUBLE_EQ(v[1][1], 0.1);
+  EXPECT_EQ(c.shapes[2].fill, "wall");
+  EXPECT_EQ(error_of(with("{type: slope, toe: [0.2, 0.0], gradient: 0.5, top: 0.1}")), "");
+  std::string m = error_of(with("{type: slope, toe: [0.2, 0.0], gradient: '1:2', top: 0.2}"));  // x = 0.6 > 0.4
+  EXPECT_HAS(m, "line 10");
+  EXPECT_HAS(m, "outside the tank");
+  m = error_of(with("{type: slope, toe: [0.2, 0.0], gradient: steep, top: 0.1}"));
+  EXPECT_HAS(m, "geometry.2.gradient");
+  m = error_of(with("{type: slope, toe: [0.2, 0.1], gradient: 0.5, top: 0.05}"));
+  EXPECT_HAS(m, "geometry.2.top");
+  // a layer: a parallelogram of normal thickness t, t / sin(alpha) wide along the bed
+  const Case l = parse_case(with("{type: slope, toe: [0.1, 0.0], gradient: 0.5, top: 0.1, thickness: 0.02}"), "case.yaml");
+  const auto& w = l.shapes[2].vertices;
+  ASSERT_EQ(w.size(), 4u);
+  EXPECT_NEAR(w[3][0] - w[0][0], 0.02 * std::sqrt(1.25) / 0.5, 1e-12);
+}

@@ -133,6 +133,7 @@ struct ShapeConfig {
   double thickness = 0.0;                       // plane: 0 = wall layers
   bool open_top = true;                         // tank
   std::vector<double> velocity;                 // initial velocity
+  bool slope = false;  // made from `type: slope` (vertices computed by the reader)
   std::string motion;  // wall shapes: the name of the prescribed motion that moves them (`motions:`); empty = fixed
   int line = 0;
 };

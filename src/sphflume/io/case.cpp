@@ -70,12 +70,19 @@ int axis_index(const std::string& a, int dim) {
 
 ShapeConfig read_shape(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity", "motion"});
+  r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity", "motion",
+           "toe", "gradient", "top", "back"});
   ShapeConfig s;
   s.line = n.line();
   (void)r.required<std::string>("type", "a shape type: box, tank, polygon or plane");
-  s.type = r.choice("type", "", {"box", "tank", "polygon", "plane"});
-  s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" ? "wall" : "fluid", {"fluid", "wall"});
+  s.type = r.choice("type", "", {"box", "tank", "polygon", "plane", "slope"});
+  s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" || s.type == "slope" ? "wall" : "fluid", {"fluid", "wall"});
+  if (s.type == "slope") {  // a beach: the polygon of its wedge or layer
+    if (dim != 2) r.fail_at(n, path, "a plane (slopes are 2D only; a 3D beach is a plane shape)");
+    s.vertices = caseio::read_slope(r, n);
+    s.type = "polygon";
+    s.slope = true;
+  }
   const std::size_t d = static_cast<std::size_t>(dim);
   if (s.type == "box" || s.type == "tank") {
     s.min = r.vec("min", d);
@@ -89,7 +96,7 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
       s.open_top = r.scalar<bool>("open_top", true);
       if (s.fill != "wall") r.fail_at(r.get("fill"), r.key_path("fill"), "'wall' (a tank is made of wall particles)");
     }
-  } else if (s.type == "polygon") {
+  } else if (s.type == "polygon" && s.vertices.empty()) {
     if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
     s.vertices = read_vertices(r, n);
   } else if (s.type == "plane") {
@@ -471,6 +478,7 @@ Case build_case(const Node& root, const std::string& file) {
     }
   }
   caseio::read_motions(top, file, c);
+  caseio::check_slopes(c);
   if (top.has("turbulence")) caseio::read_turbulence(top.get("turbulence"), file, c);
   if (top.has("porous")) caseio::read_porous(top.get("porous"), file, c);
   if (top.has("transport")) caseio::read_transport(top.get("transport"), file, c);

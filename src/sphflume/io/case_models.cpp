@@ -28,10 +28,16 @@ std::vector<double> read_list(Reader& r, const std::string& k, bool increasing) 
 
 PorousRegionConfig read_porous_region(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"shape", "min", "max", "vertices", "porosity", "diameter", "layer", "closure", "upper", "x", "z", "phi"});
+  r.valid({"shape", "min", "max", "vertices", "porosity", "diameter", "layer", "closure", "upper", "x", "z", "phi",
+           "toe", "gradient", "top", "thickness", "back"});
   PorousRegionConfig g;
   g.line = n.line();
-  g.shape = r.choice("shape", "box", {"box", "polygon", "profile"});
+  g.shape = r.choice("shape", "box", {"box", "polygon", "profile", "slope"});
+  if (g.shape == "slope") {  // a permeable beach or an armour layer: its polygon
+    if (dim != 2) r.fail_at(n, path, "a box (slopes are 2D only)");
+    g.vertices = read_slope(r, n);
+    g.shape = "polygon";
+  }
   const std::size_t d = static_cast<std::size_t>(dim);
   if (g.shape == "box") {
     g.min = r.vec("min", d);
@@ -39,7 +45,7 @@ PorousRegionConfig read_porous_region(const Node& n, const std::string& file, co
     if (g.min.empty() || g.max.empty()) r.fail_at(n, path, "'min' and 'max' corners of the porous box");
     for (std::size_t i = 0; i < d; ++i)
       if (!(g.max[i] > g.min[i])) r.fail_at(r.get("max"), r.key_path("max"), "max > min in every coordinate");
-  } else if (g.shape == "polygon") {
+  } else if (g.shape == "polygon" && g.vertices.empty()) {
     if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
     g.vertices = read_vertices(r, n);
   }

@@ -41,6 +41,12 @@ void read_porous(const Node& n, const std::string& file, Case& c);
 /// The `transport:` section (scalars) and the `multiphase:` section.
 void read_transport(const Node& n, const std::string& file, Case& c);
 void read_multiphase(const Node& n, const std::string& file, Case& c);
+/// A slope (2D beach) from the keys toe, gradient, top, thickness, back (io/case_slope.cpp): the
+/// polygon of a solid wedge (thickness 0) or of a layer of that normal thickness under the surface
+/// line from the toe to the top (docs/case-file.md).
+std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n);
+/// Every slope shape lies inside the case's tanks (with dx of slack): an InputError naming its line otherwise.
+void check_slopes(const Case& c);
 /// The `motions:` section (prescribed wall motions, io/case_motion.cpp), and the check that every
 /// shape's `motion:` names one; after the shapes and walls are read.
 void read_motions(Reader& top, const std::string& file, Case& c);

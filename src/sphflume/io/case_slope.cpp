@@ -1,0 +1,75 @@
+// `type: slope` shapes and `shape: slope` porous regions (2D): a beach given by its toe, its
+// gradient and its top, made into the polygon the geometry and the porosity field already know.
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "sphflume/io/case_reader.hpp"
+
+namespace sph::caseio {
+
+std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n) {
+  for (const char* k : {"toe", "gradient", "top"})
+    if (!r.has(k)) r.misspelt(k);
+  if (!r.has("toe") || !r.has("gradient") || !r.has("top"))
+    r.fail_at(n, r.key_path("type"), "a slope: 'toe' [x, z], 'gradient' (rise/run, or '1:2.08') and 'top' (z of its top)");
+  const std::vector<double> toe = r.vec("toe", 2);
+  double m = 0.0;  // rise over run
+  const Node& gn = r.get("gradient");
+  if (!gn.decode(m)) {
+    std::string t = gn.text();
+    const auto colon = t.find(':');
+    double a = 0.0, b = 0.0;
+    if (colon != std::string::npos) {
+      std::istringstream sa(t.substr(0, colon)), sb(t.substr(colon + 1));
+      if (sa >> a && sb >> b && a > 0.0 && b > 0.0) m = a / b;
+    }
+  }
+  if (!(m > 0.0) || !std::isfinite(m) || m > 100.0)
+    r.fail_at(gn, r.key_path("gradient"), "a rise over run in (0, 100] (0.48) or a ratio '1:2.08' (rise:run)");
+  const double top = r.required<double>("top", "the z of the slope's top [m]");
+  if (!(top > toe[1])) r.fail_at(r.get("top"), r.key_path("top"), fmt::format("a top above the toe (z > {})", toe[1]));
+  const double t = r.scalar<double>("thickness", 0.0);
+  if (!(t >= 0.0)) r.fail_at(r.get("thickness"), r.key_path("thickness"), "a layer thickness >= 0 in m, normal to the slope (0: a solid wedge)");
+  const double x1 = toe[0] + (top - toe[1]) / m;
+  const double back = r.scalar<double>("back", x1);
+  if (!(back >= x1)) r.fail_at(r.get("back"), r.key_path("back"), fmt::format("an x at or beyond the top of the slope ({:.6g})", x1));
+  if (t == 0.0) {  // the wedge under the surface line, to the vertical at `back`
+    std::vector<std::array<double, 2>> v = {{toe[0], toe[1]}, {x1, top}};
+    if (back > x1) v.push_back({back, top});
+    v.push_back({back, toe[1]});
+    return v;
+  }
+  // a layer of normal thickness t under the surface line (an armour layer), cut along the toe's
+  // level and normal to the slope at its top: width t / sin(alpha) along the bed
+  const double sa = m / std::sqrt(1.0 + m * m), ca = 1.0 / std::sqrt(1.0 + m * m);
+  return {{toe[0], toe[1]}, {x1, top}, {x1 + t * sa, top - t * ca}, {toe[0] + t / sa, toe[1]}};
+}
+
+void check_slopes(const Case& c) {
+  std::vector<const ShapeConfig*> tanks;
+  for (const auto& s : c.shapes)
+    if (s.type == "tank") tanks.push_back(&s);
+  if (tanks.empty()) return;
+  for (std::size_t i = 0; i < c.shapes.size(); ++i) {
+    const auto& s = c.shapes[i];
+    if (!s.slope) continue;
+    bool inside = false;
+    for (const auto* t : tanks) {
+      bool in = true;
+      for (const auto& v : s.vertices)
+        for (int d = 0; d < 2; ++d) {
+          const std::size_t k = d == 0 ? 0 : t->min.size() - 1;
+          in &= v[static_cast<std::size_t>(d)] >= t->min[k] - c.dx && v[static_cast<std::size_t>(d)] <= t->max[k] + c.dx;
+        }
+      inside |= in;
+    }
+    if (!inside)
+      throw InputError(fmt::format("{}: line {}: geometry.{}: the slope (from x = {:.4g} to {:.4g}, z = {:.4g} to {:.4g}) "
+                                   "reaches outside the tank: move its toe, lower its top or shorten 'back'",
+                                   c.file, s.line, i, s.vertices[0][0], s.vertices[1][0], s.vertices[0][1], s.vertices[1][1]));
+  }
+}
+
+}  // namespace sph::caseio
