@@ -1,0 +1,127 @@
+#!/usr/bin/python3
+"""Solitary-wave run-up on a 1:2.08 solid slope: Tsurudome's Flume A (issue 22, validation 4; cases/runup_flume_a.yaml).
+
+A Rayleigh solitary wave (h0 = 0.21 m) runs 2.07 m over a flat bed and up a smooth impermeable 1:2.08 slope. The
+run-up R is the `runup` gauge's maximum: the highest fluid particle within 1.5 dx of the slope's surface line with at
+least 4 fluid neighbours within 2 dx, above the still-water level (digest §11.6).
+Reference: Li & Raichlen (2001), non-breaking (digest §13, eq 5.2.3):
+    R/h0 = 2.831 sqrt(cot phi) (H/h0)^(5/4) + 0.293 (cot phi)^(3/2) (H/h0)^(9/4),   cot phi = 2.08,
+the law that fits the experiments best (Tsurudome §5.3; his ISPH overshoots it by 7 % at H/h0 = 0.163 and 11.5 %
+at 0.25). Also printed: Synolakis's R/h0 = 2.831 sqrt(cot phi) (H/h0)^(5/4) and the thesis's ISPH values.
+Metrics:
+  1. R/h0 within 5 % of Li & Raichlen at each H/h0 run (issue 22; fine: dx = 0.005, the thesis's d0);
+     coarse (dx = 0.01): within 12 % (digest §19 B4's tolerance at d0 = 0.01);
+  2. the run reaches time.end, fluid mass conserved exactly.
+Options: --ratios (comma-separated H/h0 among 0.10, 0.163, 0.25, 0.30; default 0.163 in coarse mode, all four in fine).
+Usage: /usr/bin/python3 validation/runup_flume_a/check.py [--mode coarse|fine] [--ratios 0.163,0.25] [--out DIR]
+"""
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from common import Report, default_binary, info, parse_sets, read_rows, run_case, save_figure  # noqa: E402
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "runup_flume_a.yaml"))
+NAME = "runup_flume_a"
+G, H0, COT = 9.81, 0.21, 2.08
+MODES = {"coarse": {"dx": 0.01, "tol": 0.12, "ratios": "0.163"},
+         "fine": {"dx": 0.005, "tol": 0.05, "ratios": "0.10,0.163,0.25,0.30"}}
+THESIS = {0.163: 0.469, 0.25: 0.848}
+
+
+def li_raichlen(r):
+    return 2.831 * math.sqrt(COT) * r ** 1.25 + 0.293 * COT ** 1.5 * r ** 2.25
+
+
+def synolakis(r):
+    return 2.831 * math.sqrt(COT) * r ** 1.25
+
+
+def args():
+    import argparse
+    import tempfile
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sphflume", default=default_binary())
+    ap.add_argument("--mode", choices=MODES, default="coarse")
+    ap.add_argument("--ratios", default=None, help="comma-separated H/h0 values")
+    ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-validation", NAME))
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--reuse", action="store_true")
+    return ap.parse_args()
+
+
+def main():
+    a = args()
+    m = MODES[a.mode]
+    ratios = [float(v) for v in (a.ratios or m["ratios"]).split(",")]
+    rep = Report()
+    results = []
+    for r in ratios:
+        H = r * H0
+        c = math.sqrt(G * (H0 + H))
+        beta = math.sqrt(3 * r / (1 + r)) / H0
+        # the crest passes the paddle at t_s, reaches the toe (2.07 m) 2.07/c later; the run-up and the first
+        # rundown are over within 1.5 s after that
+        t_s = (7.6 / beta + 2 * r / beta) / c
+        end = round(t_s + 2.07 / c + 1.5, 1)
+        out = os.path.join(a.out, f"ratio{r:g}", f"dx{m['dx']:g}")
+        sets = {"particles.dx": m["dx"], "time.end": end, "motions.0.height": H, **parse_sets(a.set)}
+        s, wall, rc = run_case(a.sphflume, CASE, out, sets, a.threads, a.reuse)
+        print(f"\n== {NAME} H/h0 = {r:g} ({a.mode}: dx = {m['dx']} m, end {end} s; run wall time {wall:.1f} s)")
+        if s is None:
+            print(f"[FAIL] run exit code = {rc}   (threshold: 0)")
+            return 2
+        rep.metric(f"H/h0 = {r:g}: run reached t_end (s)", f"{s['simulated_time']:.4f}",
+                   s["simulated_time"] >= end * (1 - 1e-6), f">= {end}", "issue 22")
+        rep.metric(f"H/h0 = {r:g}: fluid mass (initial - removed - final) / initial", f"{s['mass']['relative_error']:.1e}",
+                   abs(s["mass"]["relative_error"]) <= 1e-12, "|.| <= 1e-12", "closed flume")
+        hdr, rows = read_rows(os.path.join(out, "gauges", "runup.csv"))
+        t, ru = rows[:, hdr.index("time")], rows[:, hdr.index("runup")]
+        R = float(np.nanmax(ru))
+        ref = li_raichlen(r)
+        err = R / H0 / ref - 1
+        rep.metric(f"H/h0 = {r:g}: R/h0 vs Li & Raichlen (2001)", f"{R / H0:.4f} vs {ref:.4f} ({100 * err:+.1f} %)",
+                   abs(err) <= m["tol"], f"within {100 * m['tol']:g} %",
+                   "issue 22, validation 4 (fine: 5 %; coarse dx = 0.01: digest §19 B4's 12 %)")
+        info(f"H/h0 = {r:g}: against Synolakis (1986)", f"{100 * (R / H0 / synolakis(r) - 1):+.1f} %", True, "-",
+             "the non-breaking law, lower than Li & Raichlen")
+        if r in THESIS:
+            info(f"H/h0 = {r:g}: against Tsurudome's ISPH R/h0 = {THESIS[r]}", f"{100 * (R / H0 / THESIS[r] - 1):+.1f} %",
+                 True, "-", "thesis §5.3")
+        print(f"  wall {wall:.1f} s, {s['steps']} steps, {s['particles']['total']} particles, "
+              f"{s['particle_steps_per_second']:.3g} particle-steps/s")
+        results.append((r, R / H0, t, ru))
+
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    rr = np.linspace(0.05, 0.32, 100)
+    ax[0].plot(rr, [li_raichlen(v) for v in rr], "k-", label="Li & Raichlen (2001)")
+    ax[0].plot(rr, [synolakis(v) for v in rr], "k:", label="Synolakis (1986)")
+    ax[0].plot(list(THESIS), list(THESIS.values()), "s", mfc="none", label="Tsurudome ISPH")
+    ax[0].plot([v[0] for v in results], [v[1] for v in results], "o", label=f"SPHFlume, dx = {m['dx']} m")
+    ax[0].set_xlabel("H/h0")
+    ax[0].set_ylabel("R/h0")
+    ax[0].set_title("run-up on the 1:2.08 slope")
+    ax[0].legend()
+    for r, _, t, ru in results:
+        ax[1].plot(t, ru / H0, label=f"H/h0 = {r:g}")
+    ax[1].set_xlabel("t [s]")
+    ax[1].set_ylabel("waterline above SWL / h0")
+    ax[1].legend()
+    fig.tight_layout()
+    save_figure(fig, HERE, NAME, a.mode, a.out)
+    rep.finish(NAME, a.mode)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
