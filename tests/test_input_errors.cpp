@@ -326,10 +326,10 @@ TEST(InputErrors, SlopesAreChecked) {
     return replaced(kCase, "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}\n",
                     "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}\n  - " + slope + "\n");
   };  // line 10: geometry.2
-  const Case c = parse_case(with("{type: slope, toe: [0.2, 0.0], gradient: '1:2', top: 0.1}"), "case.yaml");
+  const Case c = parse_case(with("{type: slope, toe: [0.2, 0.0], gradient: '1:2', top: 0.1, thickness: 0}"), "case.yaml");
   ASSERT_EQ(c.shapes.size(), 3u);
   const auto& v = c.shapes[2].vertices;
-  ASSERT_EQ(v.size(), 3u);  // toe, top, foot of the back
+  ASSERT_EQ(v.size(), 3u);  // a wedge: toe, top, foot of the back
   EXPECT_DOUBLE_EQ(v[1][0], 0.4);
   EXPECT_DOUBLE_EQ(v[1][1], 0.1);
   EXPECT_EQ(c.shapes[2].fill, "wall");
@@ -341,6 +341,10 @@ TEST(InputErrors, SlopesAreChecked) {
   EXPECT_HAS(m, "geometry.2.gradient");
   m = error_of(with("{type: slope, toe: [0.2, 0.1], gradient: 0.5, top: 0.05}"));
   EXPECT_HAS(m, "geometry.2.top");
+  // a wall slope is by default a layer as deep as the wall layers (3 dx here)
+  const Case d = parse_case(with("{type: slope, toe: [0.2, 0.0], gradient: '1:2', top: 0.1}"), "case.yaml");
+  ASSERT_EQ(d.shapes[2].vertices.size(), 4u);
+  EXPECT_NEAR(d.shapes[2].vertices[3][0] - 0.2, 0.03 * std::sqrt(5.0), 1e-12);
   // a layer: a parallelogram of normal thickness t, t / sin(alpha) wide along the bed
   const Case l = parse_case(with("{type: slope, toe: [0.1, 0.0], gradient: 0.5, top: 0.1, thickness: 0.02}"), "case.yaml");
   const auto& w = l.shapes[2].vertices;

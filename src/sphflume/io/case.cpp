@@ -11,6 +11,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "sphflume/io/case_reader.hpp"
+#include "sphflume/io/geometry.hpp"
 #include "sphflume/schemes/isph_options.hpp"
 
 namespace sph {
@@ -68,7 +69,7 @@ int axis_index(const std::string& a, int dim) {
   return -1;
 }
 
-ShapeConfig read_shape(const Node& n, const std::string& file, const std::string& path, int dim) {
+ShapeConfig read_shape(const Node& n, const std::string& file, const std::string& path, int dim, double wall_depth) {
   Reader r(n, file, path);
   r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity", "motion",
            "toe", "gradient", "top", "back"});
@@ -79,7 +80,7 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
   s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" || s.type == "slope" ? "wall" : "fluid", {"fluid", "wall"});
   if (s.type == "slope") {  // a beach: the polygon of its wedge or layer
     if (dim != 2) r.fail_at(n, path, "a plane (slopes are 2D only; a 3D beach is a plane shape)");
-    s.vertices = caseio::read_slope(r, n);
+    s.vertices = caseio::read_slope(r, n, s.fill == "wall" ? wall_depth : 0.0);
     s.type = "polygon";
     s.slope = true;
   }
@@ -432,7 +433,7 @@ Case build_case(const Node& root, const std::string& file) {
     if (!geo.is_sequence() || geo.size() == 0) top.fail_at(geo, "geometry", "a list of shapes, each starting with '- type: box'");
     c.geometry_line = geo.key_line();  // the line of the key itself, not of the first shape
     for (std::size_t i = 0; i < geo.size(); ++i)
-      c.shapes.push_back(read_shape(geo[i], file, fmt::format("geometry.{}", i), c.dimension));
+      c.shapes.push_back(read_shape(geo[i], file, fmt::format("geometry.{}", i), c.dimension, wall_layers_for(c) * c.dx));
   }
   {
     if (!top.has("time")) throw InputError(fmt::format("{}: missing required section 'time' (end and output_interval in s)", file));

@@ -44,7 +44,9 @@ void read_multiphase(const Node& n, const std::string& file, Case& c);
 /// A slope (2D beach) from the keys toe, gradient, top, thickness, back (io/case_slope.cpp): the
 /// polygon of a solid wedge (thickness 0) or of a layer of that normal thickness under the surface
 /// line from the toe to the top (docs/case-file.md).
-std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n);
+/// default_thickness: the layer's thickness when `thickness` is not given (0: a wedge; wall slopes
+/// pass their wall layers' depth, since a wall deeper than the kernel support does nothing).
+std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness = 0.0);
 /// Every slope shape lies inside the case's tanks (with dx of slack): an InputError naming its line otherwise.
 void check_slopes(const Case& c);
 /// The `motions:` section (prescribed wall motions, io/case_motion.cpp), and the check that every

@@ -9,7 +9,7 @@
 
 namespace sph::caseio {
 
-std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n) {
+std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness) {
   for (const char* k : {"toe", "gradient", "top"})
     if (!r.has(k)) r.misspelt(k);
   if (!r.has("toe") || !r.has("gradient") || !r.has("top"))
@@ -30,7 +30,7 @@ std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n) {
     r.fail_at(gn, r.key_path("gradient"), "a rise over run in (0, 100] (0.48) or a ratio '1:2.08' (rise:run)");
   const double top = r.required<double>("top", "the z of the slope's top [m]");
   if (!(top > toe[1])) r.fail_at(r.get("top"), r.key_path("top"), fmt::format("a top above the toe (z > {})", toe[1]));
-  const double t = r.scalar<double>("thickness", 0.0);
+  const double t = r.scalar<double>("thickness", default_thickness);
   if (!(t >= 0.0)) r.fail_at(r.get("thickness"), r.key_path("thickness"), "a layer thickness >= 0 in m, normal to the slope (0: a solid wedge)");
   const double x1 = toe[0] + (top - toe[1]) / m;
   const double back = r.scalar<double>("back", x1);
@@ -58,8 +58,9 @@ void check_slopes(const Case& c) {
     bool inside = false;
     for (const auto* t : tanks) {
       bool in = true;
-      for (const auto& v : s.vertices)
+      for (std::size_t q = 0; q < 2; ++q)  // the surface line: the toe and the top (a layer may run on into the tank's wall)
         for (int d = 0; d < 2; ++d) {
+          const auto& v = s.vertices[q];
           const std::size_t k = d == 0 ? 0 : t->min.size() - 1;
           in &= v[static_cast<std::size_t>(d)] >= t->min[k] - c.dx && v[static_cast<std::size_t>(d)] <= t->max[k] + c.dx;
         }
