@@ -48,6 +48,44 @@ class BodyForce final : public ForceTerm<D> {
   bool region_ = false;
 };
 
+/// A damping (sponge) zone at the end of a wave flume: fluid between x = start and x = end along
+/// the axis feels  a = −k(x) u,  k = rate s²,  s = (x − start)/(end − start) clamped to [0, 1], so
+/// that a wave entering it is absorbed gradually (no reflection from a sudden change) and the far
+/// wall reflects little. rate [1/s]: of order 10/T for waves of period T over a zone one wavelength
+/// long; explicit, so rate Δt ≤ 1 (checked against nothing: Δt of either scheme is far below).
+template <int D>
+class DampingZone final : public ForceTerm<D> {
+ public:
+  explicit DampingZone(Reader& r) {
+    r.valid({"start", "end", "rate", "axis"});
+    x0_ = r.required<double>("start", "the coordinate where the damping begins [m]");
+    x1_ = r.required<double>("end", "the coordinate where it is strongest (the far wall) [m]");
+    if (!(x1_ != x0_)) r.fail_at(r.get("end"), r.key_path("end"), "an end different from start");
+    rate_ = r.positive("rate", 10.0);
+    if (!(rate_ <= 1e4)) r.fail_at(r.get("rate"), r.key_path("rate"), "a damping rate in (0, 1e4] 1/s");
+    const std::string ax = r.scalar<std::string>("axis", "x");
+    axis_ = ax == "x" ? 0 : (ax == "y" && D == 3) ? 1 : -1;
+    if (axis_ < 0) r.fail_at(r.get("axis"), r.key_path("axis"), D == 3 ? "x or y" : "x");
+    r.finish();
+  }
+  const char* name() const override { return "damping_zone"; }
+  void add(System<D>& S) override {
+    auto& P = S.particles;
+    const double inv = 1.0 / (x1_ - x0_);
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      const double f = (P.pos[i][axis_] - x0_) * inv;
+      if (!(f > 0.0)) continue;
+      const double sc = std::min(f, 1.0);
+      P.acc[i] -= (rate_ * sc * sc) * P.vel[i];
+    }
+  }
+
+ private:
+  double x0_ = 0.0, x1_ = 1.0, rate_ = 10.0;
+  int axis_ = 0;
+};
+
 /// Kazemi's rough-bed drag layer (ch. 3, eqs 3.3, 3.4, 3.17; digest §2.4): inside a layer of
 /// thickness R_d above the numerical bed (the roughness crest is bed + R_d), every fluid
 /// particle feels  a = -factor C_d W_d(z) / d_s  u |u|  (factor 1/2: F_d = 1/2 C_d rho A_d u|u|
@@ -173,6 +211,7 @@ Registry<ForceTerm<D>, Reader&, const Node&>& force_registry() {
     Registry<ForceTerm<D>, Reader&, const Node&> reg;
     reg.add("body_force", [](Reader& q, const Node&) { return std::make_unique<BodyForce<D>>(q); });
     reg.add("rough_bed", [](Reader& q, const Node&) { return std::make_unique<RoughBed<D>>(q); });
+    reg.add("damping_zone", [](Reader& q, const Node&) { return std::make_unique<DampingZone<D>>(q); });
     reg.add("imaginary_wall", [](Reader& q, const Node& n) { return std::make_unique<ImaginaryWall<D>>(q, n); });
     return reg;
   }();
