@@ -251,3 +251,29 @@ time: {end: 1.0}
   v.point = {0.2, 0.3};  // dry
   EXPECT_TRUE(std::isnan(GaugeSet<2>::evaluate(v, T.S, 1.0)[0]));
 }
+
+// The sponge: inside [start, end] the acceleration is −rate s² u, s the fraction of the way in
+// (quadratic, so a wave meets no sudden change); nothing outside.
+TEST(Gauges, DampingZoneIsQuadraticInTheZone) {
+  const char* kCase = R"(
+dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 10.0}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.1], velocity: [0.3, -0.1]}
+forces:
+  - {type: damping_zone, start: 0.1, end: 0.3, rate: 8.0}
+time: {end: 1.0}
+)";
+  test::Setup<2> T(kCase);
+  auto& P = T.S.particles;
+  for (auto& a : P.acc) a = Vec<2>{};
+  ASSERT_EQ(T.S.forces.size(), 1u);
+  T.S.forces[0]->add(T.S);
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    const double s = std::clamp((P.pos[i][0] - 0.1) / 0.2, 0.0, 1.0);
+    EXPECT_NEAR(P.acc[i][0], -8.0 * s * s * 0.3, 1e-12);
+    EXPECT_NEAR(P.acc[i][1], 8.0 * s * s * 0.1, 1e-12);
+  }
+}
