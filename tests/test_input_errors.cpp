@@ -351,3 +351,15 @@ TEST(InputErrors, SlopesAreChecked) {
   ASSERT_EQ(w.size(), 4u);
   EXPECT_NEAR(w[3][0] - w[0][0], 0.02 * std::sqrt(1.25) / 0.5, 1e-12);
 }
+
+// A moving wall thinner than the wall layers would let the fluid through: refused with the fix.
+TEST(InputErrors, ThinPaddleIsRefused) {
+  const std::string thin = replaced(kCase, "  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.3]}\n",
+                                    "  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.3]}\n"
+                                    "  - {type: box, fill: wall, min: [-0.02, 0.0], max: [0.0, 0.3], motion: paddle}\n") +
+                           "motions:\n  - {name: paddle, law: solitary, height: 0.02, depth: 0.1}\n";
+  const std::string m = error_of(thin);
+  EXPECT_HAS(m, "line 9");
+  EXPECT_HAS(m, "thinner than the 3 wall layers");
+  EXPECT_HAS(m, "at least 0.03 m thick");
+}

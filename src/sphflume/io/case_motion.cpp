@@ -11,6 +11,7 @@
 
 #include "sphflume/boundaries/paddle.hpp"
 #include "sphflume/io/case_reader.hpp"
+#include "sphflume/io/geometry.hpp"
 
 namespace sph::caseio {
 namespace {
@@ -119,6 +120,20 @@ void read_motions(Reader& top, const std::string& file, Case& c) {
       throw InputError(fmt::format("{}: line {}: geometry.{}.motion: '{}' is not a motion: expected a name defined under "
                                    "'motions'", file, s.line, i, s.motion));
     used.insert(s.motion);
+    // a moving wall thinner than the wall layers lets fluid through it (its far side has no fluid to
+    // hold it, and the kernel reaches across): boxes must be as thick as the layers along the motion
+    if (s.type == "box") {
+      const MotionConfig* mc = nullptr;
+      for (const auto& m : c.motions)
+        if (m.name == s.motion) mc = &m;
+      double along = 0.0;
+      for (std::size_t d = 0; d < s.min.size(); ++d) along += std::abs(mc->direction[d] * (s.max[d] - s.min[d]));
+      const double need = wall_layers_for(c) * c.dx;
+      if (along < need * (1.0 - 1e-9))
+        throw InputError(fmt::format("{}: line {}: geometry.{}: the moving wall is {:.4g} m thick along its motion, thinner "
+                                     "than the {} wall layers ({:.4g} m at dx = {}): fluid would leak through it; make the "
+                                     "box at least {:.4g} m thick", file, s.line, i, along, wall_layers_for(c), need, c.dx, need));
+    }
   }
   for (const auto& m : c.motions)
     if (!used.count(m.name))
