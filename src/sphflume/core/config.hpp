@@ -80,6 +80,7 @@ struct IsphConfig {
   double tolerance = 1e-6;           // the PPE's relative residual
   int max_iterations = 2000;
   bool amg = false;                  // solver.type: boomeramg (hypre) instead of bicgstab (Eigen)
+  bool solver_auto = true;           // solver.type: auto (default): boomeramg from kAutoAmgUnknowns unknowns when hypre is built in
   ShiftingConfig shifting;           // particle shifting after the step (off by default, as in the thesis)
   std::vector<std::string> ignored;  // WCSPH keys given here: "line N: scheme.KEY"
 };

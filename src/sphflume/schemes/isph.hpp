@@ -83,6 +83,8 @@ class ISPH final : public Scheme<D> {
   WCSPH<D> forces_;
   Shifting<D> shift_;
   std::unique_ptr<PressureSolver> solver_;
+  bool solver_chosen_ = false;  // solver.type auto: decided at the first solve by its size
+  static constexpr std::size_t kAutoAmgUnknowns = 10000;
   double rho_ref_ = 0.0;
   // porous media: the reference density of a lattice of spacing dx/φ^(1/D) (the fluid inside a
   // medium of porosity φ), tabulated over φ ∈ [phi_lo_, 1] (Tsurudome eq 4.2.4, digest §8)

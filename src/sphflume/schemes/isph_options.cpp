@@ -48,7 +48,9 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   }
   if (r.has("solver")) {
     Reader q(r.get("solver"), r.file(), "scheme.solver");
-    o.amg = q.choice("type", "bicgstab", {"bicgstab", "boomeramg"}) == "boomeramg";
+    const std::string st = q.choice("type", "auto", {"auto", "bicgstab", "boomeramg"});
+    o.amg = st == "boomeramg";
+    o.solver_auto = st == "auto";
     if (o.amg && !have_hypre())
       q.fail_at(q.get("type"), "scheme.solver.type",
                 "bicgstab: this build has no hypre (install libhypre-dev, scripts/install-deps.sh, and rebuild)");
