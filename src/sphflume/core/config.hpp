@@ -135,6 +135,7 @@ struct ShapeConfig {
   bool open_top = true;                         // tank
   std::vector<double> velocity;                 // initial velocity
   bool slope = false;  // made from `type: slope` (vertices computed by the reader)
+  std::vector<std::array<double, 2>> solid;  // slope walls: the whole wedge under the surface, kept free of fluid
   std::string motion;  // wall shapes: the name of the prescribed motion that moves them (`motions:`); empty = fixed
   int line = 0;
 };

@@ -412,6 +412,13 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     const WallBins<D> bins(wall_x, dx);
     for (std::size_t i = 0; i < fluid_x.size(); ++i) drop[i] = bins.any_within(fluid_x[i], 0.5 * dx * 0.999);
   }
+  if constexpr (D == 2) {  // slopes whose walls are a layer: no fluid in the hollow under them
+    for (const auto& s : c.shapes) {
+      if (s.solid.empty()) continue;
+      for (std::size_t i = 0; i < fluid_x.size(); ++i)
+        if (!drop[i] && inside_polygon(s.solid, fluid_x[i][0], fluid_x[i][1])) drop[i] = 1;
+    }
+  }
   // Per fluid shape: it must make particles, and at most half of them may fall inside walls.
   {
     std::vector<std::size_t> made(c.shapes.size(), 0), dropped(c.shapes.size(), 0);
