@@ -361,6 +361,29 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
       lattice<D>(lo, hi, dx, emit);
     } else if (s.type == "tank") {
       lattice_shell<D>(lo, hi, to_vec<D>(s.min), to_vec<D>(s.max), dx, emit);
+    } else if (s.type == "polygon" && !s.solid.empty()) {
+      if constexpr (D == 2) {
+        // a wall slope: rows of particles parallel to its surface, dx apart along it, at depths
+        // (k + 1/2) dx, k < layers (as a flat wall's lattice, turned with the slope); none below the
+        // toe's level (the bed's walls are there)
+        const double ax = s.solid[0][0], az = s.solid[0][1];
+        const double tx = s.solid[1][0] - ax, tz = s.solid[1][1] - az, len = std::sqrt(tx * tx + tz * tz);
+        const double ux = tx / len, uz = tz / len;  // along the slope; the normal into the fluid is (-uz, ux)
+        const long nalong = std::lround(std::floor(len / dx));
+        for (int k = 0; k < layers; ++k)
+          for (long i = 0; i < nalong; ++i) {
+            const double a = (static_cast<double>(i) + 0.5) * dx, dep = (k + 0.5) * dx;
+            Vec<2> x, sp;
+            sp[0] = ax + a * ux;
+            sp[1] = az + a * uz;
+            x[0] = sp[0] + dep * uz;
+            x[1] = sp[1] - dep * ux;
+            if (x[1] < az + 0.5 * dx * 0.999) continue;  // in the bed's walls
+            wall_x.push_back(x);
+            wall_s.push_back(sp);
+            wall_shape.push_back(static_cast<std::uint32_t>(si));
+          }
+      }
     } else if (s.type == "polygon") {
       if constexpr (D == 2)
         lattice<2>(lo, hi, dx, [&](const Vec<2>& x) { if (inside_polygon(s.vertices, x[0], x[1])) emit(x); });
@@ -415,8 +438,17 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
   if constexpr (D == 2) {  // slopes whose walls are a layer: no fluid in the hollow under them
     for (const auto& s : c.shapes) {
       if (s.solid.empty()) continue;
-      for (std::size_t i = 0; i < fluid_x.size(); ++i)
-        if (!drop[i] && inside_polygon(s.solid, fluid_x[i][0], fluid_x[i][1])) drop[i] = 1;
+      // and none closer than dx/2 to the slope's surface (the lattice does not follow the slope: a
+      // point left a fraction of dx above it is thrown off at the first step)
+      const double ax = s.solid[0][0], az = s.solid[0][1], tx = s.solid[1][0] - ax, tz = s.solid[1][1] - az;
+      const double len2 = tx * tx + tz * tz;
+      for (std::size_t i = 0; i < fluid_x.size(); ++i) {
+        if (drop[i]) continue;
+        const double px = fluid_x[i][0] - ax, pz = fluid_x[i][1] - az;
+        const double u = std::clamp((px * tx + pz * tz) / len2, 0.0, 1.0);
+        const double dxs = px - u * tx, dzs = pz - u * tz;
+        if (inside_polygon(s.solid, fluid_x[i][0], fluid_x[i][1]) || dxs * dxs + dzs * dzs < 0.25 * dx * dx * 0.998) drop[i] = 1;
+      }
     }
   }
   // Per fluid shape: it must make particles, and at most half of them may fall inside walls.
