@@ -120,8 +120,9 @@ def default_binary():
     return os.environ.get("SPHFLUME") or os.path.join(REPO, "build", "sphflume")
 
 
-def validation_args(name, doc, modes):
-    """The options every check.py takes: --sphflume, --mode, --out, --threads, --set, --reuse."""
+def validation_args(name, doc, modes, extra=None):
+    """The options every check.py takes: --sphflume, --mode, --out, --threads, --set, --reuse; extra(ap) adds a
+    check's own options."""
     import argparse
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sphflume", default=default_binary(),
@@ -131,4 +132,6 @@ def validation_args(name, doc, modes):
     ap.add_argument("--threads", type=int, default=2)
     add_set_option(ap)
     ap.add_argument("--reuse", action="store_true", help="reuse a finished run in --out with the same dx and end time")
+    if extra:
+        extra(ap)
     return ap.parse_args()

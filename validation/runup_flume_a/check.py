@@ -22,7 +22,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, default_binary, info, parse_sets, read_rows, run_case, save_figure  # noqa: E402
+from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -47,17 +47,7 @@ def synolakis(r):
 
 
 def args():
-    import argparse
-    import tempfile
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sphflume", default=default_binary())
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--ratios", default=None, help="comma-separated H/h0 values")
-    ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-validation", NAME))
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    ap.add_argument("--reuse", action="store_true")
-    return ap.parse_args()
+    return validation_args(NAME, __doc__, MODES, extra=lambda ap: ap.add_argument("--ratios", default=None, help="comma-separated H/h0 values"))
 
 
 def main():

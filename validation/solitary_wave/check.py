@@ -19,7 +19,6 @@ time.end 7.5 s, the longer wave needing room before the far wall's reflection).
 Modes differ only in resolution: coarse dx = 0.02 (h0/dx = 10.5), fine dx = 0.01 (h0/dx = 21).
 Usage: /usr/bin/python3 validation/solitary_wave/check.py [--mode coarse|fine] [--ratio 0.28|0.1] [--out DIR]
 """
-import json
 import math
 import os
 import sys
@@ -27,7 +26,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, save_figure  # noqa: E402
+from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -47,18 +46,7 @@ TOL_H, TOL_C, TOL_RMS, TOL_TAIL = 0.03, 0.02, 0.05, 0.05
 
 
 def args():
-    import argparse
-    import tempfile
-    from common import default_binary
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sphflume", default=default_binary())
-    ap.add_argument("--mode", choices=MODES, default="coarse")
-    ap.add_argument("--ratio", choices=RATIOS, default="0.28")
-    ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-validation", NAME))
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    ap.add_argument("--reuse", action="store_true")
-    return ap.parse_args()
+    return validation_args(NAME, __doc__, MODES, extra=lambda ap: ap.add_argument("--ratio", choices=RATIOS, default="0.28"))
 
 
 def crest(t, eta):
