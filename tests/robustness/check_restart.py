@@ -63,47 +63,50 @@ for integ in ["verlet", "symplectic", "isph"]:
     ok, why = same_run(ref, killed)
     check(ok, f"{integ}: killed + restarted run bitwise equal to the uninterrupted run: {why}")
 
+def killed_and_restarted(tag, args, k):
+    """An uninterrupted run of args into WORK/TAG_ref, and one SIGKILLed after k snapshots into WORK/TAG_killed and
+    restarted from its last snapshot: (both exit 0 and every snapshot and gauge bitwise equal, why, the two folders,
+    the snapshots the killed run left)."""
+    ref, kill = os.path.join(work, f"{tag}_ref"), os.path.join(work, f"{tag}_killed")
+    rc, _ = run(binary, args + ["-o", ref])
+    check(rc == 0, f"{tag}: uninterrupted run exits 0 (got {rc})")
+    left, _ = kill_after(args, kill, k)
+    rc, _ = run(binary, args + ["--restart", left[-1]])
+    ok, why = same_run(ref, kill)
+    return rc == 0 and ok, why, ref, kill, left
+
+
+def sets_of(*kv):
+    return [x for e in kv for x in ("--set", e)]
+
+
 # open boundaries: particles created and deleted every few steps, counters in the restart data
 chan = os.path.join(ROOT, "cases", "channel_laminar.yaml")
-cargs = ["run", chan, "-q", "--threads", "2", "--set", "particles.dx=0.005", "--set", "time.end=1.0",
-         "--set", "time.output_interval=0.05"]
-cref, ckill = os.path.join(work, "channel_ref"), os.path.join(work, "channel_killed")
-rc, _ = run(binary, cargs + ["-o", cref])
-check(rc == 0, f"channel: uninterrupted run exits 0 (got {rc})")
-left, _ = kill_after(cargs, ckill, rng.randint(3, 15))
-rc, log = run(binary, cargs + ["--restart", left[-1]])
-ok, why = same_run(cref, ckill)
-check(rc == 0 and ok, f"channel (open boundaries): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
+ok, why, _, _, left = killed_and_restarted(
+    "channel", ["run", chan, "-q", "--threads", "2"] + sets_of("particles.dx=0.005", "time.end=1.0", "time.output_interval=0.05"),
+    rng.randint(3, 15))
+check(ok, f"channel (open boundaries): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
 
 # transported scalars (inflow values, the Y = C/rho start-of-step fields) and two phases
 for tname, tsets in [("channel_release", ["particles.dx=0.01", "time.end=0.6", "time.output_interval=0.05"]),
                      ("bubble_advective_diffusion", ["particles.dx=0.06", "time.end=0.2", "time.output_interval=0.02"])]:
     tcase = os.path.join(ROOT, "cases", f"{tname}.yaml")
-    targs = ["run", tcase, "-q", "--threads", "2"] + [x for kv in tsets for x in ("--set", kv)]
-    tref, tkill = os.path.join(work, f"{tname}_ref"), os.path.join(work, f"{tname}_killed")
-    rc, _ = run(binary, targs + ["-o", tref])
-    check(rc == 0, f"{tname}: uninterrupted run exits 0 (got {rc})")
-    left, _ = kill_after(targs, tkill, rng.randint(3, 8))
-    rc, log = run(binary, targs + ["--restart", left[-1]])
-    ok, why = same_run(tref, tkill)
+    ok, why, tref, tkill, left = killed_and_restarted(tname, ["run", tcase, "-q", "--threads", "2"] + sets_of(*tsets),
+                                                      rng.randint(3, 8))
     with h5py.File(snapshots(tref)[-1], "r") as ha, h5py.File(snapshots(tkill)[-1], "r") as hb:
         same_c = ha["concentration"][:].tobytes() == hb["concentration"][:].tobytes()
-    check(rc == 0 and ok and same_c, f"{tname} (transport): killed after {len(left)} snapshots, restarted: bitwise "
-                                     f"equal, concentration too: {why}, concentration {'equal' if same_c else 'DIFFERS'}")
+    check(ok and same_c, f"{tname} (transport): killed after {len(left)} snapshots, restarted: bitwise "
+                         f"equal, concentration too: {why}, concentration {'equal' if same_c else 'DIFFERS'}")
 
-# moving walls (a piston paddle; its run-up of gauges at every output, snapshots every other one): the
-# paddle's place comes from its law and the stored origins, under both schemes
+# moving walls (a piston paddle; gauges at every output, snapshots at every other one): the paddle's place
+# comes from its law and the stored origins, under both schemes
 pcase = os.path.join(ROOT, "cases", "piston_bore.yaml")
 for pscheme in ["wcsph", "isph"]:
-    pargs = ["run", pcase, "-q", "--threads", "2", "--set", "particles.dx=0.01", "--set", "time.end=0.4",
-             "--set", "time.output_interval=0.01", "--set", "time.snapshot_interval=0.02", "--set", f"scheme.type={pscheme}"]
-    pref, pkill = os.path.join(work, f"piston_{pscheme}_ref"), os.path.join(work, f"piston_{pscheme}_killed")
-    rc, _ = run(binary, pargs + ["-o", pref])
-    check(rc == 0, f"piston ({pscheme}): uninterrupted run exits 0 (got {rc})")
-    left, _ = kill_after(pargs, pkill, rng.randint(3, 15))
-    rc, log = run(binary, pargs + ["--restart", left[-1]])
-    ok, why = same_run(pref, pkill)
-    check(rc == 0 and ok, f"piston ({pscheme}, moving walls): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
+    ok, why, _, _, left = killed_and_restarted(
+        f"piston_{pscheme}", ["run", pcase, "-q", "--threads", "2"] + sets_of(
+            "particles.dx=0.01", "time.end=0.4", "time.output_interval=0.01", "time.snapshot_interval=0.02",
+            f"scheme.type={pscheme}"), rng.randint(3, 15))
+    check(ok, f"piston ({pscheme}, moving walls): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
 
 # SIGTERM / SIGINT: checkpoint, exit 128 + signal, restart bitwise
 args = ["run", case, "-q", "--threads", "2", "--set", "particles.dx=0.0073", "--set", "time.end=0.5",
