@@ -133,7 +133,7 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
 
 GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
-  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field", "motion", "level", "reach", "neighbours"});
+  r.valid({"name", "type", "point", "x", "start", "end", "points", "axis", "direction", "average_from", "field", "motion", "level", "reach", "film", "neighbours"});
   GaugeConfig g;
   g.line = n.line();
   g.name = r.required<std::string>("name", "a gauge name (used as the CSV file name)");
@@ -165,6 +165,8 @@ GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string
     g.level = r.required<double>("level", "the still-water level z [m] the run-up is measured from");
     g.reach = r.scalar<double>("reach", 0.0);
     if (!(g.reach >= 0.0)) r.fail_at(r.get("reach"), r.key_path("reach"), "a distance >= 0 in m (0 = 1.5 dx)");
+    g.film = r.scalar<double>("film", 0.0);
+    if (!(g.film >= 0.0)) r.fail_at(r.get("film"), r.key_path("film"), "a thickness >= 0 in m, normal to the slope (0 = 1.5 dx: two particle layers)");
     g.neighbours = r.scalar<int>("neighbours", 4);
     if (g.neighbours < 0 || g.neighbours > 50) r.fail_at(r.get("neighbours"), r.key_path("neighbours"), "an integer in [0, 50]");
   } else if (g.type == "pressure" || g.type == "scalar" || g.type == "velocity") {

@@ -10,6 +10,7 @@
 
 #include "sphflume/boundaries/motion.hpp"
 #include "sphflume/core/interpolate.hpp"
+#include "sphflume/io/runup.hpp"
 #include "sphflume/io/snapshot.hpp"
 #include "sphflume/physics/transport.hpp"
 
@@ -261,28 +262,9 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     }
     return out;
   }
-  if (g.type == "runup") {  // the waterline on a slope (2D): highest fluid particle near the slope line
-    const Vec<D> a = at(g.start), b = at(g.end);
-    const Vec<D> t = b - a;
-    const double len2 = dot(t, t);
-    const double reach = g.reach > 0.0 ? g.reach : 1.5 * S.dx;
-    const double r = 2.0 * S.dx;
-    double best = -std::numeric_limits<double>::infinity(), bx = nan;
-    for (std::size_t i = 0; i < P.n_owned(); ++i) {
-      if (P.kind[i] != Kind::Fluid || !(P.pos[i][D - 1] > best)) continue;
-      const Vec<D> q = P.pos[i] - a;
-      const double s = std::clamp(dot(q, t) / len2, 0.0, 1.0);
-      const Vec<D> off = q - s * t;
-      if (dot(off, off) > reach * reach) continue;
-      int nb = 0;
-      S.cells.for_neighbours(P.pos, P.pos[i], r, [&](std::uint32_t j, const Vec<D>&, double r2) {
-        nb += (P.kind[j] == Kind::Fluid && r2 > 0.0);
-      });
-      if (nb < g.neighbours) continue;
-      best = P.pos[i][D - 1];
-      bx = P.pos[i][0];
-    }
-    return {std::isfinite(best) ? best - g.level : nan, bx, nan};  // max: filled by sample()
+  if (g.type == "runup") {  // the waterline on a slope (2D), io/runup.cpp
+    const auto w = runup_waterline(g, S);
+    return {w[0], w[1], nan};  // max: filled by sample()
   }
   if (g.type == "paddle") {  // the motion's law at t, and the fluid's pressure force on its walls
     std::vector<double> out(3 + D, nan);

@@ -26,9 +26,11 @@
 //  paddle            displacement, velocity, acceleration of a motion's law, and the water's
 //                    pressure force on its walls (force_x, (force_y,) force_z)
 //  velocity          ux, (uy,) uz at a point (Shepard average of the fluid)
-//  runup             runup: highest fluid particle within `reach` of the slope line start-end
-//                    (with >= `neighbours` fluid neighbours within 2 dx: no lone drops) minus
-//                    `level`; x of that particle; max: the largest runup so far
+//  runup             runup: the waterline on the slope line start-end (io/runup.hpp: the highest
+//                    fluid particle within `reach` of it in the last stretch, connected to the
+//                    toe, where the water is at least `film` thick; particles with fewer than
+//                    `neighbours` fluid neighbours within 2 dx ignored) minus `level`; x of that
+//                    particle; max: the largest runup so far
 //  phase             area (volume in 3D) Σ m/ρ of the phase `field`, its top (highest
 //                    particle) and area centroid x, z
 #pragma once
