@@ -262,12 +262,14 @@ time: {end: 1.0}
 
 // The run-up gauge's film threshold on the same still water: a sheet of fluid laid on the dry 1:2
 // slope above the waterline (rows parallel to the face, spaced dx, the first dx/2 off it) moves
-// the waterline to its top only if it is at least `film` thick (default 1.5 dx: two layers) and
-// joins the water. A one-layer sheet counts only up to film / tan(slope) along the face beyond the
-// last two-layer stretch (the still water's own thin edge, whose reading stays within dx of the
-// level): it raises the reading by at most film cos(slope) + dx. A two-layer patch beyond a dry
-// stretch and one lifted off the face (a splash in the air) leave the reading unchanged.
-TEST(Gauges, RunupCountsFilmsTwoLayersThick) {
+// the waterline to its top when it joins the water and is at least `film` thick. With the default
+// (1 mm, under dx) a sheet one particle thick counts. With film = 1.5 dx only a two-layer sheet
+// does; a one-layer sheet then counts only up to film / tan(slope) along the face beyond the last
+// two-layer stretch (the still water's own thin edge, whose reading stays within dx of the level),
+// which raises the reading by at most film cos(slope) + dx. A two-layer sheet beyond a dry
+// stretch, one lifted off the face (a splash in the air) and lone particles (fewer than 2 fluid
+// neighbours) leave the reading unchanged.
+TEST(Gauges, RunupCountsFilmsConnectedToTheWater) {
   const char* kCase = R"(
 dimension: 2
 gravity: [0.0, -9.81]
@@ -281,36 +283,36 @@ geometry:
 time: {end: 1.0}
 )";
   const double dx = 0.01, ex = 2.0 / std::sqrt(5.0), ez = 1.0 / std::sqrt(5.0);  // up the 1:2 face
-  GaugeConfig g;
+  GaugeConfig g;  // the reader's defaults: film 1 mm, 2 neighbours
   g.type = "runup";
   g.start = {0.4, 0.0};
   g.end = {1.0, 0.3};
   g.level = 0.15;
   // a sheet of `layers` rows along the face from s0 to s1 (distance along the face from the toe),
-  // its first row `lift` + dx/2 off the face
-  auto run = [&](int layers, double s0, double s1, double lift) {
+  // its particles `step` apart along it, its first row `lift` + dx/2 off the face
+  auto run = [&](int layers, double s0, double s1, double lift, double step) {
     test::Setup<2> T(kCase);
     const double m = T.S.particles.mass[0];
     for (int l = 0; l < layers; ++l)
-      for (double s = s0; s < s1; s += dx) {
+      for (double s = s0; s < s1; s += step) {
         const double n = lift + (l + 0.5) * dx;
         T.S.particles.add({0.4 + s * ex - n * ez, s * ez + n * ex}, {}, 1000.0, m, Kind::Fluid);
       }
     T.S.update_neighbours();
     return GaugeSet<2>::evaluate(g, T.S, 1.0)[0];
   };
-  const double s_shore = 0.15 / ez;  // 0.335 m along the face
+  const double s_shore = 0.15 / ez;               // 0.335 m along the face
   const double s_top = s_shore + 0.2 / ez / 2.0;  // the sheets end 0.1 m above the still level
-  const double still = run(0, 0.0, 0.0, 0.0);
+  const double still = run(0, 0.0, 0.0, 0.0, dx);
   EXPECT_LE(std::abs(still), dx);
-  EXPECT_NEAR(run(2, s_shore, s_top, 0.0), 0.1, 1.5 * dx);     // a film two layers thick is water
-  const double one = run(1, s_shore, s_top, 0.0);               // one layer: only its foot
+  EXPECT_NEAR(run(1, s_shore, s_top, 0.0, dx), 0.1, 1.5 * dx);           // one layer, joined: water
+  EXPECT_NEAR(run(2, s_shore + 0.06, s_top, 0.0, dx), still, 1e-12);     // beyond a 6 dx dry stretch
+  EXPECT_NEAR(run(2, s_shore, s_top, 3.0 * dx, dx), still, 1e-12);       // lifted 3 dx off the face
+  EXPECT_NEAR(run(1, s_shore, s_top, 0.0, 3.5 * dx), still, 1e-12);     // lone particles, 3.5 dx apart
+  g.film = 1.5 * dx;  // two layers
+  EXPECT_NEAR(run(2, s_shore, s_top, 0.0, dx), 0.1, 1.5 * dx);
+  const double one = run(1, s_shore, s_top, 0.0, dx);  // only its foot
   EXPECT_LE(one, 1.5 * dx * ex + dx);
-  EXPECT_NEAR(run(2, s_shore + 0.06, s_top, 0.0), still, 1e-12);  // beyond a 6 dx dry stretch: no
-  EXPECT_NEAR(run(2, s_shore, s_top, 3.0 * dx), still, 1e-12);    // lifted 3 dx off the face: no
-  g.film = 0.9 * dx;  // thinner thresholds (film, and neighbours: a sheet particle has 2-4) count it
-  g.neighbours = 2;
-  EXPECT_NEAR(run(1, s_shore, s_top, 0.0), 0.1, 1.5 * dx);
 }
 
 // The sponge: inside [start, end] the acceleration is −rate s² u, s the fraction of the way in

@@ -97,6 +97,11 @@ def main():
         t_max = float(t[int(np.nanargmax(ru))])
         ref = synolakis_breaking(r)
         q = R / H0 / ref
+        hs, rs = read_rows(os.path.join(out, "gauges", "runup_thick.csv"))
+        R_sheet = float(np.nanmax(rs[:, hs.index("runup")]))
+        info(f"H/h0 = {r:g}: R/h0 where the water is at least 15 mm deep (gauge runup_thick)",
+             f"{R_sheet / H0:.4f} ({100 * (R_sheet / H0 / ref - 1):+.1f} % of Synolakis)", True, "-",
+             "the swash tongue is thinner than that: a lower bound")
         rep.metric(f"H/h0 = {r:g}: R/h0 vs Synolakis (1986) breaking", f"{R / H0:.4f} vs {ref:.4f} ({100 * (q - 1):+.1f} %)",
                    lo <= q <= hi, f"{100 * (lo - 1):+.0f} % ... {100 * (hi - 1):+.0f} %",
                    "issue 22, validation 5 (fine: 10 %; coarse dx = 0.01: digest §19 B5's band)")
@@ -109,7 +114,7 @@ def main():
              f"long-wave estimate of the crest at the shoreline: {end_time(r) - 3.0:.2f} s")
         print(f"  wall {wall:.1f} s, {s['steps']} steps, {s['particles']['total']} particles, "
               f"{s['particle_steps_per_second']:.3g} particle-steps/s")
-        results.append((r, R / H0, t, ru))
+        results.append((r, R / H0, t, ru, R_sheet / H0, rs[:, hs.index("time")], rs[:, hs.index("runup")]))
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     rr = np.linspace(0.05, 0.45, 100)
@@ -117,14 +122,16 @@ def main():
     ax[0].plot(rr, [hughes_breaking(v) for v in rr], "k:", label="Hughes (2004), breaking")
     ax[0].plot(list(THESIS), list(THESIS.values()), "s", mfc="none", label="Tsurudome ISPH")
     ax[0].plot([v[0] for v in results], [v[1] for v in results], "o", label=f"SPHFlume, dx = {m['dx']} m")
+    ax[0].plot([v[0] for v in results], [v[4] for v in results], "v", mfc="none", label="SPHFlume, water >= 15 mm deep")
     ax[0].set_xlabel("H/h0")
     ax[0].set_ylabel("R/h0")
     ax[0].set_title("breaking run-up on the 1:20 slope")
     ax[0].legend()
-    for r, _, t, ru in results:
-        ax[1].plot(t, ru / H0, label=f"H/h0 = {r:g}")
+    for k, (r, _, t, ru, _, ts, rsh) in enumerate(results):
+        ax[1].plot(t, ru / H0, color=f"C{k}", label=f"H/h0 = {r:g}")
+        ax[1].plot(ts, rsh / H0, color=f"C{k}", lw=0.6, ls=":")
     ax[1].set_xlabel("t [s]")
-    ax[1].set_ylabel("waterline above SWL / h0")
+    ax[1].set_ylabel("waterline above SWL / h0 (dotted: >= 15 mm deep)")
     ax[1].legend()
     fig.tight_layout()
     save_figure(fig, HERE, NAME, a.mode, a.out)

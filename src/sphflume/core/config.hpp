@@ -170,10 +170,10 @@ struct GaugeConfig {
   double average_from = std::numeric_limits<double>::infinity();
   std::string field;  // scalar gauges: the transported scalar's name; paddle: the motion's name
   // runup: still-water level z, the reach from the slope line [m] (0 = 1.5 dx), the thinnest water
-  // layer normal to the slope that counts as wet [m] (0 = 1.5 dx) and the fewest fluid neighbours
-  // within 2 dx a particle needs to count
-  double level = 0.0, reach = 0.0, film = 0.0;
-  int neighbours = 4;
+  // layer normal to the slope that counts as wet [m] (a lab wire's 1 mm) and the fewest fluid
+  // neighbours within 2 dx a particle needs to count
+  double level = 0.0, reach = 0.0, film = 0.001;
+  int neighbours = 2;
   int line = 0;
 };
 

@@ -18,7 +18,7 @@ std::array<double, 2> runup_waterline(const GaugeConfig& g, const System<D>& S) 
   const double ex = tx / len, ez = tz / len;
   const double nx = ex >= 0.0 ? -ez : ez, nz = ex >= 0.0 ? ex : -ex;
   const double reach = g.reach > 0.0 ? g.reach : 1.5 * S.dx;
-  const double film = g.film > 0.0 ? g.film : 1.5 * S.dx;
+  const double film = g.film;
   const double w = 2.0 * S.dx, r = 2.0 * S.dx;
   const std::size_t nb = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(len / w)));
   std::vector<double> lo(nb, inf), hi(nb, -inf), top_s(nb, -inf), top_z(nb, nan), top_x(nb, nan);

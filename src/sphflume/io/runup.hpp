@@ -13,11 +13,12 @@ namespace sph {
 /// 2 dx long, walked up from the toe while the water touches the face (lowest normal distance of a
 /// stretch's particles ≤ reach; particles with fewer than g.neighbours fluid neighbours within 2 dx,
 /// lone drops, are ignored). A stretch is thick when its particles' normal extent plus dx (their own
-/// depth) is at least the film thickness (g.film, 0 = 1.5 dx: two particle layers). The waterline
-/// is the highest surface particle at most film / tan(slope) up the face from the last thick
-/// stretch's: the thin edge of still water (its surface meets the face at the face's angle) counts,
-/// a sheet one particle thick running further up does not, nor a splash beyond a dry stretch.
-/// Water under the surface (a porous beach) counts from `reach` below it.
+/// depth) is at least the film thickness g.film (default 1 mm, a lab run-up wire's: any resolved
+/// layer counts while dx > 1 mm). The waterline is the highest surface particle at most
+/// film / tan(slope) up the face from the last thick stretch's: the thin edge of still water (its
+/// surface meets the face at the face's angle) counts, a thinner sheet running further up does not,
+/// nor a splash that lands beyond a dry stretch. Water under the surface (a porous beach) counts
+/// from `reach` below it.
 template <int D>
 std::array<double, 2> runup_waterline(const GaugeConfig& g, const System<D>& S);
 
