@@ -12,6 +12,9 @@ Metrics:
   1. R/h0 within 5 % of Li & Raichlen at each H/h0 run (issue 22; fine: dx = 0.005, the thesis's d0);
      coarse (dx = 0.01): within 12 % (digest §19 B4's tolerance at d0 = 0.01);
   2. the run reaches time.end, fluid mass conserved exactly.
+Drawn: the surface profiles at H/h0 = 0.163 at t* = t sqrt(g/h0) = 8.2, 10.2, 12.2, 14.2 (the thesis's frames against
+Li & Raichlen's data, which are not in the project), t* = 10.2 put at the maximum run-up (the thesis's origin is not
+stated), from the snapshots nearest those times.
 Options: --ratios (comma-separated H/h0 among 0.10, 0.163, 0.25, 0.30; default 0.163 in coarse mode, all four in fine).
 Usage: /usr/bin/python3 validation/runup_flume_a/check.py [--mode coarse|fine] [--ratios 0.163,0.25] [--out DIR]
 """
@@ -22,7 +25,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, fluid_snapshots, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -36,6 +39,30 @@ G, H0, COT = 9.81, 0.21, 2.08
 MODES = {"coarse": {"dx": 0.01, "tol": 0.12, "ratios": "0.163"},
          "fine": {"dx": 0.005, "tol": 0.05, "ratios": "0.10,0.163,0.25,0.30"}}
 THESIS = {0.163: 0.469, 0.25: 0.848}
+TOE, SHORE = 2.07, 2.07 + 2.08 * 0.21
+PROFILE_TSTAR = (8.2, 10.2, 12.2, 14.2)   # Tsurudome Fig. 5.x against Li & Raichlen's profiles, H/h0 = 0.163
+
+
+def surface_profiles(out, t_toe, dx):
+    """[(t*, x/h0, y/h0)] of the free surface (highest fluid particle per dx column) in the snapshots nearest
+    t* = PROFILE_TSTAR, t* = (t - t_toe) sqrt(g/h0) (t_toe: the time origin), x/h0 from the still-water shoreline,
+    y/h0 from the SWL."""
+    snaps = fluid_snapshots(out, [])
+    if not snaps:
+        return []
+    times = np.array([v[0] for v in snaps])
+    res = []
+    for ts in PROFILE_TSTAR:
+        k = int(np.argmin(np.abs(times - (t_toe + ts * math.sqrt(H0 / G)))))
+        d = snaps[k][1]
+        cols = np.floor(d["x"] / dx).astype(int)
+        xs, zs = [], []
+        for c in np.unique(cols):
+            m = cols == c
+            xs.append((c + 0.5) * dx)
+            zs.append(d["z"][m].max())
+        res.append(((times[k] - t_toe) / math.sqrt(H0 / G), (np.array(xs) - SHORE) / H0, np.array(zs) / H0 - 1.0))
+    return res
 
 
 def li_raichlen(r):
@@ -90,9 +117,13 @@ def main():
                  True, "-", "thesis §5.3")
         print(f"  wall {wall:.1f} s, {s['steps']} steps, {s['particles']['total']} particles, "
               f"{s['particle_steps_per_second']:.3g} particle-steps/s")
-        results.append((r, R / H0, t, ru))
+        # the profiles' time origin: the thesis does not state its t* origin (digest §14: align it on the data,
+        # which are not in the project); its frames show run-up at t* = 8.2 and 10.2 and rundown at 12.2 and
+        # 14.2, so t* = 10.2 is put at this run's maximum run-up
+        t0 = float(t[int(np.nanargmax(ru))]) - 10.2 * math.sqrt(H0 / G)
+        results.append((r, R / H0, t, ru, surface_profiles(out, t0, m["dx"]) if abs(r - 0.163) < 1e-9 else []))
 
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4))
     rr = np.linspace(0.05, 0.32, 100)
     ax[0].plot(rr, [li_raichlen(v) for v in rr], "k-", label="Li & Raichlen (2001)")
     ax[0].plot(rr, [synolakis(v) for v in rr], "k:", label="Synolakis (1986)")
@@ -102,11 +133,23 @@ def main():
     ax[0].set_ylabel("R/h0")
     ax[0].set_title("run-up on the 1:2.08 slope")
     ax[0].legend()
-    for r, _, t, ru in results:
+    for r, _, t, ru, _ in results:
         ax[1].plot(t, ru / H0, label=f"H/h0 = {r:g}")
     ax[1].set_xlabel("t [s]")
     ax[1].set_ylabel("waterline above SWL / h0")
     ax[1].legend()
+    xs = np.linspace(-4, 2.5, 10)
+    ax[2].plot(xs, np.maximum(xs / 2.08, -1.0), "k-", lw=1)
+    for _, _, _, _, prof in results:
+        for ts, x, y in prof:
+            ax[2].plot(x, y, lw=0.9, label=f"t* = {ts:.1f}")
+    ax[2].set_xlim(-4, 2.5)
+    ax[2].set_ylim(-0.3, 1.0)
+    ax[2].set_xlabel("x/h0 (0: still-water shoreline)")
+    ax[2].set_ylabel("y/h0 (0: SWL)")
+    ax[2].set_title("H/h0 = 0.163: surface profiles (t* = 10.2 at the maximum run-up)", fontsize=9)
+    if any(v[4] for v in results):
+        ax[2].legend(fontsize=7)
     fig.tight_layout()
     save_figure(fig, HERE, NAME, a.mode, a.out)
     rep.finish(NAME, a.mode)
