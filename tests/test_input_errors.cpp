@@ -318,6 +318,21 @@ TEST(InputErrors, MotionsAreChecked) {
   EXPECT_HAS(m, "a wall shape");
 }
 
+// Run-up gauges (issue 22): a negative film thickness, a line that does not go up, or a missing
+// still-water level are errors that name the key (line 14: gauges.0).
+TEST(InputErrors, RunupGaugesAreChecked) {
+  auto with = [&](const std::string& g) { return std::string(kCase) + "gauges:\n  - " + g + "\n"; };
+  EXPECT_EQ(error_of(with("{name: r, type: runup, start: [0.0, 0.0], end: [0.4, 0.2], level: 0.1}")), "");
+  EXPECT_EQ(error_of(with("{name: r, type: runup, start: [0.0, 0.0], end: [0.4, 0.2], level: 0.1, film: 0.015}")), "");
+  std::string m = error_of(with("{name: r, type: runup, start: [0.0, 0.0], end: [0.4, 0.2], level: 0.1, film: -0.01}"));
+  EXPECT_HAS(m, "line 14");
+  EXPECT_HAS(m, "gauges.0.film");
+  m = error_of(with("{name: r, type: runup, start: [0.0, 0.2], end: [0.4, 0.0], level: 0.1}"));
+  EXPECT_HAS(m, "gauges.0.end");
+  m = error_of(with("{name: r, type: runup, start: [0.0, 0.0], end: [0.4, 0.2]}"));
+  EXPECT_HAS(m, "level");
+}
+
 // Slopes (issue 22): a slope given by toe, gradient ('1:2.08' or rise/run) and top is the polygon
 // of its wedge; a slope reaching outside the tank, a gradient that is not one, a top under the toe
 // are line-numbered errors.

@@ -126,7 +126,7 @@ def main():
     ax[0].set_xlabel("H/h0")
     ax[0].set_ylabel("R/h0")
     ax[0].set_title("breaking run-up on the 1:20 slope")
-    ax[0].legend()
+    ax[0].legend(loc="upper left", fontsize=8)
     for k, (r, _, t, ru, _, ts, rsh) in enumerate(results):
         ax[1].plot(t, ru / H0, color=f"C{k}", label=f"H/h0 = {r:g}")
         ax[1].plot(ts, rsh / H0, color=f"C{k}", lw=0.6, ls=":")
