@@ -383,6 +383,29 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
             wall_s.push_back(sp);
             wall_shape.push_back(static_cast<std::uint32_t>(si));
           }
+        // the toe's seal: where the rows meet the bed they are cut at an angle, and water driven into
+        // that corner got under the rows into the hollow (a 1:1.5 breakwater at dx = 0.02). Lattice
+        // points of the hollow deeper than the rows, less than 2 layers above the bed and along the face no
+        // further than where the deepest row is cut (plus 2 layers) close it.
+        const double top_z = az + 2.0 * layers * dx;
+        const double a_cut = ((0.5 + layers * ux) / std::max(uz, 1e-12) + 2.0 * layers) * dx;
+        Vec<2> blo, bhi;
+        blo[0] = ax;
+        bhi[0] = ax + tx + 2.0 * layers * dx;
+        blo[1] = az;
+        bhi[1] = std::min(top_z, az + tz);
+        lattice<2>(blo, bhi, dx, [&](const Vec<2>& x) {
+          if (x[1] < az + 0.5 * dx * 0.999 || !inside_polygon(s.solid, x[0], x[1])) return;
+          const double px = x[0] - ax, pz = x[1] - az;
+          const double along = px * ux + pz * uz, depth = px * uz - pz * ux;  // below the surface line
+          if (depth < layers * dx * 0.999 || along < 0.0 || along > std::min(len, a_cut)) return;
+          Vec<2> sp;
+          sp[0] = ax + along * ux;
+          sp[1] = az + along * uz;
+          wall_x.push_back(x);
+          wall_s.push_back(sp);
+          wall_shape.push_back(static_cast<std::uint32_t>(si));
+        });
       }
     } else if (s.type == "polygon") {
       if constexpr (D == 2)
