@@ -80,12 +80,9 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
   s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" || s.type == "slope" ? "wall" : "fluid", {"fluid", "wall"});
   if (s.type == "slope") {  // a beach: the polygon of its wedge or layer
     if (dim != 2) r.fail_at(n, path, "a plane (slopes are 2D only; a 3D beach is a plane shape)");
-    s.vertices = caseio::read_slope(r, n, s.fill == "wall" ? wall_depth : 0.0);
-    if (s.fill == "wall") {  // the wedge under the surface line: no fluid there, whatever the wall's depth
-      s.solid = {s.vertices[0], s.vertices[1], {s.vertices[1][0], s.vertices[0][1]}};
-      if (s.vertices.size() == 4 && s.vertices[2][0] > s.vertices[1][0] && s.vertices[2][1] == s.vertices[1][1])  // a wedge with a back
-        s.solid = s.vertices;
-    }
+    std::vector<std::array<double, 2>> wedge;
+    s.vertices = caseio::read_slope(r, n, s.fill == "wall" ? wall_depth : 0.0, &wedge);
+    if (s.fill == "wall") s.solid = wedge;  // the wedge under the surface line, to its back: no fluid there
     s.type = "polygon";
     s.slope = true;
   }

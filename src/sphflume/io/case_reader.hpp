@@ -46,7 +46,10 @@ void read_multiphase(const Node& n, const std::string& file, Case& c);
 /// line from the toe to the top (docs/case-file.md).
 /// default_thickness: the layer's thickness when `thickness` is not given (0: a wedge; wall slopes
 /// pass their wall layers' depth, since a wall deeper than the kernel support does nothing).
-std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness = 0.0);
+/// wedge: when given, set to the wedge under the surface line to its `back`, whatever the thickness
+/// (a wall slope keeps it free of fluid).
+std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness = 0.0,
+                                              std::vector<std::array<double, 2>>* wedge = nullptr);
 /// Every slope shape lies inside the case's tanks (with dx of slack): an InputError naming its line otherwise.
 void check_slopes(const Case& c);
 /// The `motions:` section (prescribed wall motions, io/case_motion.cpp), and the check that every

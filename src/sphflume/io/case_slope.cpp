@@ -9,7 +9,8 @@
 
 namespace sph::caseio {
 
-std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness) {
+std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness,
+                                              std::vector<std::array<double, 2>>* wedge) {
   for (const char* k : {"toe", "gradient", "top"})
     if (!r.has(k)) r.misspelt(k);
   if (!r.has("toe") || !r.has("gradient") || !r.has("top"))
@@ -35,12 +36,11 @@ std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double d
   const double x1 = toe[0] + (top - toe[1]) / m;
   const double back = r.scalar<double>("back", x1);
   if (!(back >= x1)) r.fail_at(r.get("back"), r.key_path("back"), fmt::format("an x at or beyond the top of the slope ({:.6g})", x1));
-  if (t == 0.0) {  // the wedge under the surface line, to the vertical at `back`
-    std::vector<std::array<double, 2>> v = {{toe[0], toe[1]}, {x1, top}};
-    if (back > x1) v.push_back({back, top});
-    v.push_back({back, toe[1]});
-    return v;
-  }
+  std::vector<std::array<double, 2>> v = {{toe[0], toe[1]}, {x1, top}};  // the wedge, to the vertical at `back`
+  if (back > x1) v.push_back({back, top});
+  v.push_back({back, toe[1]});
+  if (wedge) *wedge = v;
+  if (t == 0.0) return v;
   // a layer of normal thickness t under the surface line (an armour layer), cut along the toe's
   // level and normal to the slope at its top: width t / sin(alpha) along the bed
   const double sa = m / std::sqrt(1.0 + m * m), ca = 1.0 / std::sqrt(1.0 + m * m);
