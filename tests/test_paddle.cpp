@@ -316,8 +316,8 @@ time: {end: 1.0}
 }
 
 // A wall slope's toe is sealed: its rows parallel to the face are cut by the bed at an angle, and the
-// hollow under them must not open there (water driven into the corner of a 1:1.5 breakwater got under
-// the rows at dx = 0.02). Every point of the wedge under the face, from the toe to 8 dx along it and up
+// hollow under them must not open there (a rough 1:1.5 breakwater at dx = 0.02 failed with a particle
+// below the bed level in that corner). Every point of the wedge under the face, from the toe to 8 dx along it and up
 // to 8 dx above the bed, lies within dx of a wall particle: no hole a fluid particle (spacing dx) fits
 // in. Without the seal the hollow under the rows starts 4.5 dx below a 1:1.5 face, 8 dx from the
 // toe, 0.7 dx above the bed: 1.2 dx from the nearest wall particle.

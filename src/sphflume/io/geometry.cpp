@@ -383,8 +383,9 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
             wall_s.push_back(sp);
             wall_shape.push_back(static_cast<std::uint32_t>(si));
           }
-        // the toe's seal: where the rows meet the bed they are cut at an angle, and water driven into
-        // that corner got under the rows into the hollow (a 1:1.5 breakwater at dx = 0.02). Lattice
+        // the toe's seal: where the rows meet the bed they are cut at an angle and leave the hollow under
+        // them open to the corner (a rough 1:1.5 breakwater at dx = 0.02 failed with a particle below
+        // the bed level there; water was also trapped under its crest then, since fixed). Lattice
         // points of the hollow deeper than the rows, less than 2 layers above the bed and along the face no
         // further than where the deepest row is cut (plus 2 layers) close it.
         const double top_z = az + 2.0 * layers * dx;
