@@ -213,12 +213,10 @@ time: {end: 1.0}
   EXPECT_NEAR(-f[0], thrust, 0.02 * thrust);
 }
 
-// The run-up gauge on still water against a 1:2 slope: the waterline particle is the highest fluid
-// particle on the slope, whose centre lies within dx of the still-water line (lattice points sit at
-// (i + 1/2) dx, and the wedge's last columns are cut by the slope), so |runup| <= dx. The velocity
-// probe reads a uniform velocity exactly (a Shepard average of equal values).
-TEST(Gauges, RunupAndVelocityOnStillWater) {
-  const char* kCase = R"(
+// Still water 0.15 m deep against a 1:2 wall polygon from x = 0.4 m (shoreline x = 0.7 m), moving at
+// `velocity` (the run-up gauge tests).
+std::string still_water_on_slope(const std::string& velocity) {
+  return R"(
 dimension: 2
 gravity: [0.0, -9.81]
 particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
@@ -227,9 +225,17 @@ walls: {type: dummy}
 geometry:
   - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.0, 0.4]}
   - {type: polygon, fill: wall, vertices: [[0.4, 0.0], [1.0, 0.3], [1.0, 0.0]]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.0, 0.15], velocity: [0.2, 0.0]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.0, 0.15], velocity: )" + velocity + R"(}
 time: {end: 1.0}
 )";
+}
+
+// The run-up gauge on still water against a 1:2 slope: the waterline particle is the highest fluid
+// particle on the slope, whose centre lies within dx of the still-water line (lattice points sit at
+// (i + 1/2) dx, and the wedge's last columns are cut by the slope), so |runup| <= dx. The velocity
+// probe reads a uniform velocity exactly (a Shepard average of equal values).
+TEST(Gauges, RunupAndVelocityOnStillWater) {
+  const std::string kCase = still_water_on_slope("[0.2, 0.0]");
   test::Setup<2> T(kCase);
   T.S.update_neighbours();
   GaugeConfig g;
@@ -270,18 +276,7 @@ time: {end: 1.0}
 // stretch, one lifted off the face (a splash in the air) and lone particles (fewer than 2 fluid
 // neighbours) leave the reading unchanged.
 TEST(Gauges, RunupCountsFilmsConnectedToTheWater) {
-  const char* kCase = R"(
-dimension: 2
-gravity: [0.0, -9.81]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, viscosity: 1.0e-6}
-walls: {type: dummy}
-geometry:
-  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.0, 0.4]}
-  - {type: polygon, fill: wall, vertices: [[0.4, 0.0], [1.0, 0.3], [1.0, 0.0]]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.0, 0.15]}
-time: {end: 1.0}
-)";
+  const std::string kCase = still_water_on_slope("[0.0, 0.0]");
   const double dx = 0.01, ex = 2.0 / std::sqrt(5.0), ez = 1.0 / std::sqrt(5.0);  // up the 1:2 face
   GaugeConfig g;  // the reader's defaults: film 1 mm, 2 neighbours
   g.type = "runup";

@@ -80,6 +80,14 @@ def read_rows(path):
     return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
 
 
+def run_metrics(rep, label, s, end, mass_tol=1e-12):
+    """The two metrics every closed-flume run gates: it reached t_end, and its fluid mass balance is exact."""
+    rep.metric(f"{label}run reached t_end (s)", f"{s['simulated_time']:.4f}", s["simulated_time"] >= end * (1 - 1e-6),
+               f">= {end}", "issue 22")
+    rep.metric(f"{label}fluid mass (initial - removed - final) / initial", f"{s['mass']['relative_error']:.1e}",
+               abs(s["mass"]["relative_error"]) <= mass_tol, f"|.| <= {mass_tol:g}", "closed flume")
+
+
 def info(name, value, ok, threshold, source):
     """A metric printed but not gated: same arguments as Report.metric."""
     print(f"  (info) {name} = {value} ({'meets' if ok else 'misses'} {threshold}; {source})")

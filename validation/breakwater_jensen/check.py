@@ -26,7 +26,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -63,10 +63,7 @@ def main():
         if s is None:
             rep.metric(f"{kind}: run exit code", rc, False, "0", "issue 22")
             continue
-        rep.metric(f"{kind}: run reached t_end (s)", f"{s['simulated_time']:.4f}", s["simulated_time"] >= m["end"] * (1 - 1e-6),
-                   f">= {m['end']}", "issue 22")
-        rep.metric(f"{kind}: fluid mass (initial - removed - final) / initial", f"{s['mass']['relative_error']:.1e}",
-                   abs(s["mass"]["relative_error"]) <= 1e-12, "|.| <= 1e-12", "closed flume")
+        run_metrics(rep, f"{kind}: ", s, m["end"])
         toe = series(out, "wg_toe")
         eta_toe = toe["level"] - toe["level"][0]
         k = int(np.argmax(eta_toe))
