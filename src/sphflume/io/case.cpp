@@ -162,9 +162,9 @@ GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string
     g.level = r.required<double>("level", "the still-water level z [m] the run-up is measured from");
     g.reach = r.scalar<double>("reach", 0.0);
     if (!(g.reach >= 0.0)) r.fail_at(r.get("reach"), r.key_path("reach"), "a distance >= 0 in m (0 = 1.5 dx)");
-    g.film = r.scalar<double>("film", 0.001);
+    g.film = r.scalar<double>("film", g.film);
     if (!(g.film >= 0.0)) r.fail_at(r.get("film"), r.key_path("film"), "a thickness >= 0 in m, normal to the slope (default 0.001)");
-    g.neighbours = r.scalar<int>("neighbours", 2);
+    g.neighbours = r.scalar<int>("neighbours", g.neighbours);
     if (g.neighbours < 0 || g.neighbours > 50) r.fail_at(r.get("neighbours"), r.key_path("neighbours"), "an integer in [0, 50]");
   } else if (g.type == "pressure" || g.type == "scalar" || g.type == "velocity") {
     g.point = r.vec("point", d);
