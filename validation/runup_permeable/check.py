@@ -12,7 +12,11 @@ Parts (--parts, comma-separated; default all):
   layers: the 1:2.08 porous layer 0.13 m thick on an impermeable slope, Dc = 2 and 100 mm, against the beach, which
           is also the thesis's 0.433 m layer in the 3 m flume (B7);
   b:      the 1:20 triangular beach (Flume B), H = 0.0588 m (breaking), Dc = 0.25, 1, 10 mm (B8); fit
-          R = 41.824 Dc^-0.119 mm.
+          R = 41.824 Dc^-0.119 mm;
+  a2:     the 1:2.08 beach with the larger wave, H = 0.0525 m (H/h0 = 0.25; B6's option), Dc = 1, 100 mm; fit
+          R = 131.46 Dc^-0.054 mm (eq 5.4.2);
+  layers_b: the 1:20 porous layer 0.075 m thick on an impermeable slope (cases/runup_layer_b.yaml), Dc = 10 mm,
+          against the beach (part b, the thesis's 0.40 m layer) (B9).
 Metrics (dx = 0.01 m, the digest's d0 for B6-B8):
   1. every run reaches t_end, fluid mass conserved exactly;
   2. R within 10 % of the thesis's fit at each Dc (issue 22, validation 6); and R/R_solid within 10 % of the thesis's
@@ -47,7 +51,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CASES = os.path.normpath(os.path.join(HERE, "..", "..", "cases"))
 NAME = "runup_permeable"
 DX = 0.01
-FIT_TOL, LAYER_TOL, AT_REST = 0.10, 0.03, 0.05
+FIT_TOL, LAYER_TOL, LAYER_B_TOL, AT_REST = 0.10, 0.03, 0.05, 0.05
 PARTS = {
     "a": {"case": "runup_permeable_a.yaml", "solid": "runup_flume_a.yaml", "end": 4.5, "H": 0.03423,
           "dcs": [0.25, 1.0, 2.0, 10.0, 100.0], "fit": (73.157, -0.050), "law": (0.61, -0.052),
@@ -56,8 +60,11 @@ PARTS = {
     "b": {"case": "runup_permeable_b.yaml", "solid": "runup_flume_b.yaml", "end": 11.0, "H": 0.0588,
           "dcs": [0.25, 1.0, 10.0], "fit": (41.824, -0.119), "law": (0.27, -0.120),
           "toe": (2.0, 0.0), "gradient": 1 / 20},
+    "a2": {"case": "runup_permeable_a.yaml", "solid": "runup_flume_a.yaml", "end": 4.5, "H": 0.0525,
+           "dcs": [1.0, 100.0], "fit": (131.46, -0.054), "law": (0.61, -0.052), "toe": (2.07, 0.0), "gradient": 1 / 2.08},
+    "layers_b": {"case": "runup_layer_b.yaml", "end": 11.0, "dcs": [10.0], "beach": "b", "tol": LAYER_B_TOL},
 }
-MODES = {"coarse": {"parts": "a", "dcs": {"a": [1.0]}}, "fine": {"parts": "a,layers,b", "dcs": {}}}
+MODES = {"coarse": {"parts": "a", "dcs": {"a": [1.0]}}, "fine": {"parts": "a,layers,b,layers_b,a2", "dcs": {}}}
 
 
 def args():
@@ -113,13 +120,13 @@ def main():
     for part in parts:
         P = PARTS[part]
         dcs = m["dcs"].get(part, P["dcs"])
-        if part in ("a", "b"):
+        if part in ("a", "b", "a2"):
             out, _ = run(part, P["solid"], "solid", {"particles.h_over_dx": 2.0, "motions.0.height": P["H"]})
             Rs = runup(out)[0]
             print(f"== {part}: solid slope R = {1000 * Rs:.1f} mm (dx = {DX}, h = 2 dx)")
             rows = []
             for dc in dcs:
-                out, _ = run(part, P["case"], f"dc{dc:g}", {"porous.regions.0.diameter": dc / 1000})
+                out, _ = run(part, P["case"], f"dc{dc:g}", {"porous.regions.0.diameter": dc / 1000, "motions.0.height": P["H"]})
                 R, tR, t, r = runup(out)
                 fit = P["fit"][0] * dc ** P["fit"][1] / 1000
                 rep.metric(f"{part} Dc = {dc:g} mm: R vs the thesis's fit", f"{1000 * R:.1f} vs {1000 * fit:.1f} mm ({100 * (R / fit - 1):+.1f} %)",
@@ -141,6 +148,21 @@ def main():
                 rep.metric(f"{part}: R falls with Dc", ", ".join(f"{1000 * v:.1f}" for v in Rv) + " mm",
                            all(x > y for x, y in zip(Rv, Rv[1:])), "strictly decreasing", "B6 / B8")
             res[part] = (Rs, rows)
+        elif part == "layers_b":
+            if "b" not in res:
+                print("layers_b: needs part b (the beach) in the same call")
+                raise SystemExit(2)
+            beach = {dc: R for dc, R, _, _ in res["b"][1]}
+            lay = {}
+            for dc in dcs:
+                out, _ = run(part, P["case"], f"dc{dc:g}", {"porous.regions.0.diameter": dc / 1000})
+                lay[dc] = runup(out)[0]
+                if dc in beach:
+                    q = lay[dc] / beach[dc] - 1
+                    rep.metric(f"layers_b Dc = {dc:g} mm: R(0.075 m layer) vs R(1:20 beach = 0.40 m layer)",
+                               f"{1000 * lay[dc]:.1f} vs {1000 * beach[dc]:.1f} mm ({100 * q:+.1f} %)", abs(q) <= LAYER_B_TOL,
+                               "within 5 %", "B9; thesis §6.5: breaking, no thickness effect")
+            res[part] = lay
         else:
             if "a" not in res:
                 print("layers: needs part a (the beach) in the same call")
@@ -160,20 +182,23 @@ def main():
             res[part] = lay
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
-    for part, mk in (("a", "o"), ("b", "s")):
+    names = {"a": "1:2.08", "b": "1:20", "a2": "1:2.08, H = 0.0525 m"}
+    for part, mk in (("a", "o"), ("b", "s"), ("a2", "D")):
         if part not in res:
             continue
         Rs, rows = res[part]
         P = PARTS[part]
         dd = np.logspace(np.log10(0.2), np.log10(200), 50)
-        ax[0].semilogx(dd, P["fit"][0] * dd ** P["fit"][1], "k-" if part == "a" else "k--",
-                       label=f"thesis fit, {'1:2.08' if part == 'a' else '1:20'}")
-        ax[0].semilogx([v[0] for v in rows], [1000 * v[1] for v in rows], mk, label=f"SPHFlume, {'1:2.08' if part == 'a' else '1:20'}")
-        ax[0].axhline(1000 * Rs, color="C0" if part == "a" else "C1", ls=":", lw=0.8)
+        ax[0].semilogx(dd, P["fit"][0] * dd ** P["fit"][1], {"a": "k-", "b": "k--", "a2": "k-."}[part],
+                       label=f"thesis fit, {names[part]}")
+        ax[0].semilogx([v[0] for v in rows], [1000 * v[1] for v in rows], mk, label=f"SPHFlume, {names[part]}")
+        ax[0].axhline(1000 * Rs, color={"a": "C0", "b": "C1", "a2": "C2"}[part], ls=":", lw=0.8)
         for dc, R, t, r in rows:
             ax[1].plot(t, 1000 * r, label=f"{part}, Dc = {dc:g} mm", lw=0.8)
     if "layers" in res:
         ax[0].semilogx(list(res["layers"]), [1000 * v for v in res["layers"].values()], "^", label="SPHFlume, 0.13 m layer (1:2.08)")
+    if "layers_b" in res:
+        ax[0].semilogx(list(res["layers_b"]), [1000 * v for v in res["layers_b"].values()], "v", label="SPHFlume, 0.075 m layer (1:20)")
     ax[0].set_xlabel("Dc [mm]")
     ax[0].set_ylabel("R [mm]")
     ax[0].set_title("run-up on permeable slopes (dotted: solid slope, same dx)")
