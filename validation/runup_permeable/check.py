@@ -117,6 +117,18 @@ def main():
               f"{s['particle_steps_per_second']:.3g} particle-steps/s")
         return out, s
 
+    def layer_runs(part, beach_part, dcs):
+        """({Dc: R} of the beach run earlier in this call, {Dc: R} of the layer case at each Dc)."""
+        if beach_part not in res:
+            print(f"{part}: needs part {beach_part} (the beach) in the same call")
+            raise SystemExit(2)
+        beach = {dc: R for dc, R, _, _ in res[beach_part][1]}
+        lay = {}
+        for dc in dcs:
+            out, _ = run(part, PARTS[part]["case"], f"dc{dc:g}", {"porous.regions.0.diameter": dc / 1000})
+            lay[dc] = runup(out)[0]
+        return beach, lay
+
     for part in parts:
         P = PARTS[part]
         dcs = m["dcs"].get(part, P["dcs"])
@@ -149,14 +161,8 @@ def main():
                            all(x > y for x, y in zip(Rv, Rv[1:])), "strictly decreasing", "B6 / B8")
             res[part] = (Rs, rows)
         elif part == "layers_b":
-            if "b" not in res:
-                print("layers_b: needs part b (the beach) in the same call")
-                raise SystemExit(2)
-            beach = {dc: R for dc, R, _, _ in res["b"][1]}
-            lay = {}
+            beach, lay = layer_runs(part, "b", dcs)
             for dc in dcs:
-                out, _ = run(part, P["case"], f"dc{dc:g}", {"porous.regions.0.diameter": dc / 1000})
-                lay[dc] = runup(out)[0]
                 if dc in beach:
                     q = lay[dc] / beach[dc] - 1
                     rep.metric(f"layers_b Dc = {dc:g} mm: R(0.075 m layer) vs R(1:20 beach = 0.40 m layer)",
@@ -164,14 +170,7 @@ def main():
                                "within 5 %", "B9; thesis §6.5: breaking, no thickness effect")
             res[part] = lay
         else:
-            if "a" not in res:
-                print("layers: needs part a (the beach) in the same call")
-                raise SystemExit(2)
-            beach = {dc: R for dc, R, _, _ in res["a"][1]}
-            lay = {}
-            for dc in dcs:
-                out, _ = run(part, P["case"], f"dc{dc:g}", {"porous.regions.0.diameter": dc / 1000})
-                lay[dc] = runup(out)[0]
+            beach, lay = layer_runs(part, "a", dcs)
             if 2.0 in lay and 2.0 in beach:
                 q = lay[2.0] / beach[2.0] - 1
                 rep.metric("layers Dc = 2 mm: R(0.13 m layer) vs R(beach = 0.433 m layer)", f"{1000 * lay[2.0]:.1f} vs {1000 * beach[2.0]:.1f} mm ({100 * q:+.1f} %)",
