@@ -161,12 +161,12 @@ def main():
                            all(x > y for x, y in zip(Rv, Rv[1:])), "strictly decreasing", "B6 / B8")
             res[part] = (Rs, rows)
         elif part == "layers_b":
-            beach, lay = layer_runs(part, "b", dcs)
+            beach, lay = layer_runs(part, P["beach"], dcs)
             for dc in dcs:
                 if dc in beach:
                     q = lay[dc] / beach[dc] - 1
                     rep.metric(f"layers_b Dc = {dc:g} mm: R(0.075 m layer) vs R(1:20 beach = 0.40 m layer)",
-                               f"{1000 * lay[dc]:.1f} vs {1000 * beach[dc]:.1f} mm ({100 * q:+.1f} %)", abs(q) <= LAYER_B_TOL,
+                               f"{1000 * lay[dc]:.1f} vs {1000 * beach[dc]:.1f} mm ({100 * q:+.1f} %)", abs(q) <= P["tol"],
                                "within 5 %", "B9; thesis §6.5: breaking, no thickness effect")
             res[part] = lay
         else:
