@@ -378,3 +378,17 @@ TEST(InputErrors, ThinPaddleIsRefused) {
   EXPECT_HAS(m, "thinner than the 3 wall layers");
   EXPECT_HAS(m, "at least 0.03 m thick");
 }
+
+TEST(InputErrors, DualIntegratorRefusesModelsItLacks) {
+  // the default laminar viscosity of water is one of them: the message names it and the way out
+  const std::string dual = replaced(kCase, "time:\n", "scheme:\n  integrator: dual\ntime:\n");
+  std::string e = error_of(dual);
+  EXPECT_HAS(e, "'scheme.integrator: dual'");
+  EXPECT_HAS(e, "fluid.viscosity > 0 with viscosity: laminar");
+  EXPECT_HAS(e, "use integrator: symplectic or verlet");
+  e = error_of(replaced(dual, "  density: 1000.0\n", "  density: 1000.0\n  viscosity: 0.0\n"));
+  EXPECT_EQ(e, "");  // inviscid, dummy walls: accepted
+  e = error_of(replaced(replaced(dual, "  density: 1000.0\n", "  density: 1000.0\n  viscosity: 0.0\n"), "scheme:\n",
+                        "walls: {type: dynamic}\nscheme:\n"));
+  EXPECT_HAS(e, "walls.type: dynamic");
+}

@@ -19,7 +19,7 @@
 namespace sph {
 
 
-enum class Integrator { Symplectic, PredictorCorrector, Verlet };
+enum class Integrator { Symplectic, PredictorCorrector, Verlet, Dual };
 enum class DensityDiffusion { None, MolteniColagrossi, Fourtakas };
 enum class ViscosityModel { None, Laminar, Artificial };
 enum class PressureGradient { Sum, Symmetric };  // (pa+pb)/(ra rb) [Federico 3.8] ; pa/ra^2+pb/rb^2 [3.9]
@@ -37,7 +37,12 @@ struct FluidConfig {
 
 struct SchemeConfig {
   std::string type = "wcsph";
-  Integrator integrator = Integrator::Symplectic;  // symplectic | predictor_corrector | verlet
+  Integrator integrator = Integrator::Symplectic;  // symplectic | predictor_corrector | verlet | dual
+  // dual (schemes/wcsph_dual.cpp): acoustic steps cfl h/(c+|u|) inside advection steps
+  // advection_cfl h/max(U, |u|, sqrt(4 h |a|)), U = c0/10; Riemann-solver pressure and continuity
+  double advection_cfl = 0.25;
+  double riemann_limiter = 3.0;   // slope of the low-dissipation limiter min(k U/c0, 1)
+  bool density_reinit = true;     // density by summation (>= rho0) at every advection step
   int verlet_steps = 40;  // verlet: an Euler step every N steps (DualSPHysics VerletSteps)
   DensityDiffusion density_diffusion = DensityDiffusion::Fourtakas;
   double delta = 0.1;

@@ -130,9 +130,17 @@ void read_scheme(const Node& n, const std::string& file, Case& c) {
     return;
   }
   // the weakly-compressible scheme's keys
-  const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "verlet"});
+  const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "verlet", "dual"});
   c.scheme.integrator = integ == "symplectic" ? Integrator::Symplectic
-                        : integ == "verlet"   ? Integrator::Verlet : Integrator::PredictorCorrector;
+                        : integ == "verlet"   ? Integrator::Verlet
+                        : integ == "dual"     ? Integrator::Dual : Integrator::PredictorCorrector;
+  const bool dual = c.scheme.integrator == Integrator::Dual;
+  c.scheme.advection_cfl = r.in_range("advection_cfl", 0.25, 1e-3, 1.0);
+  c.scheme.riemann_limiter = r.in_range("riemann_limiter", 3.0, 0.0, 1e3);
+  c.scheme.density_reinit = r.scalar<bool>("density_reinit", true);
+  if (!dual)
+    for (const char* k : {"advection_cfl", "riemann_limiter", "density_reinit"})
+      if (r.has(k)) c.warnings.push_back(fmt::format("{}: scheme.{}: only used by integrator: dual (ignored)", file, k));
   c.scheme.verlet_steps = r.scalar<int>("verlet_steps", 40);
   if (c.scheme.verlet_steps < 0) r.fail_at(r.get("verlet_steps"), "scheme.verlet_steps", "an integer >= 0 (0 = no Euler steps)");
   const std::string dd = r.choice("density_diffusion", "fourtakas", {"none", "molteni_colagrossi", "fourtakas"});
@@ -153,7 +161,9 @@ void read_scheme(const Node& n, const std::string& file, Case& c) {
     c.scheme.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
     q.finish();
   }
-  c.scheme.cfl = r.in_range("cfl", 0.2, 1e-4, 1.5);
+  // the dual integrator's acoustic steps are position-Verlet with Riemann dissipation: 0.6 is
+  // stable (docs/numerics.md); the one-stage schemes keep DualSPHysics' 0.2
+  c.scheme.cfl = r.in_range("cfl", dual ? 0.6 : 0.2, 1e-4, 1.5);
   c.scheme.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
   c.scheme.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
   c.scheme.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);

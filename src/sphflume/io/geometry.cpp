@@ -599,7 +599,9 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     }
   }
 
-  if (c.walls.backup || c.scheme.type == "isph" || !c.motions.empty()) {  // every wall particle: the vector to its surface point (depth, normal)
+  // every wall particle: the vector to its surface point (depth, normal; the dual integrator's
+  // Riemann dissipation against walls acts along it)
+  if (c.walls.backup || c.scheme.type == "isph" || !c.motions.empty() || c.scheme.integrator == Integrator::Dual) {
     auto& to = P.vector("wall_to_surface");
     for (std::size_t k = 0; k < wall_x.size(); ++k) to[first_wall + k] = wall_s[k] - wall_x[k];
   }

@@ -18,6 +18,10 @@ namespace sph {
 
 template <int D>
 void WCSPH<D>::initialise(System<D>& S) {
+  if (cfg_.integrator == Integrator::Dual && !cfg_.frozen) {
+    dual_initialise(S);
+    return;
+  }
   update_pressure(S);
   S.update_neighbours();
   rates(S);
@@ -100,6 +104,10 @@ void WCSPH<D>::step(System<D>& S, double dt) {
     frozen_step(S, dt);
     S.time += dt;
     ++S.step;
+    return;
+  }
+  if (cfg_.integrator == Integrator::Dual) {
+    dual_step(S, dt);
     return;
   }
   // shifting: displacements from the state being advanced (its neighbour lists: the Verlet

@@ -308,6 +308,7 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   json += fmt::format("  \"integrator\": \"{}\",\n  \"passes_per_step\": {},\n",
                       c.scheme.type == "isph" ? "projection"
                       : c.scheme.integrator == Integrator::Verlet ? "verlet"
+                      : c.scheme.integrator == Integrator::Dual ? "dual"
                       : c.scheme.integrator == Integrator::Symplectic ? "symplectic" : "predictor_corrector",
                       R.scheme->passes_per_step());
   std::string ignored;

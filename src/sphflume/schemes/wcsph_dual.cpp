@@ -1,0 +1,308 @@
+// The weakly-compressible scheme's dual-criteria integrator (`scheme.integrator: dual`):
+// Zhang, Hu & Adams (2017, J. Comput. Phys. 335) low-dissipation Riemann-solver WCSPH with the
+// dual-criteria time stepping of Zhang, Zhang & Hu (2020, J. Comput. Phys. 404), the scheme of
+// SPHinXsys's fluid dynamics. Every advection step (advection_cfl h / max(U, |u|, sqrt(4 h |a|)),
+// U = c0/10) the density is re-initialised by summation, at least ρ0 (a free-surface particle
+// has a truncated sum); inside it, acoustic steps of cfl h/(c + |u|) (0.6) integrate
+//   ρ += Δt/2 Dρ,  x += Δt/2 u,  [pass A]  u += Δt a,  x += Δt/2 u,  [pass B]  ρ += Δt/2 Dρ
+// (position Verlet, symplectic for the acoustic system). The pair sums are the Riemann
+// solver's, split over the two passes as the scheme needs them:
+//   pass A (pressure):    a_a = a_diss + g − (1/ρa) Σ (pa + pb) ∇aW Vb
+//                         Dρa = ρa/(ρ0 c0) Σ (pa − pb) W'(r) Vb        (the acoustic dissipation
+//                         of the Riemann velocity u* = ū + (pa − pb)/(2 ρ0 c0) e)
+//   pass B (continuity):  Dρa += ρa Σ (ua − ub)·∇aW Vb
+//                         a_diss = −(ρ0 c0/ρa) Σ β U ∇aW Vb,  U = −(ua − ub)·e the approach
+//                         speed (twice the wall-relative one against a wall: its mirror state),
+//                         β = min(k max(U, 0)/c0, 1) the low-dissipation limiter (k = 3)
+// so each step costs two light passes (SPHinXsys: pressure relaxation and density relaxation).
+// No artificial viscosity or δ-SPH term: the Riemann solver's dissipation replaces both.
+#include <algorithm>
+#include <cmath>
+
+#include "sphflume/boundaries/motion.hpp"
+#include "sphflume/boundaries/walls.hpp"
+#include "sphflume/physics/force_terms.hpp"
+#include "sphflume/schemes/wcsph.hpp"
+
+namespace sph {
+
+namespace {
+constexpr std::size_t kLanes = 16;  // the pair loops' vector width (16 floats: AVX-512; 2 x AVX2)
+
+/// The sum of kLanes partial sums, pairwise (a fixed order: the same bits on every run).
+inline float lane_sum(float* v) {
+  for (std::size_t w = kLanes / 2; w >= 1; w /= 2)
+    for (std::size_t l = 0; l < w; ++l) v[l] += v[l + w];
+  return v[0];
+}
+
+/// Σ W over a square (cubic) lattice of spacing dx, the particle itself included: the number
+/// density a full support of particles at rest has (the summation's reference).
+template <int D, class K>
+double lattice_sum(const K& ker, double dx) {
+  const int n = static_cast<int>(std::ceil(ker.support / dx)) + 1;
+  double s = 0.0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = (D == 3 ? -n : 0); k <= (D == 3 ? n : 0); ++k) {
+        const double r = dx * std::sqrt(double(i * i + j * j + k * k));
+        if (r < ker.support) s += ker.W(r);
+      }
+  return s;
+}
+}  // namespace
+
+template <int D>
+template <class K, int Pass>
+void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
+  // Pass 0: pressure (A), 1: continuity (B), 2: density summation
+  auto& P = S.particles;
+  const double rho0 = S.eos.rho0, c0 = S.eos.c0;
+  const double* __restrict rho = P.rho.data();
+  const double* __restrict prs = P.p.data();
+  const double* __restrict mass = P.mass.data();
+  const Vec<D>* __restrict pos = P.pos.data();
+  const Vec<D>* __restrict vel = P.vel.data();
+  const Kind* __restrict kind = P.kind.data();
+  const std::uint32_t* __restrict sorted = S.cells.sorted().data();
+  Vec<D>* __restrict acc_out = P.acc.data();
+  double* __restrict drho_out = P.drho.data();
+  const auto& cells = S.cells;
+  const std::size_t ncell = cells.cell_count();
+  const std::size_t n_owned = P.n_owned();
+  double g[3] = {0.0, 0.0, 0.0};
+  for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
+  const bool sym = cfg_.pressure_gradient == PressureGradient::Symmetric;
+  if (sigma0_ <= 0.0) sigma0_ = lattice_sum<D>(ker, S.dx);  // (after a restart too)
+  const double sigma_inv = rho0 / sigma0_;
+  const double w_self = ker.W(0.0);
+  using F32 = float;
+  enum { X0, X1, X2, U0, U1, U2, N0, N1, N2, PRS, VOL, FL, NCOL };
+  const F32 fsupport2 = F32(ker.support2), ffar = F32(1.0e3), fk = F32(cfg_.riemann_limiter / c0);
+  std::uint64_t pairs = 0;
+  // walls: the dissipation acts along the wall normal (towards the fluid), on twice the
+  // wall-relative normal speed (the mirror state), so that sliding along a wall is free
+  const Vec<D>* __restrict wn = Pass == 1 ? P.vector("wall_to_surface").data() : nullptr;
+#pragma omp parallel reduction(+ : pairs)
+  {
+    ScratchColumns<F32> B(NCOL);
+    CellStencil<D> st;
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t cell = 0; cell < ncell; ++cell) {
+      const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+      bool any = false;
+      for (std::uint32_t k = c0k; k < c1k && !any; ++k) any = sorted[k] < n_owned && kind[sorted[k]] == Kind::Fluid;
+      if (!any) continue;
+      st.set(cells, cell, 16);
+      const std::size_t npad = st.padded;
+      B.reserve(npad);
+      const Vec<D> origin = pos[sorted[c0k]];
+      F32* __restrict cx[D]; F32* __restrict cu[D]; F32* __restrict cn[D];
+      for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cu[d] = B[U0 + d]; cn[d] = B[N0 + d]; }
+      F32* __restrict cp = B[PRS];
+      F32* __restrict cv = B[VOL];
+      F32* __restrict cf = B[FL];
+      bool walls_near = false;  // any wall among the candidates (most cells have none)
+      st.for_each([&](std::size_t m, std::uint32_t b) {
+        for (int d = 0; d < D; ++d) cx[d][m] = F32(pos[b][d] - origin[d]);
+        if constexpr (Pass == 0) {
+          cp[m] = F32(sym ? prs[b] / (rho[b] * rho[b]) : prs[b]);
+          cv[m] = F32(sym ? mass[b] : mass[b] / rho[b]);
+        } else if constexpr (Pass == 1) {
+          for (int d = 0; d < D; ++d) cu[d][m] = F32(vel[b][d]);
+          cv[m] = F32(mass[b] / rho[b]);
+          const bool fl = fluid_like(kind[b]);
+          const double len = fl ? 0.0 : std::sqrt(dot(wn[b], wn[b]));
+          for (int d = 0; d < D; ++d) cn[d][m] = len > 0.0 ? F32(wn[b][d] / len) : F32(0);
+          cf[m] = fl ? F32(1) : F32(0);
+          walls_near |= !fl;
+        }
+      });
+      for (std::size_t m = st.count; m < npad; ++m) {
+        for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cn[d][m] = 0; }
+        cp[m] = 0; cv[m] = 0; cf[m] = 1;
+      }
+      const F32* __restrict bx0 = B[X0];
+      const F32* __restrict bx1 = B[X1];
+      const F32* __restrict bx2 = B[X0 + D - 1];
+      const F32* __restrict bu0 = B[U0];
+      const F32* __restrict bu1 = B[U1];
+      const F32* __restrict bu2 = B[U0 + D - 1];
+      const F32* __restrict bp = B[PRS];
+      const F32* __restrict bv = B[VOL];
+      const F32* __restrict bn0 = B[N0];
+      const F32* __restrict bn1 = B[N1];
+      const F32* __restrict bn2 = B[N0 + D - 1];
+      const F32* __restrict bf = B[FL];
+      auto particles = [&](auto walls) {
+        constexpr bool Walls = decltype(walls)::value;
+        for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
+          const std::uint32_t a = sorted[kk];
+          if (a >= n_owned || kind[a] != Kind::Fluid) continue;
+          const F32 xa0 = F32(pos[a][0] - origin[0]), xa1 = F32(pos[a][1] - origin[1]);
+          const F32 xa2 = F32(pos[a][D - 1] - origin[D - 1]);
+          const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
+          const double rhoa = rho[a];
+          const F32 pa = F32(sym ? prs[a] / (rhoa * rhoa) : prs[a]);
+          // lane-wise partial sums (kLanes apart), reduced by a tree after the loop: the
+          // compilers' epilogue for `omp simd reduction` adds the lanes one by one, which cost
+          // a third of the pass at ~100 candidates
+          alignas(64) F32 v0[kLanes] = {}, v1[kLanes] = {}, v2[kLanes] = {}, vr[kLanes] = {}, vc[kLanes] = {};
+          for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) {
+#pragma omp simd
+          for (std::size_t l = 0; l < kLanes; ++l) {
+            const std::size_t k = k0 + l;
+            const F32 r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : F32(0);
+            const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+            const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? F32(1) : F32(0);
+            const F32 r = std::sqrt(r2);
+            vc[l] += in;
+            if constexpr (Pass == 2) {
+              vr[l] += ker.W(r) * in;
+            } else {
+              const F32 Fv = ker.F(r) * in * bv[k];  // W'(r)/r V_b (sym: m_b)
+              if constexpr (Pass == 0) {
+                const F32 pp = (pa + bp[k]) * Fv;
+                v0[l] += pp * r0;
+                v1[l] += pp * r1;
+                v2[l] += pp * r2c;
+                vr[l] += (pa - bp[k]) * Fv * r;  // W'(r) V_b (pa − pb)
+              } else {
+                const F32 u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : F32(0);
+                const F32 ur = u0 * r0 + u1 * r1 + u2 * r2c;  // (ua − ub)·r
+                vr[l] += ur * Fv;
+                // the dissipation's direction times r: r itself (fluid b), r n' against a wall, n'
+                // its normal turned towards a; U = −(ua − ub)·e (twice along n' at a wall)
+                const F32 fb = Walls ? bf[k] : F32(1);
+                const F32 n0 = Walls ? bn0[k] : F32(0), n1 = Walls ? bn1[k] : F32(0), n2 = Walls && D == 3 ? bn2[k] : F32(0);
+                const F32 rn = r0 * n0 + r1 * n1 + r2c * n2;
+                const F32 sn = (rn < F32(0) ? F32(-1) : F32(1)) * r;
+                const F32 d0 = fb * r0 + (F32(1) - fb) * sn * n0;
+                const F32 d1 = fb * r1 + (F32(1) - fb) * sn * n1;
+                const F32 d2 = fb * r2c + (F32(1) - fb) * sn * n2;
+                const F32 U = -(F32(2) - fb) * (u0 * d0 + u1 * d1 + u2 * d2) / (r + F32(1e-30));
+                const F32 beta = std::min(fk * std::max(U, F32(0)), F32(1));
+                const F32 q = beta * U * Fv;
+                v0[l] += q * d0;
+                v1[l] += q * d1;
+                v2[l] += q * d2;
+              }
+            }
+          }
+          }
+          const F32 s0 = lane_sum(v0), s1 = lane_sum(v1), s2 = lane_sum(v2), sr = lane_sum(vr), cnt = lane_sum(vc);
+          pairs += static_cast<std::uint64_t>(cnt + F32(0.5));
+          if constexpr (Pass == 0) {
+            // pressure: −(1/ρa) Σ (pa + pb) ∇W Vb (sum form) or −Σ mb (pa/ρa² + pb/ρb²) ∇W
+            const double f = sym ? -1.0 : -1.0 / rhoa;
+            Vec<D> ac = acc_out[a];  // the dissipation of the last continuity pass
+            ac[0] += f * double(s0) + g[0];
+            ac[1] += f * double(s1) + g[1];
+            if constexpr (D == 3) ac[2] += f * double(s2) + g[2];
+            acc_out[a] = ac;
+            drho_out[a] = rhoa / (rho0 * c0) * double(sr);
+          } else if constexpr (Pass == 1) {
+            drho_out[a] += rhoa * double(sr);
+            const double f = -rho0 * c0 / rhoa;
+            Vec<D> ac;
+            ac[0] = f * double(s0);
+            ac[1] = f * double(s1);
+            if constexpr (D == 3) ac[2] = f * double(s2);
+            acc_out[a] = ac;
+          } else {
+            drho_out[a] = std::max(sigma_inv * (w_self + double(sr)), rho0);  // (read back by reinit)
+          }
+        }
+      };
+      if (Pass == 1 && walls_near) particles(std::true_type{});
+      else particles(std::false_type{});
+    }
+  }
+  S.pairs_last_pass = pairs;
+}
+
+template <int D>
+void WCSPH<D>::dual_initialise(System<D>& S) {
+  S.update_neighbours();
+  if (cfg_.density_reinit) reinit_density(S);
+  update_pressure(S);
+  // the continuity pass at t = 0: Dρ and the dissipation the first kick adds
+  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 1>(S, K); });
+  adv_left_ = 0.0;  // the first step opens an advection step
+}
+
+template <int D>
+void WCSPH<D>::reinit_density(System<D>& S) {
+  // Σ W of the current neighbours into drho (as scratch), then ρ of every fluid particle;
+  // Dρ of the last continuity pass is kept and restored (the next half-step uses it)
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  std::vector<double> keep(P.drho.begin(), P.drho.begin() + static_cast<std::ptrdiff_t>(n));
+  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 2>(S, K); });
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] == Kind::Fluid) P.rho[i] = P.drho[i];
+    P.drho[i] = keep[i];
+  }
+}
+
+template <int D>
+void WCSPH<D>::dual_step(System<D>& S, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double hdt = 0.5 * dt;
+  if (adv_left_ <= 0.0) {  // a new advection step: summation density, its length
+    if (cfg_.density_reinit) reinit_density(S);
+    double umax2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : umax2)
+    for (std::size_t i = 0; i < n; ++i)
+      if (P.kind[i] == Kind::Fluid) umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
+    const double speed = std::sqrt(std::max({umax2, 4.0 * S.h * max_acc_, 0.01 * S.eos.c0 * S.eos.c0}));
+    adv_left_ += cfg_.advection_cfl * S.h / speed;
+  }
+  // half step of density and position, the pressure of the new density
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    P.rho[i] += hdt * P.drho[i];
+    P.pos[i] += hdt * P.vel[i];
+  }
+  update_pressure(S);
+  // pass A: pressure force and acoustic density dissipation; the kick
+  S.update_neighbours();
+  S.walls->prepare(S);
+  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 0>(S, K); });
+  S.walls->add_forces(S);
+  for (auto& f : S.forces) f->add(S);
+  double amax = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : amax)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    amax = std::max(amax, dot(P.acc[i], P.acc[i]));
+    P.vel[i] += dt * P.acc[i];
+    P.pos[i] += hdt * P.vel[i];
+  }
+  max_acc_ = std::sqrt(amax);
+  if (!finite_bits(max_acc_)) check_finite(S);
+  const std::uint64_t pairs_a = S.pairs_last_pass;
+  // pass B: continuity and the Riemann dissipation of the next kick; the second half of Dρ
+  S.update_neighbours();
+  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 1>(S, K); });
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid) P.rho[i] += hdt * P.drho[i];
+  S.pairs_last_pass = (pairs_a + S.pairs_last_pass) / 2;
+  adv_left_ -= dt;
+  S.time += dt;
+  ++S.step;
+  update_pressure(S);  // gauges and output see the pressure of the step's end
+}
+
+template void WCSPH<2>::dual_initialise(System<2>&);
+template void WCSPH<3>::dual_initialise(System<3>&);
+template void WCSPH<2>::dual_step(System<2>&, double);
+template void WCSPH<3>::dual_step(System<3>&, double);
+template void WCSPH<2>::reinit_density(System<2>&);
+template void WCSPH<3>::reinit_density(System<3>&);
+
+}  // namespace sph
