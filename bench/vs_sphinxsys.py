@@ -198,14 +198,18 @@ def run_sphflume(a, dim, dp, run_dir, reuse):
     e = np.genfromtxt(os.path.join(g, "energy.csv"), delimiter=",", names=True)
     fr = np.genfromtxt(os.path.join(g, "front.csv"), delimiter=",", names=True)
     pcol = "pressure" if "pressure" in p.dtype.names else p.dtype.names[1]
-    return dict(wall=float(s["wall_seconds"]), process=float(open(os.path.join(run_dir, "process_seconds")).read()),
+    sensor = None  # the lab-sensor gauge (face and time window), when the case has one
+    if os.path.exists(os.path.join(g, "p_sensor.csv")):
+        q = np.genfromtxt(os.path.join(g, "p_sensor.csv"), delimiter=",", names=True)
+        sensor = (q["time"], np.nan_to_num(q["pressure"]), np.nan_to_num(q["pressure_std"]))
+    return dict(sensor=sensor, wall=float(s["wall_seconds"]), process=float(open(os.path.join(run_dir, "process_seconds")).read()),
                 steps=int(s["steps"]), summary=s, p=(p["time"], np.nan_to_num(p[pcol])),
                 energy=(e["time"], e["total"] / e["total"][0]), front=(fr["time"], fr["front"]))
 
 
-def metrics(r, H=1.0, g=1.0):
+def metrics(r, H=1.0, g=1.0, sensor=False):
     """Impact time (first p > 0.1 rho g H), peak, post-impact mean over t sqrt(g/H) in [2.8, 7]."""
-    t, p = r["p"]
+    t, p = r["sensor"][:2] if sensor else r["p"]
     hit = np.nonzero(p > 0.1)[0]
     win = (t >= 2.8) & (t <= 7.0)
     ft, fx = r["front"]
@@ -225,7 +229,11 @@ def plot(dim, dp, sx, sf, png):
     for r, lab, sty in ((sf, "SPHFlume", "b-"), (sx, "SPHinXsys", "r.-")):
         if r is None:
             continue
-        ax[0].plot(*r["p"], sty, lw=1, ms=3, label=lab)
+        ax[0].plot(*r["p"], sty, lw=1, ms=3, label=lab + " (point)")
+        if r.get("sensor") is not None:
+            t, m, sd = r["sensor"]
+            ax[0].plot(t, m, "g-", lw=1, label=lab + " sensor (face 0.03 H, window 0.02)")
+            ax[0].fill_between(t, m - sd, m + sd, color="g", alpha=0.25, lw=0, label="sensor +- 1 std in its window")
         ax[1].plot(*r["front"], sty, lw=1, ms=3, label=lab)
         ax[2].plot(*r["energy"], sty, lw=1, ms=3, label=lab)
     ax[0].set_title("pressure at (5.366, 0.2) [rho0 g H]")
@@ -285,6 +293,10 @@ def main():
             row = dict(case=tag, fluid=sf["summary"]["particles"]["fluid"], sphflume_wall=sf["wall"],
                        sphflume_process=sf["process"], sphflume_steps=sf["steps"], sphflume=metrics(sf),
                        integrator=sf["summary"].get("integrator"), figure=os.path.relpath(png, ROOT))
+            if sf.get("sensor") is not None:
+                row["sphflume_sensor"] = metrics(sf, sensor=True)
+                win = (sf["sensor"][0] >= 2.8) & (sf["sensor"][0] <= 7.0)
+                row["sphflume_sensor"]["band_std_mean"] = float(sf["sensor"][2][win].mean())
             if sx:
                 row.update(sphinxsys_wall=sx["wall"], sphinxsys_process=sx["process"],
                            sphinxsys_advection_steps=sx["advection_steps"], sphinxsys=metrics(sx),

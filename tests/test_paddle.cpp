@@ -374,3 +374,41 @@ time: {end: 1.0}
     EXPECT_NEAR(P.acc[i][1], 8.0 * s * s * 0.1, 1e-12);
   }
 }
+
+// The pressure sensor's face average: on a field linear along the face the trapezoid mean is the
+// centre value (exact), on a quadratic field p = q s² along the face (s from the centre) the
+// 5-point trapezoid rule gives q R² (3/8) against the exact mean q R²/3 — the rule's own error,
+// 12.5 % of the curvature term, which is the test's tolerance. MLS interpolation is exact for
+// linear fields, so the linear case holds to round-off; on a quadratic it adds the same constant
+// everywhere on the lattice, which the difference to the centre's point value removes.
+TEST(Gauges, PressureSensorAveragesOverItsFace) {
+  test::Setup<2> T(R"(
+dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01}
+fluid: {density: 1000.0, sound_speed: 10.0, hydrostatic_init: false}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.4]}
+time: {end: 1.0}
+)");
+  auto& P = T.S.particles;
+  T.S.update_neighbours();
+  GaugeConfig g;
+  g.type = "pressure";
+  g.point = {0.2, 0.2};
+  g.diameter = 0.1;
+  g.normal = {-1.0, 0.0};  // the face is vertical: it spans z in [0.15, 0.25]
+  for (std::size_t i = 0; i < P.n_owned(); ++i) P.p[i] = 100.0 + 3000.0 * P.pos[i][1] + 50.0 * P.pos[i][0];
+  const double linear = GaugeSet<2>::evaluate(g, T.S, 1.0)[0];
+  EXPECT_NEAR(linear, 100.0 + 3000.0 * 0.2 + 50.0 * 0.2, 1e-9 * 700.0);
+  const double q = 1.0e5;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) P.p[i] = q * (P.pos[i][1] - 0.2) * (P.pos[i][1] - 0.2);
+  const double R = 0.05, quad = GaugeSet<2>::evaluate(g, T.S, 1.0)[0];
+  g.diameter = 0.0;  // the point probe at the centre: 0 plus the MLS smoothing of a quadratic,
+  const double centre = GaugeSet<2>::evaluate(g, T.S, 1.0)[0];  // q × (a kernel moment ~ h²)
+  EXPECT_LT(std::abs(centre), 0.1 * q * R * R);
+  // that smoothing is the same constant at every interior point of a quadratic: it cancels
+  const double exact = q * R * R / 3.0, trapezoid = q * R * R * 3.0 / 8.0;
+  EXPECT_NEAR(quad - centre, trapezoid, 1e-3 * trapezoid);  // (the moment varies ~1e-4 between lattice sites)
+  EXPECT_NEAR(quad - centre, exact, 0.13 * exact);
+}

@@ -180,6 +180,11 @@ struct GaugeConfig {
   double level = 0.0, reach = 0.0, film = 0.001;
   int neighbours = 2;
   int line = 0;
+  // pressure: a lab sensor. diameter > 0: the mean over its face (a segment in 2D, a disk in
+  // 3D) normal to `normal`; window > 0: the mean (and standard deviation) of the samples taken
+  // after every step in the last `window` seconds before each output time
+  double diameter = 0.0, window = 0.0;
+  std::vector<double> normal;
 };
 
 /// A velocity profile u(z) along the flow direction, z measured from the bed.

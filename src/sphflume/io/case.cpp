@@ -170,6 +170,20 @@ GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string
     g.point = r.vec("point", d);
     if (g.point.empty()) r.misspelt("point");
     if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
+    if (g.type == "pressure") {
+      g.diameter = r.scalar<double>("diameter", 0.0);
+      if (!(g.diameter >= 0.0)) r.fail_at(r.get("diameter"), r.key_path("diameter"), "a sensor diameter >= 0 in m (0 = a point)");
+      g.window = r.scalar<double>("window", 0.0);
+      if (!(g.window >= 0.0)) r.fail_at(r.get("window"), r.key_path("window"), "a sampling window >= 0 in s (0 = the value at the output time)");
+      g.normal = r.vec("normal", d);
+      if (g.diameter > 0.0) {
+        double len = 0.0;
+        for (double v : g.normal) len += v * v;
+        if (g.normal.empty() || !(len > 0.0))
+          r.fail_at(g.normal.empty() ? n : r.get("normal"), r.key_path("normal"),
+                    "the sensor face's normal (a non-zero vector, e.g. [-1, 0] on a right-hand wall) with 'diameter'");
+      }
+    }
   } else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" || g.type == "flux" ||
              g.type == "scalar_profile" || g.type == "scalar_flux") {
     if ((g.type == "flux" || g.type == "scalar_flux") && dim != 2) r.fail_at(n, path, "a 2D case (flux gauges are 2D in this version)");

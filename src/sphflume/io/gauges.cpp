@@ -53,7 +53,8 @@ template <int D>
 GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
                       double resume_after)
     : cfg_(gauges), level_top_(level_top), dir_(dir), means_(gauges.size()),
-      runmax_(gauges.size(), -std::numeric_limits<double>::infinity()) {
+      runmax_(gauges.size(), -std::numeric_limits<double>::infinity()), window_(gauges.size()) {
+  for (const auto& g : gauges) windowed_ |= g.type == "pressure" && g.window > 0.0;
   if (gauges.empty()) return;
   std::filesystem::create_directories(dir + "/gauges");
   const char* ax = D == 2 ? "xz" : "xyz";
@@ -86,7 +87,7 @@ GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string&
     if (!*f) throw IoError(fmt::format("cannot write gauge file '{}'", path));
     *f << "time";
     if (g.type == "water_level") *f << ",level";
-    else if (g.type == "pressure") *f << ",pressure";
+    else if (g.type == "pressure") *f << (g.window > 0.0 ? ",pressure,pressure_std,samples" : ",pressure");
     else if (g.type == "front") *f << ",front";
     else if (g.type == "energy") *f << ",kinetic,potential,total";
     else if (g.type == "water_volume") *f << ",water,bulk";
@@ -279,8 +280,37 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     return out;
   }
   if (g.type == "pressure") {
-    auto v = interpolate_mls(S, at(g.point), [&](std::uint32_t b) { return P.p[b]; });
-    return {v ? *v : nan};
+    auto p_at = [&](const Vec<D>& x) {
+      auto v = interpolate_mls(S, x, [&](std::uint32_t b) { return P.p[b]; });
+      return v ? *v : nan;
+    };
+    if (!(g.diameter > 0.0)) return {p_at(at(g.point))};
+    // the sensor face: points spread over it, each weighted by the part of the face it stands
+    // for (2D: 5 points over the segment; 3D: the centre and 6 points at 0.7 R, equal areas)
+    Vec<D> n = at(g.normal);
+    n *= 1.0 / std::sqrt(dot(n, n));
+    const Vec<D> c = at(g.point);
+    const double R = 0.5 * g.diameter;
+    double sum = 0.0, wsum = 0.0;
+    auto add = [&](const Vec<D>& x, double w) {
+      const double v = p_at(x);
+      if (std::isfinite(v)) { sum += w * v; wsum += w; }
+    };
+    if constexpr (D == 2) {
+      const Vec<2> t{{-n[1], n[0]}};
+      for (int k = -2; k <= 2; ++k) add(c + (0.5 * R * k) * t, k == -2 || k == 2 ? 0.5 : 1.0);  // trapezoid rule
+    } else {
+      Vec<3> t1 = std::abs(n[0]) < 0.9 ? Vec<3>{{1, 0, 0}} : Vec<3>{{0, 1, 0}};
+      t1 -= dot(t1, n) * n;
+      t1 *= 1.0 / std::sqrt(dot(t1, t1));
+      const Vec<3> t2{{n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]}};
+      add(c, 1.0);
+      for (int k = 0; k < 6; ++k) {
+        const double a = k * std::acos(-1.0) / 3.0;
+        add(c + (0.7 * R * std::cos(a)) * t1 + (0.7 * R * std::sin(a)) * t2, 1.0);
+      }
+    }
+    return {wsum > 0.0 ? sum / wsum : nan};
   }
   if (g.type == "velocity_profile") {
     std::vector<double> out;
@@ -406,6 +436,18 @@ void GaugeSet<D>::sample(const System<D>& S) {
     auto& f = *files_[k];
     f << fmt::format("{:.9g}", S.time);
     auto v = evaluate(cfg_[k], S, top);
+    if (cfg_[k].type == "pressure" && cfg_[k].window > 0.0) {
+      // the window's mean and standard deviation (the samples of tick(), this one included)
+      auto& w = window_[k];
+      if (w.empty() || w.back().first < S.time) w.emplace_back(S.time, v[0]);
+      double m = 0.0, m2 = 0.0;
+      long cnt = 0;
+      for (const auto& [t, x] : w)
+        if (std::isfinite(x)) { m += x; m2 += x * x; ++cnt; }
+      m = cnt ? m / cnt : std::numeric_limits<double>::quiet_NaN();
+      const double var = cnt > 1 ? std::max(0.0, m2 / cnt - m * m) : 0.0;
+      v = {m, std::sqrt(var), double(cnt)};
+    }
     if (cfg_[k].type == "runup") {
       if (std::isfinite(v[0])) runmax_[k] = std::max(runmax_[k], v[0]);
       v[2] = std::isfinite(runmax_[k]) ? runmax_[k] : std::numeric_limits<double>::quiet_NaN();
@@ -417,6 +459,17 @@ void GaugeSet<D>::sample(const System<D>& S) {
     f.flush();
     if (!f) throw IoError(fmt::format("writing gauge '{}' failed (disk full?)", cfg_[k].name));
     if (S.time >= cfg_[k].average_from * (1.0 - 1e-12)) accumulate(k, S.time, v);
+  }
+}
+
+template <int D>
+void GaugeSet<D>::tick(const System<D>& S) {
+  for (std::size_t k = 0; k < cfg_.size(); ++k) {
+    const auto& g = cfg_[k];
+    if (g.type != "pressure" || !(g.window > 0.0)) continue;
+    auto& w = window_[k];
+    w.emplace_back(S.time, evaluate(g, S, level_top_)[0]);
+    while (!w.empty() && w.front().first <= S.time - g.window * (1.0 + 1e-12)) w.pop_front();
   }
 }
 

@@ -34,6 +34,7 @@
 //  phase             area (volume in 3D) Σ m/ρ of the phase `field`, its top (highest
 //                    particle) and area centroid x, z
 #pragma once
+#include <deque>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -54,6 +55,9 @@ class GaugeSet {
            double resume_after = std::numeric_limits<double>::quiet_NaN());
   /// Append one row per gauge; S must have an up-to-date cell list.
   void sample(const System<D>& S);
+  /// After every step: the samples of the gauges with a time window (pressure sensors).
+  void tick(const System<D>& S);
+  bool needs_tick() const { return windowed_; }
   /// Evaluate one gauge (also used by tests).
   /// level_top: height from which water-level gauges scan down.
   static std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double level_top);
@@ -74,6 +78,8 @@ class GaugeSet {
   std::string dir_;
   std::vector<Mean> means_;
   std::vector<double> runmax_;  // runup gauges: the largest run-up so far (column max)
+  std::vector<std::deque<std::pair<double, double>>> window_;  // windowed gauges: (t, value) samples
+  bool windowed_ = false;
 };
 
 }  // namespace sph

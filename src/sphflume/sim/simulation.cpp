@@ -432,6 +432,8 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       pairs_total += S.pairs_last_pass * static_cast<std::uint64_t>(R.scheme->passes_per_step());
       particle_steps += static_cast<double>(n_before);
       fluid_particle_steps += static_cast<double>(S.particles.count(Kind::Fluid));
+      // windowed pressure sensors sample after every step (on the neighbour lists of the last pass)
+      if (o.write_output && gauges->needs_tick() && !out) gauges->tick(S);
       if (out) output(false);
       const double w = elapsed();
       auto write_checkpoint = [&] {
