@@ -30,7 +30,8 @@ class DummyWalls final : public WallModel<D> {
     // neighbour search (most of a tank's walls, most of the time)
     S.cells.mark_near(near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
     const auto& cells = S.cells;
-    const std::size_t ncell = cells.cell_count();
+    const auto& occupied = cells.occupied();  // (empty cells hand out no work)
+    const std::size_t nocc = occupied.size();
     const std::uint32_t* __restrict sorted = cells.sorted().data();
     const Vec<D>* __restrict pos = P.pos.data();
     const Vec<D>* __restrict vel = P.vel.data();
@@ -46,8 +47,9 @@ class DummyWalls final : public WallModel<D> {
       {
         ScratchColumns<double> B(NCOL);
         CellStencil<D> st;
-#pragma omp for schedule(dynamic, 16)
-        for (std::size_t cell = 0; cell < ncell; ++cell) {
+#pragma omp for schedule(dynamic, 4)
+        for (std::size_t oc = 0; oc < nocc; ++oc) {
+          const std::size_t cell = occupied[oc];
           const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
           bool walls_here = false;
           for (std::uint32_t k = c0k; k < c1k; ++k) {

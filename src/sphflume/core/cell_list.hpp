@@ -62,6 +62,9 @@ class CellList {
     for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of_[i]];
     // prefix sums give each cell's end; placing particles backwards while decrementing leaves
     // each cell's start and keeps indices ascending inside a cell (no extra array)
+    occupied_.clear();  // (cell_start_[c] holds the count of cell c here)
+    for (std::size_t c = 0; c < ncell; ++c)
+      if (cell_start_[c] > 0) occupied_.push_back(static_cast<std::uint32_t>(c));
     for (std::size_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
     for (std::size_t i = n; i-- > 0;) sorted_[--cell_start_[cell_of_[i]]] = static_cast<std::uint32_t>(i);
     bool ident = true;
@@ -106,6 +109,9 @@ class CellList {
     }
     return stencil_ranges(c, out);
   }
+  /// The cells that hold at least one particle, ascending (a tank is mostly empty cells: loops
+  /// over these hand out work, not empty cells, to the threads).
+  const std::vector<std::uint32_t>& occupied() const { return occupied_; }
   /// Number of cells, and the slice [begin, end) of sorted() that holds cell c.
   std::size_t cell_count() const { return cell_start_.empty() ? 0 : cell_start_.size() - 1; }
   std::uint32_t cell_begin(std::size_t c) const { return cell_start_[c]; }
@@ -167,14 +173,16 @@ class CellList {
     for (std::size_t c = 0; c < ncell; ++c)
       for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k)
         if (pred(static_cast<std::size_t>(sorted_[k]))) { near[c] = 1; break; }
-    std::vector<char> tmp(ncell);
+    tmp_.resize(ncell);
+    std::vector<char>& tmp = tmp_;
     std::size_t inner = 1;
     for (int d = 0; d < D; ++d) {
       // view the cells as [outer][n][inner] with axis d in the middle; dilate along it
       const std::size_t n = static_cast<std::size_t>(dims_[d]);
       const std::size_t outer = ncell / (n * inner);
-      for (std::size_t o = 0; o < outer; ++o)
-        for (std::size_t k = 0; k < n; ++k) {
+#pragma omp parallel for schedule(static) if (ncell > 4096)
+      for (std::size_t ok = 0; ok < outer * n; ++ok) {
+          const std::size_t o = ok / n, k = ok % n;
           char* __restrict out = tmp.data() + (o * n + k) * inner;
           for (std::size_t i = 0; i < inner; ++i) out[i] = 0;
           const std::size_t k0 = k >= static_cast<std::size_t>(kReach) ? k - kReach : 0;
@@ -194,7 +202,7 @@ class CellList {
   /// Particle indices sorted by cell (cell-major order).
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
   std::size_t bytes() const {
-    return cell_of_.capacity() * 4 + sorted_.capacity() * 4 + cell_start_.capacity() * 4;
+    return cell_of_.capacity() * 4 + sorted_.capacity() * 4 + cell_start_.capacity() * 4 + occupied_.capacity() * 4 + tmp_.capacity();
   }
   double cell_size() const { return cell_; }
 
@@ -203,7 +211,8 @@ class CellList {
   bool identity_ = false;
   V lo_{};
   int dims_[D]{};
-  std::vector<std::uint32_t> cell_of_, cell_start_, sorted_;
+  std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, occupied_;
+X
 
   int coord(const V& x, int d) const {
     int c = static_cast<int>((x[d] - lo_[d]) * inv_cell_);

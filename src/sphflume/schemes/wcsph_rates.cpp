@@ -100,7 +100,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   double* __restrict drho_out = P.drho.data();
   Vec<D>* __restrict xs_out = xs ? xs->data() : nullptr;
   const auto& cells = S.cells;
-  const std::size_t ncell = cells.cell_count();
+  const auto& occupied = cells.occupied();  // (empty cells hand out no work)
+  const std::size_t nocc = occupied.size();
   const std::size_t n_owned = P.n_owned();
   std::uint64_t pairs = 0;
 
@@ -125,8 +126,9 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   {
     ScratchColumns<F32> B(NCOL);
     CellStencil<D> st;
-#pragma omp for schedule(dynamic, 16)
-    for (std::size_t cell = 0; cell < ncell; ++cell) {
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t oc = 0; oc < nocc; ++oc) {
+      const std::size_t cell = occupied[oc];
       const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
       // owned particles of this cell that need rates (fluid; walls only when dynamic)
       bool any = false;
