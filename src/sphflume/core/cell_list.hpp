@@ -212,7 +212,7 @@ class CellList {
   V lo_{};
   int dims_[D]{};
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, occupied_;
-X
+  mutable std::vector<char> tmp_;  // mark_near's scratch (kept: no allocation per call)
 
   int coord(const V& x, int d) const {
     int c = static_cast<int>((x[d] - lo_[d]) * inv_cell_);
