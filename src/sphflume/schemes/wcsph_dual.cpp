@@ -124,20 +124,22 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
         for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cn[d][m] = 0; }
         cp[m] = 0; cv[m] = 0; cf[m] = 1;
       }
-      const F32* __restrict bx0 = B[X0];
-      const F32* __restrict bx1 = B[X1];
-      const F32* __restrict bx2 = B[X0 + D - 1];
-      const F32* __restrict bu0 = B[U0];
-      const F32* __restrict bu1 = B[U1];
-      const F32* __restrict bu2 = B[U0 + D - 1];
-      const F32* __restrict bp = B[PRS];
-      const F32* __restrict bv = B[VOL];
-      const F32* __restrict bn0 = B[N0];
-      const F32* __restrict bn1 = B[N1];
-      const F32* __restrict bn2 = B[N0 + D - 1];
-      const F32* __restrict bf = B[FL];
       auto particles = [&](auto walls) {
         constexpr bool Walls = decltype(walls)::value;
+        // the columns as locals of this function (through the closure GCC's AVX2 vectoriser
+        // saw a "complicated access pattern")
+        const F32* __restrict cx0 = B[X0];
+        const F32* __restrict cx1 = B[X1];
+        const F32* __restrict cx2 = B[X0 + D - 1];
+        const F32* __restrict cu0 = B[U0];
+        const F32* __restrict cu1 = B[U1];
+        const F32* __restrict cu2 = B[U0 + D - 1];
+        const F32* __restrict cn0 = B[N0];
+        const F32* __restrict cn1 = B[N1];
+        const F32* __restrict cn2 = B[N0 + D - 1];
+        const F32* __restrict cp0 = B[PRS];
+        const F32* __restrict cv0 = B[VOL];
+        const F32* __restrict cf0 = B[FL];
         for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
           const std::uint32_t a = sorted[kk];
           if (a >= n_owned || kind[a] != Kind::Fluid) continue;
@@ -151,9 +153,23 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
           // a third of the pass at ~100 candidates
           alignas(64) F32 v0[kLanes] = {}, v1[kLanes] = {}, v2[kLanes] = {}, vr[kLanes] = {}, vc[kLanes] = {};
           for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) {
+          // this block of candidates as plain arrays (an index k0 + l was a "complicated access
+          // pattern" to GCC's AVX2 vectoriser)
+          const F32* __restrict bx0 = cx0 + k0;
+          const F32* __restrict bx1 = cx1 + k0;
+          const F32* __restrict bx2 = cx2 + k0;
+          const F32* __restrict bu0 = cu0 + k0;
+          const F32* __restrict bu1 = cu1 + k0;
+          const F32* __restrict bu2 = cu2 + k0;
+          const F32* __restrict bn0 = cn0 + k0;
+          const F32* __restrict bn1 = cn1 + k0;
+          const F32* __restrict bn2 = cn2 + k0;
+          const F32* __restrict bp = cp0 + k0;
+          const F32* __restrict bv = cv0 + k0;
+          const F32* __restrict bf = cf0 + k0;
 #pragma omp simd
           for (std::size_t l = 0; l < kLanes; ++l) {
-            const std::size_t k = k0 + l;
+            const std::size_t k = l;
             const F32 r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : F32(0);
             const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
             const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? F32(1) : F32(0);
@@ -183,7 +199,10 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
                 const F32 d1 = fb * r1 + (F32(1) - fb) * sn * n1;
                 const F32 d2 = fb * r2c + (F32(1) - fb) * sn * n2;
                 const F32 U = -(F32(2) - fb) * (u0 * d0 + u1 * d1 + u2 * d2) / (r + F32(1e-30));
-                const F32 beta = std::min(fk * std::max(U, F32(0)), F32(1));
+                // max(U, 0) as (U + |U|)/2 (exact in float) and min as a value select: GCC 12 left
+                // this loop scalar on AVX2 with std::max or a select here (AVX-512 was fine)
+                const F32 bu = fk * F32(0.5) * (U + std::abs(U));
+                const F32 beta = bu < F32(1) ? bu : F32(1);
                 const F32 q = beta * U * Fv;
                 v0[l] += q * d0;
                 v1[l] += q * d1;

@@ -290,7 +290,9 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
           const F32 mv = fb + (F32(1) - fb) * fvisc_wall;
           const F32 w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : F32(0);
-          const F32 vr = std::min(w0 * r0 + w1 * r1 + w2 * r2c, F32(0));
+          // (a value select, not std::min: its reference result kept GCC's AVX2 code scalar)
+          const F32 wr = w0 * r0 + w1 * r1 + w2 * r2c;
+          const F32 vr = wr < F32(0) ? wr : F32(0);
           const F32 pi_ab = -falpha * (ca + cb) * fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
           F32 gcoef = pterm + mv * mbp * pi_ab;
           if constexpr (Multi) {  // interface repulsion −(χ/ρ_a) Σ_{b∉X} (|p_a|/Γ_a + |p_b|/Γ_b) ∇W V_b
