@@ -30,8 +30,6 @@ class DummyWalls final : public WallModel<D> {
     // neighbour search (most of a tank's walls, most of the time)
     S.cells.mark_near(near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
     const auto& cells = S.cells;
-    const auto& occupied = cells.occupied();  // (empty cells hand out no work)
-    const std::size_t nocc = occupied.size();
     const std::uint32_t* __restrict sorted = cells.sorted().data();
     const Vec<D>* __restrict pos = P.pos.data();
     const Vec<D>* __restrict vel = P.vel.data();
@@ -43,30 +41,26 @@ class DummyWalls final : public WallModel<D> {
     enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
     S.with_kernel([&](const auto& K) {
       const double support2 = K.support2;
-#pragma omp parallel
-      {
-        ScratchColumns<double> B(NCOL);
-        CellStencil<D> st;
-#pragma omp for schedule(dynamic, 4)
-        for (std::size_t oc = 0; oc < nocc; ++oc) {
-          const std::size_t cell = occupied[oc];
-          const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-          bool walls_here = false;
-          for (std::uint32_t k = c0k; k < c1k; ++k) {
-            const std::uint32_t i = sorted[k];
-            if (i >= n || kind[i] != Kind::Wall) continue;
-            if (!near_[cell]) {  // no fluid within reach: the background state
-              P.p[i] = S.eos.background;
-              P.rho[i] = rho_bg;
-              if (gv) gv[i] = vel[i];
-              continue;
-            }
-            walls_here = true;
+      // cells with wall particles; those with no fluid within reach keep the background state
+      auto needs = [&](std::size_t cell) {
+        const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+        bool walls_here = false;
+        for (std::uint32_t k = c0k; k < c1k; ++k) {
+          const std::uint32_t i = sorted[k];
+          if (i >= n || kind[i] != Kind::Wall) continue;
+          if (!near_[cell]) {  // no fluid within reach: the background state
+            P.p[i] = S.eos.background;
+            P.rho[i] = rho_bg;
+            if (gv) gv[i] = vel[i];
+            continue;
           }
-          if (!walls_here) continue;
-          st.set(cells, cell, 8);  // 8 double lanes (AVX-512)
+          walls_here = true;
+        }
+        return walls_here;
+      };
+      sweep_cells<double>(cells, NCOL, 8, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
+          const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
           const std::size_t npad = st.padded;
-          B.reserve(npad);
           {
             double* __restrict cx[D]; double* __restrict cv[D];
             for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cv[d] = B[V0 + d]; }
@@ -130,8 +124,8 @@ class DummyWalls final : public WallModel<D> {
             P.rho[i] = S.eos.density(pw);
             if (gv) gv[i] = g;
           }
-        }
-      }
+          return std::uint64_t(0);
+      });
     });
     P.refresh_images();
   }

@@ -273,4 +273,31 @@ struct ScratchColumns {
   T* operator[](int i) { return col[static_cast<std::size_t>(i)].data(); }
 };
 
+/// The skeleton every vectorised pair loop shares (the WCSPH sweep, the dual integrator's passes,
+/// the dummy walls' extrapolation): the occupied cells are handed to the threads a few at a
+/// time; for each cell that needs(cell), the stencil of its 3^D cells is set with `lanes`
+/// padding and the scratch columns are reserved, then body(cell, st, B) gathers its columns and
+/// runs the cell's particles. Returns the sum of what body returns (pair counts). Must not be
+/// called inside a parallel region.
+template <class T, int D, class Need, class Body>
+std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes, Need&& needs, Body&& body) {
+  const auto& occupied = cells.occupied();
+  const std::size_t nocc = occupied.size();
+  std::uint64_t total = 0;
+#pragma omp parallel reduction(+ : total)
+  {
+    ScratchColumns<T> B(ncol);
+    CellStencil<D> st;
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t oc = 0; oc < nocc; ++oc) {
+      const std::size_t cell = occupied[oc];
+      if (!needs(cell)) continue;
+      st.set(cells, cell, lanes);
+      B.reserve(st.padded);
+      total += body(cell, st, B);
+    }
+  }
+  return total;
+}
+
 }  // namespace sph

@@ -68,8 +68,6 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   Vec<D>* __restrict acc_out = P.acc.data();
   double* __restrict drho_out = P.drho.data();
   const auto& cells = S.cells;
-  const auto& occupied = cells.occupied();  // (empty cells hand out no work)
-  const std::size_t nocc = occupied.size();
   const std::size_t n_owned = P.n_owned();
   double g[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
@@ -80,24 +78,20 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   using F32 = float;
   enum { X0, X1, X2, U0, U1, U2, N0, N1, N2, PRS, VOL, FL, NCOL };
   const F32 fsupport2 = F32(ker.support2), ffar = F32(1.0e3), fk = F32(cfg_.riemann_limiter / c0);
-  std::uint64_t pairs = 0;
   // walls: the dissipation acts along the wall normal (towards the fluid), on twice the
   // wall-relative normal speed (the mirror state), so that sliding along a wall is free
   const Vec<D>* __restrict wn = Pass == 1 ? P.vector("wall_to_surface").data() : nullptr;
-#pragma omp parallel reduction(+ : pairs)
-  {
-    ScratchColumns<F32> B(NCOL);
-    CellStencil<D> st;
-#pragma omp for schedule(dynamic, 4)
-    for (std::size_t oc = 0; oc < nocc; ++oc) {
-      const std::size_t cell = occupied[oc];
+  // cells with an owned fluid particle
+  auto needs = [&](std::size_t cell) {
+    for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
+      if (sorted[k] < n_owned && kind[sorted[k]] == Kind::Fluid) return true;
+    return false;
+  };
+  S.pairs_last_pass = sweep_cells<F32>(cells, NCOL, 16, needs,
+                                       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
       const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-      bool any = false;
-      for (std::uint32_t k = c0k; k < c1k && !any; ++k) any = sorted[k] < n_owned && kind[sorted[k]] == Kind::Fluid;
-      if (!any) continue;
-      st.set(cells, cell, 16);
       const std::size_t npad = st.padded;
-      B.reserve(npad);
+      std::uint64_t pairs = 0;
       const Vec<D> origin = pos[sorted[c0k]];
       F32* __restrict cx[D]; F32* __restrict cu[D]; F32* __restrict cn[D];
       for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cu[d] = B[U0 + d]; cn[d] = B[N0 + d]; }
@@ -126,20 +120,6 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
       }
       auto particles = [&](auto walls) {
         constexpr bool Walls = decltype(walls)::value;
-        // the columns as locals of this function (through the closure GCC's AVX2 vectoriser
-        // saw a "complicated access pattern")
-        const F32* __restrict cx0 = B[X0];
-        const F32* __restrict cx1 = B[X1];
-        const F32* __restrict cx2 = B[X0 + D - 1];
-        const F32* __restrict cu0 = B[U0];
-        const F32* __restrict cu1 = B[U1];
-        const F32* __restrict cu2 = B[U0 + D - 1];
-        const F32* __restrict cn0 = B[N0];
-        const F32* __restrict cn1 = B[N1];
-        const F32* __restrict cn2 = B[N0 + D - 1];
-        const F32* __restrict cp0 = B[PRS];
-        const F32* __restrict cv0 = B[VOL];
-        const F32* __restrict cf0 = B[FL];
         for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
           const std::uint32_t a = sorted[kk];
           if (a >= n_owned || kind[a] != Kind::Fluid) continue;
@@ -155,18 +135,18 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
           for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) {
           // this block of candidates as plain arrays (an index k0 + l was a "complicated access
           // pattern" to GCC's AVX2 vectoriser)
-          const F32* __restrict bx0 = cx0 + k0;
-          const F32* __restrict bx1 = cx1 + k0;
-          const F32* __restrict bx2 = cx2 + k0;
-          const F32* __restrict bu0 = cu0 + k0;
-          const F32* __restrict bu1 = cu1 + k0;
-          const F32* __restrict bu2 = cu2 + k0;
-          const F32* __restrict bn0 = cn0 + k0;
-          const F32* __restrict bn1 = cn1 + k0;
-          const F32* __restrict bn2 = cn2 + k0;
-          const F32* __restrict bp = cp0 + k0;
-          const F32* __restrict bv = cv0 + k0;
-          const F32* __restrict bf = cf0 + k0;
+          const F32* __restrict bx0 = B[X0] + k0;
+          const F32* __restrict bx1 = B[X1] + k0;
+          const F32* __restrict bx2 = B[X0 + D - 1] + k0;
+          const F32* __restrict bu0 = B[U0] + k0;
+          const F32* __restrict bu1 = B[U1] + k0;
+          const F32* __restrict bu2 = B[U0 + D - 1] + k0;
+          const F32* __restrict bn0 = B[N0] + k0;
+          const F32* __restrict bn1 = B[N1] + k0;
+          const F32* __restrict bn2 = B[N0 + D - 1] + k0;
+          const F32* __restrict bp = B[PRS] + k0;
+          const F32* __restrict bv = B[VOL] + k0;
+          const F32* __restrict bf = B[FL] + k0;
 #pragma omp simd
           for (std::size_t l = 0; l < kLanes; ++l) {
             const std::size_t k = l;
@@ -237,9 +217,8 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
       };
       if (Pass == 1 && walls_near) particles(std::true_type{});
       else particles(std::false_type{});
-    }
-  }
-  S.pairs_last_pass = pairs;
+      return pairs;
+  });
 }
 
 template <int D>

@@ -100,10 +100,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   double* __restrict drho_out = P.drho.data();
   Vec<D>* __restrict xs_out = xs ? xs->data() : nullptr;
   const auto& cells = S.cells;
-  const auto& occupied = cells.occupied();  // (empty cells hand out no work)
-  const std::size_t nocc = occupied.size();
   const std::size_t n_owned = P.n_owned();
-  std::uint64_t pairs = 0;
 
   // The pair loop runs in single precision (16 lanes of AVX-512, fast division and square
   // root), as DualSPHysics does on GPUs: positions are stored relative to the cell's first
@@ -122,33 +119,35 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const F32 fg0 = F32(g[0]), fg1 = F32(g[1]), fg2 = F32(g[2]);
   const F32 ffar = F32(1.0e3);  // padding entries: 1 km away, outside every support
 
-#pragma omp parallel reduction(+ : pairs)
-  {
-    ScratchColumns<F32> B(NCOL);
-    CellStencil<D> st;
-#pragma omp for schedule(dynamic, 4)
-    for (std::size_t oc = 0; oc < nocc; ++oc) {
-      const std::size_t cell = occupied[oc];
-      const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-      // owned particles of this cell that need rates (fluid; walls only when dynamic)
-      bool any = false;
-      for (std::uint32_t k = c0k; k < c1k; ++k) {
-        const std::uint32_t a = sorted[k];
-        if (a >= n_owned) continue;
-        // imposed-state particles need no rates: walls (unless dynamic) and outflow particles;
-        // inflow particles get theirs (unused while they are inflow) so that one turning into
-        // fluid has the rates of its state, which the Verlet integrator's next step uses
-        if ((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow) {
-          acc_out[a] = Vec<D>{};
-          drho_out[a] = 0.0;
-          continue;
-        }
-        any = true;
+  // a cell needs the loop when it holds owned particles that need rates (fluid; walls only
+  // when dynamic); the others get zero rates here
+  auto needs = [&](std::size_t cell) {
+    const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+    bool any = false;
+    for (std::uint32_t k = c0k; k < c1k; ++k) {
+      const std::uint32_t a = sorted[k];
+      if (a >= n_owned) continue;
+      // imposed-state particles need no rates: walls (unless dynamic) and outflow particles;
+      // inflow particles get theirs (unused while they are inflow) so that one turning into
+      // fluid has the rates of its state, which the Verlet integrator's next step uses
+      if ((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow) {
+        acc_out[a] = Vec<D>{};
+        drho_out[a] = 0.0;
+        continue;
       }
-      if (!any) continue;
-      st.set(cells, cell, 16);  // 16 float lanes (AVX-512)
+      any = true;
+    }
+    return any;
+  };
+  S.pairs_last_pass = sweep_cells<F32>(cells, NCOL, 16, needs,
+                                       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
+      const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
       const std::size_t npad = st.padded;
-      B.reserve(npad);
+      std::uint64_t pairs = 0;
+      // the loop's constants as locals of this function: read through the closure, GCC's AVX2
+      // vectoriser could not keep them in registers and left the loop scalar
+      const K kl = ker;
+      const F32 l_fsupport2 = fsupport2, l_feta2 = feta2, l_fh = fh, l_flam = flam, l_falpha = falpha, l_ffour = ffour, l_fsym = fsym, l_fvisc_wall = fvisc_wall, l_fwall_in = fwall_in, l_fg0 = fg0, l_fg1 = fg1, l_fg2 = fg2, l_fchi = fchi, l_ffar = ffar;
       const Vec<D> origin = pos[sorted[c0k]];
       {
         F32* __restrict cx[D]; F32* __restrict cu[D]; F32* __restrict cw[D];
@@ -182,7 +181,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           }
         });
         for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, massless
-          for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cw[d][m] = 0; }
+          for (int d = 0; d < D; ++d) { cx[d][m] = l_ffar; cu[d][m] = 0; cw[d][m] = 0; }
           crho[m] = 0; cp[m] = 0; cm[m] = 0; cf[m] = 0; ccs[m] = F32(c0);
           if constexpr (Turb)
             for (int t = 0; t < NT; ++t) B[T0 + t][m] = 0;
@@ -246,17 +245,17 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
           const F32 fb = bf[k];
           // in: a neighbour within the support (not a itself); a wall a only sees fluid
-          // (purely repulsive walls are in no sum: fwall_in = 0)
-          const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? (wa + (F32(1) - wa) * fb) * (fb + (F32(1) - fb) * fwall_in) : F32(0);
+          // (purely repulsive walls are in no sum: l_fwall_in = 0)
+          const F32 in = ((r2 < l_fsupport2) & (r2 > F32(0))) ? (wa + (F32(1) - wa) * fb) * (fb + (F32(1) - fb) * l_fwall_in) : F32(0);
           const F32 r = std::sqrt(r2);
-          const F32 Fk = ker.F(r) * in;
+          const F32 Fk = kl.F(r) * in;
           const F32 gw0 = Fk * r0, gw1 = Fk * r1, gw2 = Fk * r2c;
           const F32 devb = brho[k], rhob = (Multi ? bref[k] : frho0) + devb, mb = bm[k], pb = bp[k];
           const F32 cb = bcs[k];
           const F32 u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : F32(0);
           // one division for the four reciprocals this pair needs
           const F32 cb2 = cb * cb;
-          const F32 r2e = r2 + feta2, rsum = rhoa + rhob, csum = ca2 + cb2;
+          const F32 r2e = r2 + l_feta2, rsum = rhoa + rhob, csum = ca2 + cb2;
           const F32 p1 = rhob * r2e, p2 = rsum * csum;
           const F32 inv = F32(1) / (p1 * p2);
           const F32 inv_rhob = inv * r2e * p2;
@@ -281,34 +280,34 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           dr += (uc0 * gw0 + uc1 * gw1 + uc2 * gw2) * Vb;
           const F32 fr = Fk * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
           // δ-SPH: Fourtakas removes the hydrostatic density difference ρ g·r / c² (pair means)
-          const F32 gr = fg0 * r0 + fg1 * r1 + fg2 * r2c;
+          const F32 gr = l_fg0 * r0 + l_fg1 * r1 + l_fg2 * r2c;
           // (phases: within a phase only; the density jump between phases is no error to diffuse)
           const F32 same = Multi ? (bphs[k] == pha ? F32(1) : F32(0)) : F32(1);
-          dd += same * fb * (deva - devb - ffour * rsum * inv_csum * gr) * fr * Vb;
-          const F32 pterm = Press ? fsym * mbp * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - fsym) * (pa + pb) * Vb * inv_rhoa
+          dd += same * fb * (deva - devb - l_ffour * rsum * inv_csum * gr) * fr * Vb;
+          const F32 pterm = Press ? l_fsym * mbp * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - l_fsym) * (pa + pb) * Vb * inv_rhoa
                                   : F32(0);
           // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
-          const F32 mv = fb + (F32(1) - fb) * fvisc_wall;
+          const F32 mv = fb + (F32(1) - fb) * l_fvisc_wall;
           const F32 w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : F32(0);
           // (a value select, not std::min: its reference result kept GCC's AVX2 code scalar)
           const F32 wr = w0 * r0 + w1 * r1 + w2 * r2c;
           const F32 vr = wr < F32(0) ? wr : F32(0);
-          const F32 pi_ab = -falpha * (ca + cb) * fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
+          const F32 pi_ab = -l_falpha * (ca + cb) * l_fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
           F32 gcoef = pterm + mv * mbp * pi_ab;
           if constexpr (Multi) {  // interface repulsion −(χ/ρ_a) Σ_{b∉X} (|p_a|/Γ_a + |p_b|/Γ_b) ∇W V_b
             const F32 other = fb * (bphs[k] != pha ? F32(1) : F32(0));
-            gcoef += fchi * other * (std::abs(pa) + std::abs(pb)) * Vb * inv_rhoa;
+            gcoef += l_fchi * other * (std::abs(pa) + std::abs(pb)) * Vb * inv_rhoa;
           }
           if constexpr (Porous) {
             // Kazemi eq 4.57: μ m_b/(φ_a φ_b) [2 (φu)_ab + φ_ab u_ab] ... = the plain term on
             // (φ_a − φ_b) u_a + (φ_a + φ_b)/2 (u_a − u_b), φ_b the flow porosity above
-            const F32 lamf = mv * flam * mbp * fr * inv_rsum * iphia;
+            const F32 lamf = mv * l_flam * mbp * fr * inv_rsum * iphia;
             const F32 dphi = phia - phf, mphi = F32(0.5) * (phia + phf);
             a0 += lamf * (dphi * va0 + mphi * w0) - gcoef * gw0;
             a1 += lamf * (dphi * va1 + mphi * w1) - gcoef * gw1;
             a2 += lamf * (dphi * (D == 3 ? va2 : F32(0)) + mphi * w2) - gcoef * gw2;
           } else {
-            const F32 lamf = mv * flam * mb * fr * inv_rsum;
+            const F32 lamf = mv * l_flam * mb * fr * inv_rsum;
             a0 += lamf * w0 - gcoef * gw0;
             a1 += lamf * w1 - gcoef * gw1;
             a2 += lamf * w2 - gcoef * gw2;
@@ -338,7 +337,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
             }
           }
           if constexpr (Xsph) {
-            const F32 xw = fb * F32(2) * mb * inv_rsum * ker.W(r) * in;
+            const F32 xw = fb * F32(2) * mb * inv_rsum * kl.W(r) * in;
             s0 -= xw * u0;
             s1 -= xw * u1;
             s2 -= xw * u2;
@@ -367,9 +366,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         acc_out[a] = acc;
         if (xs_out) xs_out[a] = sx;
       }
-    }
-  }
-  S.pairs_last_pass = pairs;
+      return pairs;
+  });
 }
 
 template <int D>
