@@ -128,9 +128,9 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
           const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
           const double rhoa = rho[a];
           const F32 pa = F32(sym ? prs[a] / (rhoa * rhoa) : prs[a]);
-          // lane-wise partial sums (kLanes apart), reduced by a tree after the loop: the
-          // compilers' epilogue for `omp simd reduction` adds the lanes one by one, which cost
-          // a third of the pass at ~100 candidates
+          // lane-wise partial sums (kLanes apart), reduced by a fixed tree after the loop: the
+          // order of the additions does not depend on the vector width, so AVX2 and AVX-512
+          // builds give bitwise the same sums (bench/README.md); as fast as `omp simd reduction`
           alignas(64) F32 v0[kLanes] = {}, v1[kLanes] = {}, v2[kLanes] = {}, vr[kLanes] = {}, vc[kLanes] = {};
           for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) {
           // this block of candidates as plain arrays (an index k0 + l was a "complicated access
