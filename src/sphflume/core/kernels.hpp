@@ -140,6 +140,21 @@ struct QuinticSpline {
   }
 };
 
+/// Σ W(|x_k|) over a square (cubic) lattice of spacing s, the particle itself included: the
+/// number density a full support of particles at rest has (summation densities' reference).
+template <int D, class K>
+double lattice_kernel_sum(const K& ker, double s) {
+  const int nl = static_cast<int>(std::ceil(ker.support / s)) + 1;
+  double sum = 0.0;
+  for (int a = -nl; a <= nl; ++a)
+    for (int b = -nl; b <= nl; ++b)
+      for (int e = (D == 3 ? -nl : 0); e <= (D == 3 ? nl : 0); ++e) {
+        const double r = s * std::sqrt(double(a * a + b * b + e * e));
+        if (r < ker.support) sum += ker.W(r);
+      }
+  return sum;
+}
+
 /// Calls f(kernel_object) with the concrete kernel type for this KernelType, so hot loops
 /// are compiled once per kernel with no virtual calls.
 template <int D, class Fn>

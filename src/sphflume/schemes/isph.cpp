@@ -89,18 +89,7 @@ void ISPH<D>::set_reference(const System<D>& S) {
     rho_ref_exact_.clear();
     for (std::size_t r = 0; r < S.porous->size(); ++r) rho_ref_exact_.emplace_back(S.porous->region(r).porosity, 0.0);
     S.with_kernel([&](const auto& K) {
-      auto lattice_sum = [&](double phi) {
-        const double s = S.dx / std::pow(phi, 1.0 / D);
-        const int nl = static_cast<int>(std::ceil(K.support / s)) + 1;
-        double sum = 0.0;
-        for (int a = -nl; a <= nl; ++a)
-          for (int b = -nl; b <= nl; ++b)
-            for (int e = (D == 3 ? -nl : 0); e <= (D == 3 ? nl : 0); ++e) {
-              const double r = s * std::sqrt(double(a * a + b * b + e * e));
-              if (r < K.support) sum += K.W(r);
-            }
-        return m * sum;
-      };
+      auto lattice_sum = [&](double phi) { return m * lattice_kernel_sum<D>(K, S.dx / std::pow(phi, 1.0 / D)); };
       for (int t = 0; t <= n_tab; ++t) rho_ref_phi_[static_cast<std::size_t>(t)] = lattice_sum(phi_lo_ + (1.0 - phi_lo_) * t / n_tab);
       for (auto& [phi, ref] : rho_ref_exact_) ref = lattice_sum(phi);  // a medium's own porosity: exact
     });

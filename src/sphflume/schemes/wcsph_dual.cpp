@@ -36,20 +36,6 @@ inline float lane_sum(float* v) {
   return v[0];
 }
 
-/// Σ W over a square (cubic) lattice of spacing dx, the particle itself included: the number
-/// density a full support of particles at rest has (the summation's reference).
-template <int D, class K>
-double lattice_sum(const K& ker, double dx) {
-  const int n = static_cast<int>(std::ceil(ker.support / dx)) + 1;
-  double s = 0.0;
-  for (int i = -n; i <= n; ++i)
-    for (int j = -n; j <= n; ++j)
-      for (int k = (D == 3 ? -n : 0); k <= (D == 3 ? n : 0); ++k) {
-        const double r = dx * std::sqrt(double(i * i + j * j + k * k));
-        if (r < ker.support) s += ker.W(r);
-      }
-  return s;
-}
 }  // namespace
 
 template <int D>
@@ -72,7 +58,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   double g[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
   const bool sym = cfg_.pressure_gradient == PressureGradient::Symmetric;
-  if (sigma0_ <= 0.0) sigma0_ = lattice_sum<D>(ker, S.dx);  // (after a restart too)
+  if (sigma0_ <= 0.0) sigma0_ = lattice_kernel_sum<D>(ker, S.dx);  // (after a restart too)
   const double sigma_inv = rho0 / sigma0_;
   const double w_self = ker.W(0.0);
   using F32 = float;
