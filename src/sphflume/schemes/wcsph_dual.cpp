@@ -53,6 +53,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   const std::uint32_t* __restrict sorted = S.cells.sorted().data();
   Vec<D>* __restrict acc_out = P.acc.data();
   double* __restrict drho_out = P.drho.data();
+  double* rho_out = P.rho.data();  // pass 2 writes the summation density in place (no other pass)
   const auto& cells = S.cells;
   const std::size_t n_owned = P.n_owned();
   double g[3] = {0.0, 0.0, 0.0};
@@ -112,7 +113,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
           const F32 xa0 = F32(pos[a][0] - origin[0]), xa1 = F32(pos[a][1] - origin[1]);
           const F32 xa2 = F32(pos[a][D - 1] - origin[D - 1]);
           const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
-          const double rhoa = rho[a];
+          const double rhoa = Pass == 2 ? rho0 : rho[a];  // (pass 2 writes rho: it must not read it)
           const F32 pa = F32(sym ? prs[a] / (rhoa * rhoa) : prs[a]);
           // lane-wise partial sums (kLanes apart), reduced by a fixed tree after the loop: the
           // order of the additions does not depend on the vector width, so AVX2 and AVX-512
@@ -197,7 +198,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
             if constexpr (D == 3) ac[2] = f * double(s2);
             acc_out[a] = ac;
           } else {
-            drho_out[a] = std::max(sigma_inv * (w_self + double(sr)), rho0);  // (read back by reinit)
+            rho_out[a] = std::max(sigma_inv * (w_self + double(sr)), rho0);  // (the pass reads positions only)
           }
         }
       };
@@ -219,17 +220,8 @@ void WCSPH<D>::dual_initialise(System<D>& S) {
 
 template <int D>
 void WCSPH<D>::reinit_density(System<D>& S) {
-  // Σ W of the current neighbours into drho (as scratch), then ρ of every fluid particle;
-  // Dρ of the last continuity pass is kept and restored (the next half-step uses it)
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  std::vector<double> keep(P.drho.begin(), P.drho.begin() + static_cast<std::ptrdiff_t>(n));
+  // ρ = max(ρ0 Σ W / σ0, ρ0) of every fluid particle, from the current neighbours
   S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 2>(S, K); });
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (P.kind[i] == Kind::Fluid) P.rho[i] = P.drho[i];
-    P.drho[i] = keep[i];
-  }
 }
 
 template <int D>
@@ -275,7 +267,7 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
   // It reuses pass A's cell list: since then particles moved by ½Δt|u| < 0.05 h, so a pair can
   // only be missed where W' ~ (δ/h)³ < 1e-4 of its peak, and it is then missed by both particles
   // (the stencils are symmetric and the distance test uses the same positions): momentum stays
-  // exact. (Rebuilding here cost a serial re-sort per step: 1.55 -> see bench/README.md.)
+  // exact. (Rebuilding here would cost a second, partly serial, re-sort per step.)
   S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 1>(S, K); });
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i)
