@@ -162,38 +162,43 @@ class CellList {
     });
   }
 
-  /// near[c] = 1 for every cell whose stencil holds a particle i with pred(i): a particle in a
-  /// cell with near == 0 has no such particle within the build radius. Separable dilation of
-  /// the occupied cells by ±kReach along each axis; O(cells).
+  /// near[c] = 1 for every occupied cell whose stencil holds a particle i with pred(i): a
+  /// particle in a cell with near == 0 has no such particle within the build radius (empty cells
+  /// are left 0: no particle asks). O(occupied cells x 3^D), not O(cells): a tank is mostly
+  /// empty cells.
   template <class Pred>
   void mark_near(std::vector<char>& near, Pred&& pred) const {
-    const std::size_t ncell = cell_start_.size() - 1;
+    const std::size_t ncell = cell_count();
+    const std::size_t nocc = occupied_.size();
+    tmp_.assign(ncell, 0);  // tmp_[c] = 1: cell c itself holds a particle with pred
     near.assign(ncell, 0);
-#pragma omp parallel for schedule(static) if (sorted_.size() > 4096)
-    for (std::size_t c = 0; c < ncell; ++c)
-      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k)
-        if (pred(static_cast<std::size_t>(sorted_[k]))) { near[c] = 1; break; }
-    tmp_.resize(ncell);
-    std::vector<char>& tmp = tmp_;
-    std::size_t inner = 1;
-    for (int d = 0; d < D; ++d) {
-      // view the cells as [outer][n][inner] with axis d in the middle; dilate along it
-      const std::size_t n = static_cast<std::size_t>(dims_[d]);
-      const std::size_t outer = ncell / (n * inner);
-#pragma omp parallel for schedule(static) if (ncell > 4096)
-      for (std::size_t ok = 0; ok < outer * n; ++ok) {
-          const std::size_t o = ok / n, k = ok % n;
-          char* __restrict out = tmp.data() + (o * n + k) * inner;
-          for (std::size_t i = 0; i < inner; ++i) out[i] = 0;
-          const std::size_t k0 = k >= static_cast<std::size_t>(kReach) ? k - kReach : 0;
-          const std::size_t k1 = std::min(n - 1, k + kReach);
-          for (std::size_t kk = k0; kk <= k1; ++kk) {
-            const char* __restrict in = near.data() + (o * n + kk) * inner;
-            for (std::size_t i = 0; i < inner; ++i) out[i] |= in[i];
-          }
+    char* __restrict has = tmp_.data();
+#pragma omp parallel if (sorted_.size() > 4096)
+    {
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        const std::uint32_t c = occupied_[oc];
+        for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k)
+          if (pred(static_cast<std::size_t>(sorted_[k]))) { has[c] = 1; break; }
+      }
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        std::size_t cell = occupied_[oc];
+        int c[D];
+        for (int d = 0; d < D; ++d) {
+          c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
+          cell /= static_cast<std::size_t>(dims_[d]);
         }
-      near.swap(tmp);
-      inner *= n;
+        const int z0 = D == 3 ? std::max(c[D - 1] - kReach, 0) : 0;
+        const int z1 = D == 3 ? std::min(c[D - 1] + kReach, dims_[D - 1] - 1) : 0;
+        char any = 0;
+        for (int z = z0; z <= z1; ++z)
+          for (int y = std::max(c[1] - kReach, 0); y <= std::min(c[1] + kReach, dims_[1] - 1); ++y) {
+            const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+            for (int x = std::max(c[0] - kReach, 0); x <= std::min(c[0] + kReach, dims_[0] - 1); ++x) any |= has[row + x];
+          }
+        near[occupied_[oc]] = any;
+      }
     }
   }
   /// Cell of particle i (as binned by the last build).

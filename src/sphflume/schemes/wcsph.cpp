@@ -298,7 +298,9 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
 
 template <int D>
 std::size_t WCSPH<D>::bytes() const {
-  return 0;  // the integrator's state lives in the particle store (x0/v0/rho0 or v_prev/rho_prev)
+  // the integrator's state lives in the particle store (x0/v0/rho0 or v_prev/rho_prev); the dual
+  // integrator's passes keep their packed columns
+  return pack_.capacity() * sizeof(float);
 }
 
 template class WCSPH<2>;

@@ -80,6 +80,7 @@ class WCSPH final : public Scheme<D> {
   double max_acc_ = 0.0;
   double adv_left_ = 0.0;  // dual: what is left of the current advection step
   double sigma0_ = 0.0;    // dual: Σ W of a full lattice (the summation density's reference)
+  std::vector<float> pack_;  // dual: the per-particle columns of the current pass (riemann_sweep)
 };
 
 }  // namespace sph

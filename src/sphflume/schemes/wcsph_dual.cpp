@@ -68,6 +68,31 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   // walls: the dissipation acts along the wall normal (towards the fluid), on twice the
   // wall-relative normal speed (the mirror state), so that sliding along a wall is free
   const Vec<D>* __restrict wn = Pass == 1 ? P.vector("wall_to_surface").data() : nullptr;
+  // the per-particle columns the candidates need, packed once per pass in store order (a
+  // division per particle, not one per particle per stencil it falls in), so that the per-cell
+  // stencil copies below only move floats; the pair sums are bitwise those of gathering the
+  // candidates from the particle arrays
+  const std::size_t np = P.size();
+  const int npack = Pass == 0 ? 2 : Pass == 1 ? 2 * D + 2 : 0;
+  pack_.resize(static_cast<std::size_t>(npack) * np);
+  F32* __restrict pk = pack_.data();
+  if constexpr (Pass == 0) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < np; ++i) {
+      pk[i] = F32(sym ? prs[i] / (rho[i] * rho[i]) : prs[i]);
+      pk[np + i] = F32(sym ? mass[i] : mass[i] / rho[i]);
+    }
+  } else if constexpr (Pass == 1) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < np; ++i) {
+      for (int d = 0; d < D; ++d) pk[d * np + i] = F32(vel[i][d]);
+      pk[D * np + i] = F32(mass[i] / rho[i]);
+      const bool fl = fluid_like(kind[i]);
+      const double len = fl ? 0.0 : std::sqrt(dot(wn[i], wn[i]));
+      for (int d = 0; d < D; ++d) pk[(D + 1 + d) * np + i] = len > 0.0 ? F32(wn[i][d] / len) : F32(0);
+      pk[(2 * D + 1) * np + i] = fl ? F32(1) : F32(0);
+    }
+  }
   // cells with an owned fluid particle
   auto needs = [&](std::size_t cell) {
     for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
@@ -86,21 +111,81 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
       F32* __restrict cv = B[VOL];
       F32* __restrict cf = B[FL];
       bool walls_near = false;  // any wall among the candidates (most cells have none)
-      st.for_each([&](std::size_t m, std::uint32_t b) {
-        for (int d = 0; d < D; ++d) cx[d][m] = F32(pos[b][d] - origin[d]);
-        if constexpr (Pass == 0) {
-          cp[m] = F32(sym ? prs[b] / (rho[b] * rho[b]) : prs[b]);
-          cv[m] = F32(sym ? mass[b] : mass[b] / rho[b]);
-        } else if constexpr (Pass == 1) {
-          for (int d = 0; d < D; ++d) cu[d][m] = F32(vel[b][d]);
-          cv[m] = F32(mass[b] / rho[b]);
-          const bool fl = fluid_like(kind[b]);
-          const double len = fl ? 0.0 : std::sqrt(dot(wn[b], wn[b]));
-          for (int d = 0; d < D; ++d) cn[d][m] = len > 0.0 ? F32(wn[b][d] / len) : F32(0);
-          cf[m] = fl ? F32(1) : F32(0);
-          walls_near |= !fl;
+      // the stencil's columns: positions relative to the cell's first particle, the packed values
+      if (st.identity) {  // contiguous ranges of the cell-ordered store: plain strided loops
+        std::size_t m = 0;
+        for (int r = 0; r < st.nr; ++r) {
+          const std::uint32_t k0 = st.rg[r][0];
+          const std::size_t len = st.rg[r][1] - k0;
+          // one fused loop per range (separate column copies became memcpy calls, slower for
+          // ranges of ~30 entries)
+          const Vec<D>* __restrict pr = pos + k0;
+          const F32* __restrict in = pk + k0;
+          const double o0 = origin[0], o1 = origin[1], o2 = origin[D - 1];
+          F32* __restrict x0 = cx[0] + m;
+          F32* __restrict x1 = cx[1] + m;
+          F32* __restrict x2 = cx[D - 1] + m;
+          if constexpr (Pass == 0) {
+            F32* __restrict op = cp + m;
+            F32* __restrict ov = cv + m;
+            for (std::size_t i = 0; i < len; ++i) {
+              x0[i] = F32(pr[i][0] - o0);
+              x1[i] = F32(pr[i][1] - o1);
+              if constexpr (D == 3) x2[i] = F32(pr[i][D - 1] - o2);
+              op[i] = in[i];
+              ov[i] = in[np + i];
+            }
+          } else if constexpr (Pass == 1) {
+            F32* __restrict u0 = cu[0] + m;
+            F32* __restrict u1 = cu[1] + m;
+            F32* __restrict u2 = cu[D - 1] + m;
+            F32* __restrict n0 = cn[0] + m;
+            F32* __restrict n1 = cn[1] + m;
+            F32* __restrict n2 = cn[D - 1] + m;
+            F32* __restrict ov = cv + m;
+            F32* __restrict of = cf + m;
+            F32 lo = F32(1);
+            for (std::size_t i = 0; i < len; ++i) {
+              x0[i] = F32(pr[i][0] - o0);
+              x1[i] = F32(pr[i][1] - o1);
+              u0[i] = in[i];
+              u1[i] = in[np + i];
+              ov[i] = in[D * np + i];
+              n0[i] = in[(D + 1) * np + i];
+              n1[i] = in[(D + 2) * np + i];
+              const F32 f = in[(2 * D + 1) * np + i];
+              of[i] = f;
+              lo = lo < f ? lo : f;
+              if constexpr (D == 3) {
+                x2[i] = F32(pr[i][2] - o2);
+                u2[i] = in[2 * np + i];
+                n2[i] = in[(D + 3) * np + i];
+              }
+            }
+            walls_near |= lo < F32(1);
+          } else {
+            for (std::size_t i = 0; i < len; ++i) {
+              x0[i] = F32(pr[i][0] - o0);
+              x1[i] = F32(pr[i][1] - o1);
+              if constexpr (D == 3) x2[i] = F32(pr[i][D - 1] - o2);
+            }
+          }
+          m += len;
         }
-      });
+      } else {
+        st.for_each([&](std::size_t m, std::uint32_t b) {
+          for (int d = 0; d < D; ++d) cx[d][m] = F32(pos[b][d] - origin[d]);
+          if constexpr (Pass == 0) {
+            cp[m] = pk[b];
+            cv[m] = pk[np + b];
+          } else if constexpr (Pass == 1) {
+            for (int d = 0; d < D; ++d) { cu[d][m] = pk[d * np + b]; cn[d][m] = pk[(D + 1 + d) * np + b]; }
+            cv[m] = pk[D * np + b];
+            cf[m] = pk[(2 * D + 1) * np + b];
+            walls_near |= cf[m] < F32(1);
+          }
+        });
+      }
       for (std::size_t m = st.count; m < npad; ++m) {
         for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cn[d][m] = 0; }
         cp[m] = 0; cv[m] = 0; cf[m] = 1;
