@@ -15,15 +15,16 @@ class DummyWalls final : public WallModel<D> {
   using WallModel<D>::WallModel;
   const char* name() const override { return "dummy"; }
   bool evolves_density() const override { return false; }
-  const std::vector<Vec<D>>& viscous_velocity(const System<D>& S) const override {
-    return ghost_ ? *ghost_ : S.particles.vel;
+  const float* viscous_correction() const override { return this->cfg.no_slip ? corr_.data() : nullptr; }
+  std::size_t bytes() const override {
+    return WallModel<D>::bytes() + corr_.capacity() * sizeof(float) + near_.capacity();
   }
 
   void prepare(System<D>& S) override {
     auto& P = S.particles;
     // the ghost velocity is only needed for no-slip walls (free-slip walls skip the viscous term)
-    ghost_ = this->cfg.no_slip ? &P.vector("wall_ghost_velocity") : nullptr;
-    Vec<D>* gv = ghost_ ? ghost_->data() : nullptr;
+    if (this->cfg.no_slip) corr_.resize(P.size() * D);
+    float* gv = this->cfg.no_slip ? corr_.data() : nullptr;
     const std::size_t n = P.n_owned();
     const bool clamp = this->cfg.clamp_negative_pressure;
     // walls with no fluid within the kernel support keep the background state: skip their
@@ -51,7 +52,8 @@ class DummyWalls final : public WallModel<D> {
           if (!near_[cell]) {  // no fluid within reach: the background state
             P.p[i] = S.eos.background;
             P.rho[i] = rho_bg;
-            if (gv) gv[i] = vel[i];
+            if (gv)
+              for (int d = 0; d < D; ++d) gv[i * D + d] = 0.0f;
             continue;
           }
           walls_here = true;
@@ -122,16 +124,20 @@ class DummyWalls final : public WallModel<D> {
             if (clamp) pw = std::max(pw, S.eos.background);
             P.p[i] = pw;
             P.rho[i] = S.eos.density(pw);
-            if (gv) gv[i] = g;
+            if (gv)
+              for (int d = 0; d < D; ++d) gv[i * D + d] = float(vel[i][d] - g[d]);
           }
           return std::uint64_t(0);
       });
     });
     P.refresh_images();
+    if (gv)  // images carry their source's correction (the sweep reads it for any wall candidate)
+      for (std::size_t k = 0; k < P.image_source.size(); ++k)
+        for (int d = 0; d < D; ++d) gv[(n + k) * D + d] = gv[std::size_t(P.image_source[k]) * D + d];
   }
 
  private:
-  std::vector<Vec<D>>* ghost_ = nullptr;
+  std::vector<float> corr_;  // no-slip: v − v_ghost of each wall particle (viscous_correction)
   std::vector<char> near_;
 };
 

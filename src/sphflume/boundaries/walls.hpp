@@ -44,8 +44,14 @@ class WallModel {
   virtual bool evolves_density() const = 0;
   /// Set wall particles' p, rho and the velocity the viscous term sees.
   virtual void prepare(System<D>& S) = 0;
-  /// Velocity of wall particle j as seen by the viscous term (no-slip).
-  virtual const std::vector<Vec<D>>& viscous_velocity(const System<D>& S) const { return S.particles.vel; }
+  /// The no-slip ghost correction of the viscous term: D floats per particle, v_j − v_ghost,j
+  /// of wall particle j (what the viscous term subtracts from the wall's velocity); entries of
+  /// other particles are not read. nullptr: no correction (free slip, or walls moving with their
+  /// own velocity). Scratch of the current step, rewritten by prepare(): 4 D bytes per particle
+  /// instead of a stored double velocity field.
+  virtual const float* viscous_correction() const { return nullptr; }
+  /// Bytes of the model's own per-step scratch (counted in bytes_per_particle).
+  virtual std::size_t bytes() const { return hits_.capacity() * sizeof(hits_[0]); }
   /// Whether wall particles enter the fluid's pair sums (pressure, continuity, viscosity);
   /// purely repulsive walls act through their force alone.
   virtual bool in_pair_sums() const { return true; }

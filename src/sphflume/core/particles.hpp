@@ -128,8 +128,9 @@ class ParticleStore {
     cycle(pos); cycle(vel); cycle(rho); cycle(p); cycle(mass); cycle(kind); cycle(id); cycle(acc); cycle(drho);
     for (auto& [n, f] : scalar_fields_) cycle(f);
     for (auto& [n, f] : vector_fields_) cycle(f);
-    // the first sort moves nearly every particle, later ones few: do not keep the big list
-    if (cycles_.capacity() > n_owned_ / 16) { cycles_ = {}; cycle_len_ = {}; }
+    // the first sort moves nearly every particle, later ones fewer: do not keep a big list
+    // between steps (`cycles_ = {}` would keep the capacity: it assigns an empty initializer list)
+    if (cycles_.capacity() > n_owned_ / 16) std::vector<std::uint32_t>().swap(cycles_);
   }
 
   /// Release spare capacity (after the particles are created one by one).
@@ -155,7 +156,7 @@ class ParticleStore {
   std::size_t bytes() const {
     std::size_t b = cap_bytes(pos) + cap_bytes(vel) + cap_bytes(rho) + cap_bytes(p) + cap_bytes(mass) +
                     cap_bytes(kind) + cap_bytes(id) + cap_bytes(acc) + cap_bytes(drho) + cap_bytes(image_source) +
-                    cap_bytes(image_shift_) + scratch_.capacity() / 8 + cap_bytes(cycles_) + cap_bytes(cycle_len_);
+                    cap_bytes(image_shift_) + scratch_.capacity() / 8 + cap_bytes(cycles_);
     for (auto& [n, f] : scalar_fields_) b += cap_bytes(f);
     for (auto& [n, f] : vector_fields_) b += cap_bytes(f);
     return b;
@@ -173,7 +174,7 @@ class ParticleStore {
   std::map<std::string, std::vector<V>> vector_fields_;
   std::vector<V> image_shift_;
   std::vector<bool> scratch_;  // visited marks (1 bit per particle)
-  std::vector<std::uint32_t> cycles_, cycle_len_;
+  std::vector<std::uint32_t> cycles_;
 
   template <class T>
   static std::size_t cap_bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
@@ -205,32 +206,38 @@ class ParticleStore {
     for (auto& [n, f] : scalar_fields_) compact(f, keep);
     for (auto& [n, f] : vector_fields_) compact(f, keep);
   }
-  /// cycles_ holds every non-trivial cycle (i0, perm[i0], perm[perm[i0]], ...) back to back;
-  /// cycle_len_ their lengths.
+  /// cycles_ holds every non-trivial cycle (i0, perm[i0], perm[perm[i0]], ...) back to back,
+  /// the first index of each with kCycleStart set (no separate array of lengths: a sort that
+  /// moves every particle would need 4 more bytes per particle for it).
+  static constexpr std::uint32_t kCycleStart = 0x80000000u;
   void find_cycles(const std::vector<std::uint32_t>& perm) {
     cycles_.clear();
-    cycle_len_.clear();
     const std::size_t n = perm.size();
+    if (n >= kCycleStart) throw std::length_error("ParticleStore::permute: more than 2^31 particles in one process");
     scratch_.assign(n, false);
     for (std::size_t start = 0; start < n; ++start) {
       if (scratch_[start] || perm[start] == start) continue;
-      std::uint32_t len = 0;
+      std::uint32_t mark = kCycleStart;
       for (std::size_t i = start; !scratch_[i]; i = perm[i]) {
         scratch_[i] = true;
-        cycles_.push_back(static_cast<std::uint32_t>(i));
-        ++len;
+        cycles_.push_back(static_cast<std::uint32_t>(i) | mark);
+        mark = 0;
       }
-      cycle_len_.push_back(len);
     }
   }
   template <class T>
   void cycle(std::vector<T>& v) const {
     const std::uint32_t* c = cycles_.data();
-    for (const std::uint32_t len : cycle_len_) {
-      const T first = v[c[0]];
-      for (std::uint32_t j = 0; j + 1 < len; ++j) v[c[j]] = v[c[j + 1]];
-      v[c[len - 1]] = first;
-      c += len;
+    const std::size_t m = cycles_.size();
+    for (std::size_t s = 0; s < m;) {
+      std::size_t e = s + 1;
+      while (e < m && !(c[e] & kCycleStart)) ++e;
+      const std::uint32_t i0 = c[s] & ~kCycleStart;
+      const T first = v[i0];
+      std::uint32_t dst = i0;
+      for (std::size_t j = s + 1; j < e; ++j) { v[dst] = v[c[j]]; dst = c[j]; }
+      v[dst] = first;
+      s = e;
     }
   }
   void permute_partial(const std::vector<std::uint32_t>& keep) {

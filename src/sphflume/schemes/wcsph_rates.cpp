@@ -90,7 +90,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
 
   const Vec<D>* __restrict pos = P.pos.data();
   const Vec<D>* __restrict vel = P.vel.data();
-  const Vec<D>* __restrict wvel = S.walls->viscous_velocity(S).data();
+  const float* __restrict wcorr = S.walls->viscous_correction();  // no-slip walls' ghost correction
   const double* __restrict rho = P.rho.data();
   const double* __restrict prs = P.p.data();
   const double* __restrict mass = P.mass.data();
@@ -162,7 +162,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
           for (int d = 0; d < D; ++d) {
             cx[d][m] = F32(pos[b][d] - origin[d]);
             cu[d][m] = F32(vel[b][d]);
-            cw[d][m] = fl ? F32(0) : F32(vel[b][d] - wvel[b][d]);  // ghost correction of the viscous velocity
+            cw[d][m] = fl || !wcorr ? F32(0) : wcorr[b * D + d];  // ghost correction of the viscous velocity
           }
           crho[m] = F32(rho[b] - ref_of(b));  // deviations: neighbour differences keep full float precision
           cp[m] = F32(p_of(b));

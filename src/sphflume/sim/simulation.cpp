@@ -484,7 +484,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   res.particle_steps_per_second = wall > 0 ? particle_steps / wall : 0.0;
   res.fluid_particle_steps_per_second = wall > 0 ? fluid_particle_steps / wall : 0.0;
   res.pair_interactions_per_second = wall > 0 ? static_cast<double>(pairs_total) / wall : 0.0;
-  res.bytes_per_particle = static_cast<double>(S.particles.bytes() + S.cells.bytes() + R.scheme->bytes()) /
+  res.bytes_per_particle = static_cast<double>(S.particles.bytes() + S.cells.bytes() + R.scheme->bytes() + S.walls->bytes()) /
                            static_cast<double>(std::max<std::size_t>(1, res.total));
   const double m0 = R.rs.initial_mass, m1 = S.total_mass(Kind::Fluid);
   const double min = R.rs.open.inflow_mass, mout = R.rs.open.outflow_mass;
