@@ -88,6 +88,37 @@ def run_metrics(rep, label, s, end, mass_tol=1e-12):
                abs(s["mass"]["relative_error"]) <= mass_tol, f"|.| <= {mass_tol:g}", "closed flume")
 
 
+def band(samples):
+    """The uncertainty band of a time-mean: {"mean", "sd", "se", "n", "n_eff"} of the samples (e.g. a gauge's output
+    rows in the averaging window; NaN propagates). sd: the samples' standard deviation (ddof = 1), the signal's
+    scatter (noise band). se: the standard error of the mean, sd / sqrt(n_eff), with the effective sample count
+    from the lag-1 autocorrelation r1 of the samples, n_eff = n (1 - r1) / (1 + r1) clipped to [1, n] (an AR(1)
+    estimate: successive output rows are not independent; a slow oscillation longer than the window is not
+    caught). n < 2: sd and se are NaN."""
+    import numpy as np
+    x = np.asarray(samples, dtype=float).ravel()
+    n = len(x)
+    mean = float(np.mean(x)) if n else float("nan")
+    if n < 2:
+        return {"mean": mean, "sd": float("nan"), "se": float("nan"), "n": n, "n_eff": float(n)}
+    d = x - mean
+    ss = float(np.sum(d * d))
+    r1 = float(np.sum(d[:-1] * d[1:]) / ss) if ss > 0 else 0.0
+    n_eff = min(max(n * (1 - r1) / (1 + r1), 1.0), float(n)) if r1 > -1 else float(n)
+    sd = float(np.std(x, ddof=1))
+    return {"mean": mean, "sd": sd, "se": sd / math.sqrt(n_eff), "n": n, "n_eff": n_eff}
+
+
+def fmt_band(b, ref=None, unit="", scale=1.0, digits=2):
+    """A band (band()) as text: with ref, the mean's relative error mean / ref - 1 and sd, se in % of |ref|, e.g.
+    "+0.84 % (sd 0.69 %, se 0.10 %, n_eff 12/51)"; without, mean, sd, se times scale, followed by unit."""
+    mean = b["mean"] * scale
+    if ref is not None:  # the relative error mean / ref - 1 (its sign as the checks print it, also for ref < 0)
+        mean, scale, unit = 100.0 * (b["mean"] / ref - 1), 100.0 / abs(ref), " %"
+    return (f"{mean:+.{digits}f}{unit} (sd {scale * b['sd']:.{digits}f}{unit}, "
+            f"se {scale * b['se']:.{digits}f}{unit}, n_eff {b['n_eff']:.0f}/{b['n']})")
+
+
 def info(name, value, ok, threshold, source):
     """A metric printed but not gated: same arguments as Report.metric."""
     print(f"  (info) {name} = {value} ({'meets' if ok else 'misses'} {threshold}; {source})")

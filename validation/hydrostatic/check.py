@@ -21,7 +21,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, band, fmt_band, parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -76,8 +76,10 @@ def main():
     n_nan = int(np.sum(~np.isfinite(p)))
     p_avg = float(np.mean(p[win]))
     err = abs(p_avg - p_ref) / p_ref
+    pb = band(p[win])
     print(f"  p_bottom: last row t = {t[-1]:.3f} s: {p[-1]:.2f} Pa; mean of {win.sum()} rows t in "
           f"[{t[win][0]:.2f}, {t[win][-1]:.2f}] s: {p_avg:.2f} Pa; rho g H = {p_ref:.2f} Pa; NaN rows: {n_nan}")
+    print(f"  p_bottom band vs rho g H: {fmt_band(pb, p_ref, digits=3)}")
     rep.metric("bottom pressure |p - rho g H| / (rho g H)", f"{100 * err:.3f} %", err <= m["p_tol"] and n_nan == 0,
                f"<= {100 * m['p_tol']:g} % ({'issue' if a.mode == 'fine' else 'issue 1 % at dx=0.01, x2 for first order at dx=0.02'})",
                "closed form p = rho g H, gauge p_bottom (linear-MLS interpolation at (0.25, 0))")
@@ -85,7 +87,7 @@ def main():
     win_m = pm["time"] >= pm["time"][-1] - AVERAGE_WINDOW - 1e-9
     pm_avg = float(np.mean(pm["pressure"][win_m]))
     print(f"  (info) p_mid at z = 0.25: {pm_avg:.2f} Pa vs rho g H/2 = {p_ref / 2:.2f} Pa "
-          f"({100 * (pm_avg - p_ref / 2) / (p_ref / 2):+.3f} %)")
+          f"({fmt_band(band(pm['pressure'][win_m]), p_ref / 2, digits=3)})")
     lv = read_gauge(os.path.join(out, "gauges", "level.csv"))
     print(f"  (info) water level at x = 0.25: {lv['level'][-1]:.5f} m (H = {H} m)")
 
@@ -123,6 +125,8 @@ def main():
     ax[0].axhspan(1 - m["p_tol"], 1 + m["p_tol"], color="g", alpha=0.15, label=f"±{100 * m['p_tol']:g} %")
     ax[0].axhline(1.0, color="k", lw=0.8)
     ax[0].axvspan(t[win][0], t[-1], color="0.85", label="averaging window")
+    ax[0].fill_between(t[win], (pb["mean"] - pb["sd"]) / p_ref, (pb["mean"] + pb["sd"]) / p_ref, color="C1", alpha=0.4,
+                       label=f"window mean ± sd ({100 * pb['sd'] / p_ref:.3f} %)")
     ax[0].set_xlabel("t (s)")
     ax[0].set_ylabel("p / (rho g H)")
     ax[0].set_title(f"bottom pressure, dx = {m['dx']} m: error {100 * err:.2f} %")

@@ -21,7 +21,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, band, fmt_band, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -63,20 +63,21 @@ def main():
         if s is None:
             rep.metric(f"{field}: run", f"exit {rc}", False, "exit 0", "issue 21")
             continue
-        worst = 0.0
+        worst, bands = 0.0, []
         for name, z in PROBES.items():
             hdr, rows = read_rows(os.path.join(out, "gauges", f"{name}.csv"))
             t, p = rows[:, 0], rows[:, hdr.index("pressure")]
-            pm = float(np.mean(p[t >= T_AVG - 1e-9]))
+            bands.append(band(p[t >= T_AVG - 1e-9]))
+            pm = bands[-1]["mean"]
             ph = RHO * G * (H - z)
             worst = max(worst, abs(pm / ph - 1))
-            print(f"  {name:18s} z = {z:.2f} m: {pm:8.1f} Pa vs {ph:8.1f} Pa ({100 * (pm / ph - 1):+.2f} %)")
+            print(f"  {name:18s} z = {z:.2f} m: {pm:8.1f} Pa vs {ph:8.1f} Pa ({fmt_band(bands[-1], ph)})")
         rep.metric(f"{field}: pressure probes in, on and beside the block, max |p - p_h| / p_h (t >= 2 s)", f"{100 * worst:.2f} %",
                    worst <= m["p_tol"], f"<= {100 * m['p_tol']:g} %", "issue 21" + ("" if a.mode == "fine" else " (x2 at twice dx)"))
         hdr, rows = read_rows(os.path.join(out, "gauges", "p_above_block.csv"))
-        pa = float(np.mean(rows[rows[:, 0] >= T_AVG - 1e-9, hdr.index("pressure")]))
-        print(f"  (info) p_above_block z = 0.15 m: {pa:.1f} Pa vs {RHO * G * (H - 0.15):.1f} Pa "
-              f"({100 * (pa / (RHO * G * (H - 0.15)) - 1):+.2f} %)")
+        pa = band(rows[rows[:, 0] >= T_AVG - 1e-9, hdr.index("pressure")])
+        print(f"  (info) p_above_block z = 0.15 m: {pa['mean']:.1f} Pa vs {RHO * G * (H - 0.15):.1f} Pa "
+              f"({fmt_band(pa, RHO * G * (H - 0.15))})")
         flagged, ratios = 0, []
         for f in sorted(glob.glob(os.path.join(out, "snapshots", "*.h5"))):
             with h5py.File(f, "r") as h:
@@ -105,6 +106,8 @@ def main():
         ax[v].plot(pres[blk], pos[blk, 2], ".", ms=2, label="inside the block (phi < 0.99)")
         zz = np.linspace(0, H, 50)
         ax[v].plot(RHO * G * (H - zz), zz, "k-", lw=1, label="rho g (h - z)")
+        ax[v].errorbar([b["mean"] for b in bands], list(PROBES.values()), xerr=[b["sd"] for b in bands], fmt="ks",
+                       mfc="none", capsize=3, label=f"probes, t >= {T_AVG:g} s: mean ± sd")
         ax[v].set_xlabel("p (Pa)")
         ax[v].set_ylabel("z (m)")
         ax[v].set_title(f"porous.field: {field}, probes max {100 * worst:.1f} %")

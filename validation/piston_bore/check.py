@@ -60,7 +60,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, band, fmt_band, parse_sets, read_rows, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -185,19 +185,21 @@ def analyse(scheme, out, s, wall, m, rep):
                "simple wave (Riemann invariant); undular-bore window bias + gauge resolution")
     p = gauge(out, PRESSURE_GAUGE)
     win = p["time"] >= window_start(PRESSURE_X) - 1e-9
-    p_pl = float(np.mean(p["pressure"][win]))
+    p_pl = band(p["pressure"][win])
     p_th = RHO * G * (H0 + ETA)
     print(f"  (info) {PRESSURE_GAUGE}: {p['pressure'][0]:.1f} Pa at t = 0 (rho g h0 = {RHO * G * H0:.1f}); plateau mean "
-          f"{p_pl:.1f} Pa against rho g (h0 + eta) = {p_th:.1f} Pa ({100 * (p_pl / p_th - 1):+.2f} %)")
+          f"{p_pl['mean']:.1f} Pa against rho g (h0 + eta) = {p_th:.1f} Pa ({fmt_band(p_pl, p_th)})")
 
     # c, d. paddle force
     pg = gauge(out, "paddle")
     tp, fx = pg["time"], pg["force_x"]
     fw = (tp > FORCE_WINDOW[0]) & (tp < FORCE_WINDOW[1])
-    f_mean, f_sd = float(np.mean(fx[fw])), float(np.std(fx[fw]))
+    fb = band(fx[fw])
+    f_mean = fb["mean"]
     err_f = f_mean / F_PLATEAU - 1
-    print(f"  (info) paddle force_x over {FORCE_WINDOW[0]} < t < {FORCE_WINDOW[1]} s: {int(fw.sum())} rows, sd {f_sd:.1f} N, "
-          f"min {float(np.min(fx[fw])):.1f}, max {float(np.max(fx[fw])):.1f} N")
+    print(f"  (info) paddle force_x over {FORCE_WINDOW[0]} < t < {FORCE_WINDOW[1]} s: {int(fw.sum())} rows, sd {fb['sd']:.1f} N, "
+          f"se {fb['se']:.1f} N, min {float(np.min(fx[fw])):.1f}, max {float(np.max(fx[fw])):.1f} N; vs {F_PLATEAU:.1f} N: "
+          f"{fmt_band(fb, F_PLATEAU)}")
     rep.metric(f"{tag} paddle force_x, mean over {FORCE_WINDOW[0]} < t < {FORCE_WINDOW[1]} s, vs -rho g (h0+eta)^2/2 = "
                f"{F_PLATEAU:.1f} N", f"{f_mean:.1f} N ({100 * err_f:+.2f} %)",
                abs(err_f) <= FORCE_TOL, f"within {100 * FORCE_TOL:g} %", "hydrostatic thrust of the plateau; MLS face pressure")
@@ -238,7 +240,7 @@ def analyse(scheme, out, s, wall, m, rep):
              if ps else "")
     print(f"  (info) {scheme}: {s['steps']} steps, last dt {s['last_dt']:.3g} s, {wall:.1f} s wall{extra}")
     return {"levels": levels, "rises": rises, "mean_rise": mean_rise, "force": (tp, fx), "f_mean": f_mean,
-            "col_rho": col_rho}
+            "f_band": (tp[fw], fb), "col_rho": col_rho}
 
 
 def main():
@@ -284,6 +286,9 @@ def main():
         for scheme, r in res.items():
             tp, fx = r["force"]
             ax[1].plot(tp, fx, styles[scheme], lw=1, label=f"{scheme} (window mean {r['f_mean']:.1f} N)")
+            tw, fb = r["f_band"]
+            ax[1].fill_between(tw, fb["mean"] - fb["sd"], fb["mean"] + fb["sd"], alpha=0.4, zorder=1.5,
+                               label=f"{scheme} window mean ± sd ({fb['sd']:.1f} N)")
             shown.append(fx[tp < FORCE_WINDOW[1] + 0.03])
         ax[1].axhline(F_REST, color="0.4", lw=1, label=f"at rest -rho g h0^2/2 = {F_REST:.1f} N")
         ax[1].axhline(F_PLATEAU, color="k", lw=1, label=f"plateau -rho g (h0+eta)^2/2 = {F_PLATEAU:.1f} N")

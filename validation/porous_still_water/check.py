@@ -29,7 +29,7 @@ import sys
 import h5py
 import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, parse_sets, run_case, save_figure, validation_args  # noqa: E402
+from common import Report, band, fmt_band, parse_sets, run_case, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -90,15 +90,16 @@ def main():
     rep.metric("run reached t_end (s)", f"{s['simulated_time']:.4f}", s["simulated_time"] >= m["end"] * (1 - 1e-6),
                f">= {m['end']}", "issue: after 2 s")
     # 1. pressure probes
-    worst = 0.0
+    worst, probes = 0.0, {}
     for name, z in PROBES.items():
         g = read_gauge(os.path.join(out, "gauges", f"{name}.csv"))
         win = g["time"] >= g["time"][-1] - WINDOW - 1e-9
-        p = float(np.mean(g["pressure"][win]))
+        probes[name] = band(g["pressure"][win])
+        p = probes[name]["mean"]
         ph = RHO * G * (H - z)
         err = (p - ph) / ph
         worst = max(worst, abs(err))
-        print(f"  {name:18s} z = {z:.3f} m: {p:8.1f} Pa vs rho g (H - z) = {ph:7.1f} Pa ({100 * err:+.2f} %)")
+        print(f"  {name:18s} z = {z:.3f} m: {p:8.1f} Pa vs rho g (H - z) = {ph:7.1f} Pa ({fmt_band(probes[name], ph)})")
     gate = rep.metric
     gate("pressure probes, max |p - p_hydrostatic| / p_hydrostatic", f"{100 * worst:.2f} %", worst <= P_TOL,
          f"<= {100 * P_TOL:g} %", "issue (inside the block and across its faces)")
@@ -162,6 +163,8 @@ def main():
         ax[1].plot(pres[fl][sel], z[sel], ".", ms=2, label=zn)
     zz = np.linspace(0, H, 20)
     ax[1].plot(RHO * G * (H - zz), zz, "k-", lw=1, label="rho g (H - z)")
+    ax[1].errorbar([b["mean"] for b in probes.values()], list(PROBES.values()), xerr=[b["sd"] for b in probes.values()],
+                   fmt="ks", mfc="none", capsize=3, label=f"gauges, last {WINDOW:g} s: mean ± sd")
     ax[1].set_xlabel("p (Pa)")
     ax[1].set_ylabel("z (m)")
     ax[1].legend(fontsize=7)
