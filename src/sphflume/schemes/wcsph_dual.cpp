@@ -222,44 +222,57 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
 #pragma omp simd
           for (std::size_t l = 0; l < kLanes; ++l) {
             const std::size_t k = l;
-            const F32 r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : F32(0);
-            const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-            const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? F32(1) : F32(0);
+            // (the 2D loops spell out no third component: x * 0 and x + 0 are not folded away
+            // under IEEE semantics, they would cost an operation each)
+            const F32 r0 = xa0 - bx0[k], r1 = xa1 - bx1[k];
+            const F32 r2c = D == 3 ? xa2 - bx2[k] : F32(0);
+            const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
             const F32 r = std::sqrt(r2);
-            vc[l] += in;
             if constexpr (Pass == 2) {
+              const F32 in = ((r2 < fsupport2) & (r2 > F32(0))) ? F32(1) : F32(0);  // (the self term apart)
+              vc[l] += in;
               vr[l] += ker.W(r) * in;
+            } else if constexpr (Pass == 0) {
+              // no mask: F is 0 from the support on (the padding sits far away) and the self
+              // pair's terms carry r = 0
+              vc[l] += ((r2 < fsupport2) & (r2 > F32(0))) ? F32(1) : F32(0);
+              const F32 Fv = ker.F(r) * bv[k];  // W'(r)/r V_b (sym: m_b)
+              const F32 pp = (pa + bp[k]) * Fv;
+              v0[l] += pp * r0;
+              v1[l] += pp * r1;
+              if constexpr (D == 3) v2[l] += pp * r2c;
+              vr[l] += (pa - bp[k]) * Fv * r;  // W'(r) V_b (pa − pb)
             } else {
-              const F32 Fv = ker.F(r) * in * bv[k];  // W'(r)/r V_b (sym: m_b)
-              if constexpr (Pass == 0) {
-                const F32 pp = (pa + bp[k]) * Fv;
-                v0[l] += pp * r0;
-                v1[l] += pp * r1;
-                v2[l] += pp * r2c;
-                vr[l] += (pa - bp[k]) * Fv * r;  // W'(r) V_b (pa − pb)
-              } else {
-                const F32 u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : F32(0);
-                const F32 ur = u0 * r0 + u1 * r1 + u2 * r2c;  // (ua − ub)·r
-                vr[l] += ur * Fv;
-                // the dissipation's direction times r: r itself (fluid b), r n' against a wall, n'
-                // its normal turned towards a; U = −(ua − ub)·e (twice along n' at a wall)
-                const F32 fb = Walls ? bf[k] : F32(1);
-                const F32 n0 = Walls ? bn0[k] : F32(0), n1 = Walls ? bn1[k] : F32(0), n2 = Walls && D == 3 ? bn2[k] : F32(0);
-                const F32 rn = r0 * n0 + r1 * n1 + r2c * n2;
+              const F32 Fv = ker.F(r) * bv[k];
+              const F32 u0 = va0 - bu0[k], u1 = va1 - bu1[k];
+              const F32 u2 = D == 3 ? va2 - bu2[k] : F32(0);
+              const F32 ur = D == 3 ? u0 * r0 + u1 * r1 + u2 * r2c : u0 * r0 + u1 * r1;  // (ua − ub)·r
+              vr[l] += ur * Fv;
+              // U = −(ua − ub)·e, the approach speed, and d the dissipation's direction times r:
+              // r itself for fluid b; against a wall twice the speed along n', its normal turned
+              // towards a, and d = r n'
+              F32 d0 = r0, d1 = r1, d2 = r2c, U;
+              if constexpr (Walls) {
+                const F32 fb = bf[k];
+                const F32 n0 = bn0[k], n1 = bn1[k], n2 = D == 3 ? bn2[k] : F32(0);
+                const F32 rn = D == 3 ? r0 * n0 + r1 * n1 + r2c * n2 : r0 * n0 + r1 * n1;
                 const F32 sn = (rn < F32(0) ? F32(-1) : F32(1)) * r;
-                const F32 d0 = fb * r0 + (F32(1) - fb) * sn * n0;
-                const F32 d1 = fb * r1 + (F32(1) - fb) * sn * n1;
-                const F32 d2 = fb * r2c + (F32(1) - fb) * sn * n2;
-                const F32 U = -(F32(2) - fb) * (u0 * d0 + u1 * d1 + u2 * d2) / (r + F32(1e-30));
-                // max(U, 0) as (U + |U|)/2 (exact in float) and min as a value select: GCC 12 left
-                // this loop scalar on AVX2 with std::max or a select here (AVX-512 was fine)
-                const F32 bu = fk * F32(0.5) * (U + std::abs(U));
-                const F32 beta = bu < F32(1) ? bu : F32(1);
-                const F32 q = beta * U * Fv;
-                v0[l] += q * d0;
-                v1[l] += q * d1;
-                v2[l] += q * d2;
+                d0 = fb * r0 + (F32(1) - fb) * sn * n0;
+                d1 = fb * r1 + (F32(1) - fb) * sn * n1;
+                if constexpr (D == 3) d2 = fb * r2c + (F32(1) - fb) * sn * n2;
+                const F32 ud = D == 3 ? u0 * d0 + u1 * d1 + u2 * d2 : u0 * d0 + u1 * d1;
+                U = -(F32(2) - fb) * ud / (r + F32(1e-30));
+              } else {
+                U = -ur / (r + F32(1e-30));
               }
+              // max(U, 0) as (U + |U|)/2 (exact in float) and min as a value select: GCC 12 left
+              // this loop scalar on AVX2 with std::max or a select here (AVX-512 was fine)
+              const F32 bu = fk * F32(0.5) * (U + std::abs(U));
+              const F32 beta = bu < F32(1) ? bu : F32(1);
+              const F32 q = beta * U * Fv;
+              v0[l] += q * d0;
+              v1[l] += q * d1;
+              if constexpr (D == 3) v2[l] += q * d2;
             }
           }
           }
@@ -357,7 +370,7 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i)
     if (P.kind[i] == Kind::Fluid) P.rho[i] += hdt * P.drho[i];
-  S.pairs_last_pass = (pairs_a + S.pairs_last_pass) / 2;
+  S.pairs_last_pass = pairs_a;  // (pass B counts no pairs: it sees the same ones)
   adv_left_ -= dt;
   S.time += dt;
   ++S.step;
