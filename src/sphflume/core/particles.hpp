@@ -125,9 +125,29 @@ class ParticleStore {
       throw std::logic_error("ParticleStore::permute: needs a full permutation of the owned particles and no images");
     find_cycles(perm);
     if (cycles_.empty()) return;
-    cycle(pos); cycle(vel); cycle(rho); cycle(p); cycle(mass); cycle(kind); cycle(id); cycle(acc); cycle(drho);
-    for (auto& [n, f] : scalar_fields_) cycle(f);
-    for (auto& [n, f] : vector_fields_) cycle(f);
+    // the fields are independent: one per thread at a time (the same result for any count)
+    sf_.clear();
+    vf_.clear();
+    for (auto& [n, f] : scalar_fields_) sf_.push_back(&f);
+    for (auto& [n, f] : vector_fields_) vf_.push_back(&f);
+    const std::size_t nf = 9 + sf_.size() + vf_.size();
+#pragma omp parallel for schedule(dynamic, 1) if (cycles_.size() > 2048)
+    for (std::size_t f = 0; f < nf; ++f) {
+      switch (f) {
+        case 0: cycle(pos); break;
+        case 1: cycle(vel); break;
+        case 2: cycle(rho); break;
+        case 3: cycle(p); break;
+        case 4: cycle(mass); break;
+        case 5: cycle(kind); break;
+        case 6: cycle(id); break;
+        case 7: cycle(acc); break;
+        case 8: cycle(drho); break;
+        default:
+          if (f - 9 < sf_.size()) cycle(*sf_[f - 9]);
+          else cycle(*vf_[f - 9 - sf_.size()]);
+      }
+    }
     // the first sort moves nearly every particle, later ones fewer: do not keep a big list
     // between steps (`cycles_ = {}` would keep the capacity: it assigns an empty initializer list)
     if (cycles_.capacity() > n_owned_ / 16) std::vector<std::uint32_t>().swap(cycles_);
@@ -175,6 +195,8 @@ class ParticleStore {
   std::vector<V> image_shift_;
   std::vector<bool> scratch_;  // visited marks (1 bit per particle)
   std::vector<std::uint32_t> cycles_;
+  std::vector<std::vector<double>*> sf_;  // permute's list of the named fields (kept: no allocation per sort)
+  std::vector<std::vector<V>*> vf_;
 
   template <class T>
   static std::size_t cap_bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }

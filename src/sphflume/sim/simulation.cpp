@@ -240,6 +240,16 @@ struct Run {
   /// Fluid particles outside the domain box are removed and counted per face.
   void remove_escaped() {
     auto& P = S.particles;
+    // a parallel look first (nearly every step removes nothing), the serial pass only if needed
+    const std::size_t n = P.n_owned();
+    bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      for (int d = 0; d < D; ++d)
+        any = any || (!S.periodic.axis[d] && !(P.pos[i][d] >= lo[d] && P.pos[i][d] <= hi[d]));
+    }
+    if (!any) return;
     std::vector<char> flag;
     for (std::size_t i = 0; i < P.n_owned(); ++i) {
       if (P.kind[i] != Kind::Fluid) continue;
