@@ -17,7 +17,7 @@ class DummyWalls final : public WallModel<D> {
   bool evolves_density() const override { return false; }
   const float* viscous_correction() const override { return this->cfg.no_slip ? corr_.data() : nullptr; }
   std::size_t bytes() const override {
-    return WallModel<D>::bytes() + corr_.capacity() * sizeof(float) + near_.capacity();
+    return WallModel<D>::bytes() + corr_.capacity() * sizeof(float);
   }
 
   void prepare(System<D>& S) override {
@@ -29,7 +29,7 @@ class DummyWalls final : public WallModel<D> {
     const bool clamp = this->cfg.clamp_negative_pressure;
     // walls with no fluid within the kernel support keep the background state: skip their
     // neighbour search (most of a tank's walls, most of the time)
-    S.cells.mark_near(near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
+    S.cells.mark_near(this->near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
     const auto& cells = S.cells;
     const std::uint32_t* __restrict sorted = cells.sorted().data();
     const Vec<D>* __restrict pos = P.pos.data();
@@ -49,7 +49,7 @@ class DummyWalls final : public WallModel<D> {
         for (std::uint32_t k = c0k; k < c1k; ++k) {
           const std::uint32_t i = sorted[k];
           if (i >= n || kind[i] != Kind::Wall) continue;
-          if (!near_[cell]) {  // no fluid within reach: the background state
+          if (!this->near_[cell]) {  // no fluid within reach: the background state
             P.p[i] = S.eos.background;
             P.rho[i] = rho_bg;
             if (gv)
@@ -138,7 +138,6 @@ class DummyWalls final : public WallModel<D> {
 
  private:
   std::vector<float> corr_;  // no-slip: v − v_ghost of each wall particle (viscous_correction)
-  std::vector<char> near_;
 };
 
 /// Fixed ghost particles (Marrone et al. 2011, Federico §5.2.6): each wall particle is a ghost
@@ -267,15 +266,17 @@ void WallModel<D>::add_backup(System<D>& S) const {
   const double s0 = 0.25 * dx;  // the fluid's normal distance from the surface is dx/2
   const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
   const double reach = std::hypot(dx + s0, dx);
-  // Found from the first-layer wall particles' side (far fewer than the fluid near walls); the
-  // rare pairs found are applied serially, sorted, so the sums do not depend on the threads.
+  // Found from the first-layer wall particles' side (far fewer than the fluid near walls), in
+  // cells with fluid within reach (reach < the cell size); the rare pairs found are applied
+  // serially, sorted, so the sums do not depend on the threads.
+  S.cells.mark_near(this->near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
   hits_.clear();
 #pragma omp parallel
   {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> local;
 #pragma omp for schedule(dynamic, 64) nowait
     for (std::size_t k = 0; k < n; ++k) {
-      if (P.kind[k] != Kind::Wall) continue;
+      if (P.kind[k] != Kind::Wall || !near_[S.cells.cell_of(k)]) continue;
       const double depth2 = dot(to[k], to[k]);
       if (!(depth2 > 0.0) || depth2 >= dx * dx) continue;  // first layer only; a corner's own point has no normal
       const double depth = std::sqrt(depth2);

@@ -51,7 +51,7 @@ class WallModel {
   /// instead of a stored double velocity field.
   virtual const float* viscous_correction() const { return nullptr; }
   /// Bytes of the model's own per-step scratch (counted in bytes_per_particle).
-  virtual std::size_t bytes() const { return hits_.capacity() * sizeof(hits_[0]); }
+  virtual std::size_t bytes() const { return hits_.capacity() * sizeof(hits_[0]) + near_.capacity(); }
   /// Whether wall particles enter the fluid's pair sums (pressure, continuity, viscosity);
   /// purely repulsive walls act through their force alone.
   virtual bool in_pair_sums() const { return true; }
@@ -59,6 +59,10 @@ class WallModel {
   /// when cfg.repulsive).
   void add_forces(System<D>& S) const;
   WallConfig cfg;
+
+ protected:
+  /// Cells with fluid within the cell list's reach (CellList::mark_near), the models' scratch.
+  mutable std::vector<char> near_;
 
  private:
   /// The backup against penetration (cfg.backup): a fluid particle a closer than s0 = dx/4 to
@@ -68,6 +72,7 @@ class WallModel {
   /// surface is dx/2, so a flow the wall model holds never feels it.
   void add_backup(System<D>& S) const;
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
+
 };
 
 template <int D>
