@@ -80,3 +80,47 @@ TEST(Periodic, ImagesGiveMinimumImagePairs) {
   }
   EXPECT_EQ(fast, brute);
 }
+
+// mark_near flags exactly the occupied cells whose particles have a flagged particle within the
+// build radius's stencil (brute force over cells: any flagged particle in a cell at most one
+// cell away along every axis)
+template <int D>
+void mark_near_brute_force(int n, double radius, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec<D>> pos(n);
+  for (auto& p : pos)
+    for (int d = 0; d < D; ++d) p[d] = u(rng) * (d == 0 ? 2.0 : 1.0);
+  std::vector<char> flagged(n);
+  for (int i = 0; i < n; ++i) flagged[i] = u(rng) < 0.05;
+  CellList<D> cl;
+  cl.build(pos, pos.size(), radius);
+  std::vector<char> near;
+  cl.mark_near(near, [&](std::size_t i) { return flagged[i] != 0; });
+  // the cell coordinates of each particle, as the list bins them (lo = the smallest coordinate)
+  Vec<D> lo;
+  for (int d = 0; d < D; ++d) {
+    lo[d] = pos[0][d];
+    for (const auto& p : pos) lo[d] = std::min(lo[d], p[d]);
+  }
+  const double inv = 1.0 / cl.cell_size();  // (the list's own arithmetic)
+  auto coord = [&](const Vec<D>& p, int d) { return static_cast<int>((p[d] - lo[d]) * inv); };
+  int tested = 0, marked = 0;
+  for (int i = 0; i < n; ++i) {
+    bool expect = false;
+    for (int j = 0; j < n && !expect; ++j) {
+      if (!flagged[j]) continue;
+      bool adjacent = true;
+      for (int d = 0; d < D; ++d) adjacent = adjacent && std::abs(coord(pos[i], d) - coord(pos[j], d)) <= 1;
+      expect = adjacent;
+    }
+    EXPECT_EQ(near[cl.cell_of(static_cast<std::size_t>(i))] != 0, expect) << "particle " << i;
+    ++tested;
+    marked += expect;
+  }
+  EXPECT_GT(marked, 0);         // not vacuous: some cells are near a flagged particle ...
+  EXPECT_LT(marked, tested);    // ... and some are not
+}
+
+TEST(CellList, MarkNearMatchesBruteForce2D) { mark_near_brute_force<2>(1200, 0.07, 4); }
+TEST(CellList, MarkNearMatchesBruteForce3D) { mark_near_brute_force<3>(2000, 0.12, 5); }

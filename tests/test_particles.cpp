@@ -55,3 +55,28 @@ TEST(ParticleStore, ImagesFollowTheirSource) {
   P.clear_images();
   EXPECT_EQ(P.size(), 1u);
 }
+
+// a permutation long enough for the fields to be cycled in parallel, with named scalar and
+// vector fields: every field follows its particle
+TEST(ParticleStore, LongPermuteKeepsEveryFieldTogether) {
+  ParticleStore<3> P;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) P.add(Vec<3>{{double(i), 0.0, 1.0}}, Vec<3>{{0.0, double(i), 0.0}}, 1000.0 + i, i * 0.5, i % 3 ? Kind::Fluid : Kind::Wall);
+  auto& c = P.scalar("concentration");
+  auto& w = P.vector("wall_to_surface");
+  for (int i = 0; i < n; ++i) { c[i] = 3.0 * i; w[i] = Vec<3>{{0.0, 0.0, -double(i)}}; }
+  std::vector<std::uint32_t> perm(n);
+  std::iota(perm.begin(), perm.end(), 0u);
+  std::shuffle(perm.begin(), perm.end(), std::mt19937(7));
+  P.permute(perm);
+  for (int i = 0; i < n; ++i) {
+    ASSERT_EQ(P.pos[i][0], double(perm[i]));
+    const double k = P.pos[i][0];
+    ASSERT_EQ(P.id[i], static_cast<std::uint32_t>(k));
+    ASSERT_EQ(P.vel[i][1], k);
+    ASSERT_EQ(P.rho[i], 1000.0 + k);
+    ASSERT_EQ(P.kind[i], static_cast<int>(k) % 3 ? Kind::Fluid : Kind::Wall);
+    ASSERT_EQ(P.scalar("concentration")[i], 3.0 * k);
+    ASSERT_EQ(P.vector("wall_to_surface")[i][2], -k);
+  }
+}
