@@ -60,73 +60,94 @@ class DummyWalls final : public WallModel<D> {
         }
         return walls_here;
       };
-      sweep_cells<double>(cells, NCOL, 8, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
+      // float columns and 16 fixed lanes (as the pair passes): positions relative to the cell's
+      // first particle; lane-wise partial sums reduced in a fixed order (the same bits on AVX2
+      // and AVX-512); the velocity sums only for no-slip walls
+      using F32 = float;
+      constexpr std::size_t L = 16;
+      const F32 fsupport2 = F32(support2);
+      sweep_cells<F32>(cells, NCOL, L, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
           const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
           const std::size_t npad = st.padded;
+          const Vec<D> origin = pos[sorted[c0k]];
           {
-            double* __restrict cx[D]; double* __restrict cv[D];
+            F32* __restrict cx[D]; F32* __restrict cv[D];
             for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cv[d] = B[V0 + d]; }
-            double* __restrict cp = B[PRS];
-            double* __restrict cr = B[RHO];
-            double* __restrict cf = B[FLUID];
+            F32* __restrict cp = B[PRS];
+            F32* __restrict cr = B[RHO];
+            F32* __restrict cf = B[FLUID];
             // only fluid entries are read: other threads are writing wall pressures meanwhile
             st.for_each([&](std::size_t m, std::uint32_t j) {
               const bool fl = fluid_like(kind[j]);
-              for (int d = 0; d < D; ++d) { cx[d][m] = pos[j][d]; cv[d][m] = fl ? vel[j][d] : 0.0; }
-              cp[m] = fl ? prs[j] : 0.0;
-              cr[m] = fl ? rho[j] : 0.0;
-              cf[m] = fl ? 1.0 : 0.0;
+              for (int d = 0; d < D; ++d) { cx[d][m] = F32(pos[j][d] - origin[d]); cv[d][m] = fl ? F32(vel[j][d]) : F32(0); }
+              cp[m] = fl ? F32(prs[j]) : F32(0);
+              cr[m] = fl ? F32(rho[j]) : F32(0);
+              cf[m] = fl ? F32(1) : F32(0);
             });
             for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, no fluid
-              for (int d = 0; d < D; ++d) { cx[d][m] = 1.0e6; cv[d][m] = 0.0; }
-              cp[m] = 0.0; cr[m] = 0.0; cf[m] = 0.0;
+              for (int d = 0; d < D; ++d) { cx[d][m] = F32(1.0e3); cv[d][m] = 0; }
+              cp[m] = 0; cr[m] = 0; cf[m] = 0;
             }
           }
-          const double* __restrict bx0 = B[X0];
-          const double* __restrict bx1 = B[X1];
-          const double* __restrict bx2 = B[X0 + D - 1];
-          const double* __restrict bv0 = B[V0];
-          const double* __restrict bv1 = B[V1];
-          const double* __restrict bv2 = B[V0 + D - 1];
-          const double* __restrict bp = B[PRS];
-          const double* __restrict br = B[RHO];
-          const double* __restrict bf = B[FLUID];
-          for (std::uint32_t k = c0k; k < c1k; ++k) {
-            const std::uint32_t i = sorted[k];
-            if (i >= n || kind[i] != Kind::Wall) continue;
-            // Shepard-weighted sums over the fluid neighbours (branch-free, vectorised)
-            double sw = 0.0, sp = 0.0, sr0 = 0.0, sr1 = 0.0, sr2 = 0.0, sv0 = 0.0, sv1 = 0.0, sv2 = 0.0;
-            const double xi0 = pos[i][0], xi1 = pos[i][1], xi2 = pos[i][D - 1];
-#pragma omp simd reduction(+ : sw, sp, sr0, sr1, sr2, sv0, sv1, sv2)
-            for (std::size_t m = 0; m < npad; ++m) {
-              const double r0 = xi0 - bx0[m], r1 = xi1 - bx1[m], r2c = D == 3 ? xi2 - bx2[m] : 0.0;
-              const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-              const double w = K.W(std::sqrt(r2)) * ((r2 < support2) ? bf[m] : 0.0);
-              sw += w;
-              sp += bp[m] * w;
-              const double rw = br[m] * w;
-              sr0 += rw * r0;
-              sr1 += rw * r1;
-              sr2 += rw * r2c;
-              sv0 += w * bv0[m];
-              sv1 += w * bv1[m];
-              sv2 += D == 3 ? w * bv2[m] : 0.0;
+          auto walls = [&](auto noslip) {
+            constexpr bool NoSlip = decltype(noslip)::value;
+            const F32 l_support2 = fsupport2;  // (a local: read through the closure, AVX2 loops stay scalar)
+            for (std::uint32_t k = c0k; k < c1k; ++k) {
+              const std::uint32_t i = sorted[k];
+              if (i >= n || kind[i] != Kind::Wall) continue;
+              // Shepard-weighted sums over the fluid neighbours (branch-free, vectorised)
+              alignas(64) F32 vw[L] = {}, vp[L] = {}, vr0[L] = {}, vr1[L] = {}, vr2[L] = {}, vv0[L] = {}, vv1[L] = {}, vv2[L] = {};
+              const F32 xi0 = F32(pos[i][0] - origin[0]), xi1 = F32(pos[i][1] - origin[1]);
+              const F32 xi2 = F32(pos[i][D - 1] - origin[D - 1]);
+              for (std::size_t k0 = 0; k0 < npad; k0 += L) {
+                const F32* __restrict bx0 = B[X0] + k0;
+                const F32* __restrict bx1 = B[X1] + k0;
+                const F32* __restrict bx2 = B[X0 + D - 1] + k0;
+                const F32* __restrict bv0 = B[V0] + k0;
+                const F32* __restrict bv1 = B[V1] + k0;
+                const F32* __restrict bv2 = B[V0 + D - 1] + k0;
+                const F32* __restrict bp = B[PRS] + k0;
+                const F32* __restrict br = B[RHO] + k0;
+                const F32* __restrict bf = B[FLUID] + k0;
+#pragma omp simd
+                for (std::size_t l = 0; l < L; ++l) {
+                  const F32 r0 = xi0 - bx0[l], r1 = xi1 - bx1[l];
+                  const F32 r2c = D == 3 ? xi2 - bx2[l] : F32(0);
+                  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
+                  const F32 w = K.W(std::sqrt(r2)) * ((r2 < l_support2) ? bf[l] : F32(0));
+                  vw[l] += w;
+                  vp[l] += bp[l] * w;
+                  const F32 rw = br[l] * w;
+                  vr0[l] += rw * r0;
+                  vr1[l] += rw * r1;
+                  if constexpr (D == 3) vr2[l] += rw * r2c;
+                  if constexpr (NoSlip) {
+                    vv0[l] += w * bv0[l];
+                    vv1[l] += w * bv1[l];
+                    if constexpr (D == 3) vv2[l] += w * bv2[l];
+                  }
+                }
+              }
+              const double sw = lane_sum<L>(vw), sp = lane_sum<L>(vp);
+              Vec<D> srr, sv;
+              srr[0] = lane_sum<L>(vr0); srr[1] = lane_sum<L>(vr1);
+              sv[0] = lane_sum<L>(vv0); sv[1] = lane_sum<L>(vv1);
+              if constexpr (D == 3) { srr[2] = lane_sum<L>(vr2); sv[2] = lane_sum<L>(vv2); }
+              double pw = S.eos.background;
+              Vec<D> g = vel[i];
+              if (sw > 0.0) {
+                pw = (sp + dot(aw ? S.gravity - aw[i] : S.gravity, srr)) / sw;  // (g − a_w)·Σ ρ r W
+                g = 2.0 * vel[i] - (1.0 / sw) * sv;
+              }
+              if (clamp) pw = std::max(pw, S.eos.background);
+              P.p[i] = pw;
+              P.rho[i] = S.eos.density(pw);
+              if (gv)
+                for (int d = 0; d < D; ++d) gv[i * D + d] = float(vel[i][d] - g[d]);
             }
-            Vec<D> srr, sv;
-            srr[0] = sr0; srr[1] = sr1; sv[0] = sv0; sv[1] = sv1;
-            if constexpr (D == 3) { srr[2] = sr2; sv[2] = sv2; }
-            double pw = S.eos.background;
-            Vec<D> g = vel[i];
-            if (sw > 0.0) {
-              pw = (sp + dot(aw ? S.gravity - aw[i] : S.gravity, srr)) / sw;  // (g − a_w)·Σ ρ r W
-              g = 2.0 * vel[i] - (1.0 / sw) * sv;
-            }
-            if (clamp) pw = std::max(pw, S.eos.background);
-            P.p[i] = pw;
-            P.rho[i] = S.eos.density(pw);
-            if (gv)
-              for (int d = 0; d < D; ++d) gv[i * D + d] = float(vel[i][d] - g[d]);
-          }
+          };
+          if (gv) walls(std::true_type{});
+          else walls(std::false_type{});
           return std::uint64_t(0);
       });
     });

@@ -266,6 +266,16 @@ struct CellStencil {
   }
 };
 
+/// The sum of L lane-wise partial sums (a pair loop's accumulators, L apart), pairwise in a fixed
+/// order: the order of the additions does not depend on the vector width, so AVX2 and AVX-512
+/// builds give bitwise the same sums. Overwrites v.
+template <std::size_t L, class T>
+inline T lane_sum(T* v) {
+  for (std::size_t w = L / 2; w >= 1; w /= 2)
+    for (std::size_t l = 0; l < w; ++l) v[l] += v[l + w];
+  return v[0];
+}
+
 /// Growable per-thread scratch columns for the CellStencil copies.
 template <class T = double>
 struct ScratchColumns {

@@ -29,12 +29,6 @@ namespace sph {
 namespace {
 constexpr std::size_t kLanes = 16;  // the pair loops' vector width (16 floats: AVX-512; 2 x AVX2)
 
-/// The sum of kLanes partial sums, pairwise (a fixed order: the same bits on every run).
-inline float lane_sum(float* v) {
-  for (std::size_t w = kLanes / 2; w >= 1; w /= 2)
-    for (std::size_t l = 0; l < w; ++l) v[l] += v[l + w];
-  return v[0];
-}
 
 }  // namespace
 
@@ -276,7 +270,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
             }
           }
           }
-          const F32 s0 = lane_sum(v0), s1 = lane_sum(v1), s2 = lane_sum(v2), sr = lane_sum(vr), cnt = lane_sum(vc);
+          const F32 s0 = lane_sum<kLanes>(v0), s1 = lane_sum<kLanes>(v1), s2 = lane_sum<kLanes>(v2), sr = lane_sum<kLanes>(vr), cnt = lane_sum<kLanes>(vc);
           pairs += static_cast<std::uint64_t>(cnt + F32(0.5));
           if constexpr (Pass == 0) {
             // pressure: −(1/ρa) Σ (pa + pb) ∇W Vb (sum form) or −Σ mb (pa/ρa² + pb/ρb²) ∇W
