@@ -10,13 +10,20 @@
 
 using namespace sph;
 
+// n random positions in [0, 2] x [0, 1]^(D-1)
 template <int D>
-void compare_with_brute_force(int n, double radius, unsigned seed) {
-  std::mt19937 rng(seed);
+std::vector<Vec<D>> random_positions(int n, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Vec<D>> pos(n);
   for (auto& p : pos)
     for (int d = 0; d < D; ++d) p[d] = u(rng) * (d == 0 ? 2.0 : 1.0);
+  return pos;
+}
+
+template <int D>
+void compare_with_brute_force(int n, double radius, unsigned seed) {
+  std::mt19937 rng(seed);
+  const std::vector<Vec<D>> pos = random_positions<D>(n, rng);
   CellList<D> cl;
   cl.build(pos, pos.size(), radius);
   std::set<std::pair<int, int>> fast, brute;
@@ -87,10 +94,8 @@ TEST(Periodic, ImagesGiveMinimumImagePairs) {
 template <int D>
 void mark_near_brute_force(int n, double radius, unsigned seed) {
   std::mt19937 rng(seed);
+  const std::vector<Vec<D>> pos = random_positions<D>(n, rng);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Vec<D>> pos(n);
-  for (auto& p : pos)
-    for (int d = 0; d < D; ++d) p[d] = u(rng) * (d == 0 ? 2.0 : 1.0);
   std::vector<char> flagged(n);
   for (int i = 0; i < n; ++i) flagged[i] = u(rng) < 0.05;
   CellList<D> cl;
