@@ -46,8 +46,8 @@ class WallModel {
   virtual void prepare(System<D>& S) = 0;
   /// The no-slip ghost correction of the viscous term: D floats per particle, v_j − v_ghost,j
   /// of wall particle j (what the viscous term subtracts from the wall's velocity); entries of
-  /// other particles are not read. nullptr: no correction (free slip, or walls moving with their
-  /// own velocity). Scratch of the current step, rewritten by prepare(): 4 D bytes per particle
+  /// other particles are not read. nullptr: no correction (free-slip dummy walls, and the other
+  /// models, whose walls the viscous term sees at their own velocity). Scratch of the current step, rewritten by prepare(): 4 D bytes per particle
   /// instead of a stored double velocity field.
   virtual const float* viscous_correction() const { return nullptr; }
   /// Bytes of the model's own per-step scratch (counted in bytes_per_particle).
@@ -72,7 +72,6 @@ class WallModel {
   /// surface is dx/2, so a flow the wall model holds never feels it.
   void add_backup(System<D>& S) const;
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
-
 };
 
 template <int D>
