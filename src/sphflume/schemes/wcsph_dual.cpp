@@ -270,8 +270,9 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
             }
           }
           }
-          const F32 s0 = lane_sum<kLanes>(v0), s1 = lane_sum<kLanes>(v1), s2 = lane_sum<kLanes>(v2), sr = lane_sum<kLanes>(vr), cnt = lane_sum<kLanes>(vc);
-          pairs += static_cast<std::uint64_t>(cnt + F32(0.5));
+          const F32 s0 = lane_sum<kLanes>(v0), s1 = lane_sum<kLanes>(v1), s2 = D == 3 ? lane_sum<kLanes>(v2) : F32(0);
+          const F32 sr = lane_sum<kLanes>(vr);
+          if constexpr (Pass != 1) pairs += static_cast<std::uint64_t>(lane_sum<kLanes>(vc) + F32(0.5));  // (pass B counts none)
           if constexpr (Pass == 0) {
             // pressure: −(1/ρa) Σ (pa + pb) ∇W Vb (sum form) or −Σ mb (pa/ρa² + pb/ρb²) ∇W
             const double f = sym ? -1.0 : -1.0 / rhoa;
