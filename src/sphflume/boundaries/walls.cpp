@@ -1,6 +1,7 @@
 #include "sphflume/boundaries/walls.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 
@@ -39,7 +40,7 @@ class DummyWalls final : public WallModel<D> {
     const Kind* __restrict kind = P.kind.data();
     const double rho_bg = S.eos.density(S.eos.background);
     const Vec<D>* aw = P.find_vector("wall_acc") ? P.find_vector("wall_acc")->data() : nullptr;  // moving walls
-    enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
+    enum { X0, X1, X2, V0, V1, V2, PRS, RHO, NCOL };
     S.with_kernel([&](const auto& K) {
       const double support2 = K.support2;
       // cells with wall particles; those with no fluid within reach keep the background state
@@ -60,34 +61,35 @@ class DummyWalls final : public WallModel<D> {
         }
         return walls_here;
       };
-      // float columns and 16 fixed lanes (as the pair passes): positions relative to the cell's
-      // first particle; lane-wise partial sums reduced in a fixed order (the same bits on AVX2
-      // and AVX-512); the velocity sums only for no-slip walls
+      // float columns of the stencil's fluid particles only (the walls among the candidates, a
+      // half or more of them next to a wall, add nothing), 16 fixed lanes (as the pair passes):
+      // positions relative to the cell's first particle; lane-wise partial sums reduced in a
+      // fixed order (the same bits on AVX2 and AVX-512); the velocity sums only for no-slip walls
       using F32 = float;
       constexpr std::size_t L = 16;
       const F32 fsupport2 = F32(support2);
       sweep_cells<F32>(cells, NCOL, L, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
           const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-          const std::size_t npad = st.padded;
           const Vec<D> origin = pos[sorted[c0k]];
+          std::size_t nf = 0;  // fluid candidates
           {
             F32* __restrict cx[D]; F32* __restrict cv[D];
             for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cv[d] = B[V0 + d]; }
             F32* __restrict cp = B[PRS];
             F32* __restrict cr = B[RHO];
-            F32* __restrict cf = B[FLUID];
             // only fluid entries are read: other threads are writing wall pressures meanwhile
-            st.for_each([&](std::size_t m, std::uint32_t j) {
-              const bool fl = fluid_like(kind[j]);
-              for (int d = 0; d < D; ++d) { cx[d][m] = F32(pos[j][d] - origin[d]); cv[d][m] = fl ? F32(vel[j][d]) : F32(0); }
-              cp[m] = fl ? F32(prs[j]) : F32(0);
-              cr[m] = fl ? F32(rho[j]) : F32(0);
-              cf[m] = fl ? F32(1) : F32(0);
+            st.for_each([&](std::size_t, std::uint32_t j) {
+              if (!fluid_like(kind[j])) return;
+              for (int d = 0; d < D; ++d) { cx[d][nf] = F32(pos[j][d] - origin[d]); cv[d][nf] = F32(vel[j][d]); }
+              cp[nf] = F32(prs[j]);
+              cr[nf] = F32(rho[j]);
+              ++nf;
             });
-            for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, no fluid
-              for (int d = 0; d < D; ++d) { cx[d][m] = F32(1.0e3); cv[d][m] = 0; }
-              cp[m] = 0; cr[m] = 0; cf[m] = 0;
-            }
+          }
+          const std::size_t npad = (nf + L - 1) / L * L;  // (<= st.padded, what B holds)
+          for (std::size_t m = nf; m < npad; ++m) {  // padding: far away, no weight
+            for (int d = 0; d < D; ++d) { B[X0 + d][m] = F32(1.0e3); B[V0 + d][m] = 0; }
+            B[PRS][m] = 0; B[RHO][m] = 0;
           }
           auto walls = [&](auto noslip) {
             constexpr bool NoSlip = decltype(noslip)::value;
@@ -108,13 +110,12 @@ class DummyWalls final : public WallModel<D> {
                 const F32* __restrict bv2 = B[V0 + D - 1] + k0;
                 const F32* __restrict bp = B[PRS] + k0;
                 const F32* __restrict br = B[RHO] + k0;
-                const F32* __restrict bf = B[FLUID] + k0;
 #pragma omp simd
                 for (std::size_t l = 0; l < L; ++l) {
                   const F32 r0 = xi0 - bx0[l], r1 = xi1 - bx1[l];
                   const F32 r2c = D == 3 ? xi2 - bx2[l] : F32(0);
                   const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
-                  const F32 w = K.W(std::sqrt(r2)) * ((r2 < l_support2) ? bf[l] : F32(0));
+                  const F32 w = K.W(std::sqrt(r2)) * ((r2 < l_support2) ? F32(1) : F32(0));
                   vw[l] += w;
                   vp[l] += bp[l] * w;
                   const F32 rw = br[l] * w;
@@ -288,32 +289,89 @@ void WallModel<D>::add_backup(System<D>& S) const {
   const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
   const double reach = std::hypot(dx + s0, dx);
   // Found from the first-layer wall particles' side (far fewer than the fluid near walls), in
-  // cells with fluid within reach (reach < the cell size); the rare pairs found are applied
-  // serially, sorted, so the sums do not depend on the threads.
+  // cells with fluid within reach (reach < the cell size): the stencil's fluid positions are
+  // packed in float columns relative to the cell's first particle and tested 16 lanes at a
+  // time with a slightly wider float test; the few candidates it passes are tested again in
+  // double, as the force uses them. The rare pairs found are applied serially, sorted, so the
+  // sums do not depend on the threads.
   S.cells.mark_near(this->near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
   hits_.clear();
-#pragma omp parallel
-  {
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> local;
-#pragma omp for schedule(dynamic, 64) nowait
-    for (std::size_t k = 0; k < n; ++k) {
-      if (P.kind[k] != Kind::Wall || !near_[S.cells.cell_of(k)]) continue;
-      const double depth2 = dot(to[k], to[k]);
-      if (!(depth2 > 0.0) || depth2 >= dx * dx) continue;  // first layer only; a corner's own point has no normal
-      const double depth = std::sqrt(depth2);
-      const Vec<D> nk = (1.0 / depth) * to[k];
-      S.cells.for_neighbours(P.pos, P.pos[k], reach, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-        const std::uint32_t a = j < n ? j : static_cast<std::uint32_t>(P.image_source[j - n]);
-        if (P.kind[a] != Kind::Fluid) return;
-        const double rn = -dot(r, nk);  // r = x_k − x_j
-        if (rn - depth >= s0) return;   // a's distance from the surface
-        if (r2 - rn * rn >= dx * dx) return;
-        local.emplace_back(j, static_cast<std::uint32_t>(k));
-      });
-    }
+  const auto& cells = S.cells;
+  const std::uint32_t* __restrict sorted = cells.sorted().data();
+  const auto first_layer = [&](std::size_t k) {
+    if (k >= n || P.kind[k] != Kind::Wall) return false;
+    const double depth2 = dot(to[k], to[k]);
+    return depth2 > 0.0 && depth2 < dx * dx;  // a corner's own point has no normal
+  };
+  const auto source = [&](std::uint32_t j) { return j < n ? std::size_t(j) : std::size_t(P.image_source[j - n]); };
+  const auto hit = [&](std::uint32_t j, std::size_t k) {  // the exact test
+    if (P.kind[source(j)] != Kind::Fluid) return false;
+    const Vec<D> r = P.pos[k] - P.pos[j];
+    const double r2 = dot(r, r);
+    if (!(r2 < reach * reach)) return false;
+    const double depth = std::sqrt(dot(to[k], to[k]));
+    const double rn = -dot(r, (1.0 / depth) * to[k]);
+    return rn - depth < s0 && r2 - rn * rn < dx * dx;  // a's distance from the surface; tangential
+  };
+  constexpr std::size_t L = 16;
+  constexpr int X0 = 0, IDX = D;
+  const float slack = 1.0e-3f;  // relative widening of the float test (float round-off ~1e-7)
+  const float fs0 = float(s0) * (1 + slack), fdx2 = float(dx * dx) * (1 + slack), freach2 = float(reach * reach) * (1 + slack);
+  const float fabs_tol = float(dx) * slack;
+  sweep_cells<float>(
+      cells, D + 1, L,
+      [&](std::size_t cell) {
+        if (!near_[cell]) return false;
+        for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
+          if (first_layer(sorted[k])) return true;
+        return false;
+      },
+      [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<float>& B) {
+        const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+        const Vec<D> origin = P.pos[sorted[c0k]];
+        std::size_t nf = 0;
+        st.for_each([&](std::size_t, std::uint32_t j) {
+          if (P.kind[source(j)] != Kind::Fluid) return;
+          for (int d = 0; d < D; ++d) B[X0 + d][nf] = float(P.pos[j][d] - origin[d]);
+          B[IDX][nf] = std::bit_cast<float>(j);
+          ++nf;
+        });
+        const std::size_t npad = (nf + L - 1) / L * L;
+        for (std::size_t m = nf; m < npad; ++m)
+          for (int d = 0; d < D; ++d) B[X0 + d][m] = 1.0e3f;  // far away: fails the test
+        for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
+          const std::size_t k = sorted[kk];
+          if (!first_layer(k)) continue;
+          const double depth = std::sqrt(dot(to[k], to[k]));
+          float xk[3] = {0, 0, 0}, nk[3] = {0, 0, 0};
+          for (int d = 0; d < D; ++d) { xk[d] = float(P.pos[k][d] - origin[d]); nk[d] = float(to[k][d] / depth); }
+          const float lim = float(depth) + fs0 + fabs_tol;
+          for (std::size_t k0 = 0; k0 < npad; k0 += L) {
+            alignas(64) int pass[L];
+            const float* __restrict bx0 = B[X0] + k0;
+            const float* __restrict bx1 = B[X0 + 1] + k0;
+            const float* __restrict bx2 = B[X0 + D - 1] + k0;
+            int any = 0;
+#pragma omp simd reduction(| : any)
+            for (std::size_t l = 0; l < L; ++l) {
+              const float r0 = xk[0] - bx0[l], r1 = xk[1] - bx1[l], r2c = D == 3 ? xk[2] - bx2[l] : 0.0f;
+              const float r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+              const float rn = -(r0 * nk[0] + r1 * nk[1] + r2c * nk[2]);
+              pass[l] = (r2 < freach2) & (rn < lim) & (r2 - rn * rn < fdx2);
+              any |= pass[l];
+            }
+            if (!any) continue;
+            for (std::size_t l = 0; l < L; ++l) {
+              if (!pass[l] || k0 + l >= nf) continue;
+              const std::uint32_t j = std::bit_cast<std::uint32_t>(B[IDX][k0 + l]);
+              if (!hit(j, k)) continue;
 #pragma omp critical(sphflume_wall_backup)
-    hits_.insert(hits_.end(), local.begin(), local.end());
-  }
+              hits_.emplace_back(j, static_cast<std::uint32_t>(k));
+            }
+          }
+        }
+        return std::uint64_t(0);
+      });
   if (hits_.empty()) return;
   std::sort(hits_.begin(), hits_.end());
   for (const auto& [j, k] : hits_) {
