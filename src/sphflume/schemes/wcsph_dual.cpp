@@ -57,7 +57,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   const double sigma_inv = rho0 / sigma0_;
   const double w_self = ker.W(0.0);
   using F32 = float;
-  enum { X0, X1, X2, U0, U1, U2, N0, N1, N2, PRS, VOL, FL, NCOL };
+  enum { X0, X1, X2, U0, U1, U2, N0, N1, N2, PRS, VOL, NCOL };
   const F32 fsupport2 = F32(ker.support2), ffar = F32(1.0e3), fk = F32(cfg_.riemann_limiter / c0);
   // walls: the dissipation acts along the wall normal (towards the fluid), on twice the
   // wall-relative normal speed (the mirror state), so that sliding along a wall is free
@@ -99,14 +99,45 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
       const std::size_t npad = st.padded;
       std::uint64_t pairs = 0;
       const Vec<D> origin = pos[sorted[c0k]];
+      if constexpr (Pass == 1) B.reserve(st.padded + kLanes);  // (the wall split pads twice; before the column pointers)
       F32* __restrict cx[D]; F32* __restrict cu[D]; F32* __restrict cn[D];
       for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cu[d] = B[U0 + d]; cn[d] = B[N0 + d]; }
       F32* __restrict cp = B[PRS];
       F32* __restrict cv = B[VOL];
-      F32* __restrict cf = B[FL];
       bool walls_near = false;  // any wall among the candidates (most cells have none)
-      // the stencil's columns: positions relative to the cell's first particle, the packed values
-      if (st.identity) {  // contiguous ranges of the cell-ordered store: plain strided loops
+      if constexpr (Pass == 1) {
+        const F32* __restrict flag = pk + (2 * D + 1) * np;
+        st.for_each([&](std::size_t, std::uint32_t b) { walls_near |= flag[b] < F32(1); });
+      }
+      // pass B with walls among the candidates: the fluid candidates first, then the walls,
+      // each part padded to whole blocks, so that only the wall blocks pay for the normals
+      std::size_t fluid_end = npad, npad_all = npad;
+      if (Pass == 1 && walls_near) {
+        const F32* __restrict flag = pk + (2 * D + 1) * np;
+        auto put = [&](std::size_t m, std::uint32_t b) {
+          for (int d = 0; d < D; ++d) {
+            cx[d][m] = F32(pos[b][d] - origin[d]);
+            cu[d][m] = pk[d * np + b];
+            cn[d][m] = pk[(D + 1 + d) * np + b];
+          }
+          cv[m] = pk[D * np + b];
+        };
+        auto pad = [&](std::size_t m0, std::size_t m1) {
+          for (std::size_t m = m0; m < m1; ++m) {
+            for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cn[d][m] = 0; }
+            cv[m] = 0;
+          }
+        };
+        std::size_t m = 0;
+        st.for_each([&](std::size_t, std::uint32_t b) { if (flag[b] == F32(1)) put(m++, b); });
+        fluid_end = (m + kLanes - 1) / kLanes * kLanes;
+        pad(m, fluid_end);
+        m = fluid_end;
+        st.for_each([&](std::size_t, std::uint32_t b) { if (flag[b] != F32(1)) put(m++, b); });
+        npad_all = (m + kLanes - 1) / kLanes * kLanes;
+        pad(m, npad_all);
+      } else if (st.identity) {
+      // the stencil's columns: positions relative to the cell's first particle, the packed values  // contiguous ranges of the cell-ordered store: plain strided loops
         std::size_t m = 0;
         for (int r = 0; r < st.nr; ++r) {
           const std::uint32_t k0 = st.rg[r][0];
@@ -137,26 +168,18 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
             F32* __restrict n1 = cn[1] + m;
             F32* __restrict n2 = cn[D - 1] + m;
             F32* __restrict ov = cv + m;
-            F32* __restrict of = cf + m;
-            F32 lo = F32(1);
+            (void)n0; (void)n1; (void)n2;  // (no walls here: the normals are not read)
             for (std::size_t i = 0; i < len; ++i) {
               x0[i] = F32(pr[i][0] - o0);
               x1[i] = F32(pr[i][1] - o1);
               u0[i] = in[i];
               u1[i] = in[np + i];
               ov[i] = in[D * np + i];
-              n0[i] = in[(D + 1) * np + i];
-              n1[i] = in[(D + 2) * np + i];
-              const F32 f = in[(2 * D + 1) * np + i];
-              of[i] = f;
-              lo = lo < f ? lo : f;
               if constexpr (D == 3) {
                 x2[i] = F32(pr[i][2] - o2);
                 u2[i] = in[2 * np + i];
-                n2[i] = in[(D + 3) * np + i];
               }
             }
-            walls_near |= lo < F32(1);
           } else {
             for (std::size_t i = 0; i < len; ++i) {
               x0[i] = F32(pr[i][0] - o0);
@@ -173,17 +196,16 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
             cp[m] = pk[b];
             cv[m] = pk[np + b];
           } else if constexpr (Pass == 1) {
-            for (int d = 0; d < D; ++d) { cu[d][m] = pk[d * np + b]; cn[d][m] = pk[(D + 1 + d) * np + b]; }
+            for (int d = 0; d < D; ++d) cu[d][m] = pk[d * np + b];
             cv[m] = pk[D * np + b];
-            cf[m] = pk[(2 * D + 1) * np + b];
-            walls_near |= cf[m] < F32(1);
           }
         });
       }
-      for (std::size_t m = st.count; m < npad; ++m) {
-        for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; cn[d][m] = 0; }
-        cp[m] = 0; cv[m] = 0; cf[m] = 1;
-      }
+      if (!(Pass == 1 && walls_near))
+        for (std::size_t m = st.count; m < npad; ++m) {
+          for (int d = 0; d < D; ++d) { cx[d][m] = ffar; cu[d][m] = 0; }
+          cp[m] = 0; cv[m] = 0;
+        }
       auto particles = [&](auto walls) {
         constexpr bool Walls = decltype(walls)::value;
         for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
@@ -198,7 +220,9 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
           // order of the additions does not depend on the vector width, so AVX2 and AVX-512
           // builds give bitwise the same sums (bench/README.md); as fast as `omp simd reduction`
           alignas(64) F32 v0[kLanes] = {}, v1[kLanes] = {}, v2[kLanes] = {}, vr[kLanes] = {}, vc[kLanes] = {};
-          for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) {
+          // one block of kLanes candidates from k0; WallBlock: a block of pass B's wall part
+          auto block = [&](std::size_t k0, auto wall_block) {
+          constexpr bool WallBlock = decltype(wall_block)::value;
           // this block of candidates as plain arrays (an index k0 + l was a "complicated access
           // pattern" to GCC's AVX2 vectoriser)
           const F32* __restrict bx0 = B[X0] + k0;
@@ -212,7 +236,6 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
           const F32* __restrict bn2 = B[N0 + D - 1] + k0;
           const F32* __restrict bp = B[PRS] + k0;
           const F32* __restrict bv = B[VOL] + k0;
-          const F32* __restrict bf = B[FL] + k0;
 #pragma omp simd
           for (std::size_t l = 0; l < kLanes; ++l) {
             const std::size_t k = l;
@@ -244,18 +267,17 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
               vr[l] += ur * Fv;
               // U = −(ua − ub)·e, the approach speed, and d the dissipation's direction times r:
               // r itself for fluid b; against a wall twice the speed along n', its normal turned
-              // towards a, and d = r n'
+              // towards a, and d = r n' (the padding's n = 0 adds nothing)
               F32 d0 = r0, d1 = r1, d2 = r2c, U;
-              if constexpr (Walls) {
-                const F32 fb = bf[k];
+              if constexpr (WallBlock) {
                 const F32 n0 = bn0[k], n1 = bn1[k], n2 = D == 3 ? bn2[k] : F32(0);
                 const F32 rn = D == 3 ? r0 * n0 + r1 * n1 + r2c * n2 : r0 * n0 + r1 * n1;
                 const F32 sn = (rn < F32(0) ? F32(-1) : F32(1)) * r;
-                d0 = fb * r0 + (F32(1) - fb) * sn * n0;
-                d1 = fb * r1 + (F32(1) - fb) * sn * n1;
-                if constexpr (D == 3) d2 = fb * r2c + (F32(1) - fb) * sn * n2;
+                d0 = sn * n0;
+                d1 = sn * n1;
+                if constexpr (D == 3) d2 = sn * n2;
                 const F32 ud = D == 3 ? u0 * d0 + u1 * d1 + u2 * d2 : u0 * d0 + u1 * d1;
-                U = -(F32(2) - fb) * ud / (r + F32(1e-30));
+                U = F32(-2) * ud / (r + F32(1e-30));
               } else {
                 U = -ur / (r + F32(1e-30));
               }
@@ -269,6 +291,12 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
               if constexpr (D == 3) v2[l] += q * d2;
             }
           }
+          };
+          if constexpr (Walls) {  // pass B: the fluid part, then the wall part
+            for (std::size_t k0 = 0; k0 < fluid_end; k0 += kLanes) block(k0, std::false_type{});
+            for (std::size_t k0 = fluid_end; k0 < npad_all; k0 += kLanes) block(k0, std::true_type{});
+          } else {
+            for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) block(k0, std::false_type{});
           }
           const F32 s0 = lane_sum<kLanes>(v0), s1 = lane_sum<kLanes>(v1), s2 = D == 3 ? lane_sum<kLanes>(v2) : F32(0);
           const F32 sr = lane_sum<kLanes>(vr);
