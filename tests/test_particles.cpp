@@ -47,7 +47,7 @@ TEST(ParticleStore, ImagesFollowTheirSource) {
   EXPECT_EQ(P.n_owned(), 1u);
   P.pos[0][1] = 0.3;
   P.rho[0] = 1010.0;
-  P.refresh_images();
+  P.refresh_images(P.n_owned(), P.size());
   EXPECT_DOUBLE_EQ(P.pos[1][0], 1.1);
   EXPECT_DOUBLE_EQ(P.pos[1][1], 0.3);
   EXPECT_EQ(P.rho[1], 1010.0);

@@ -124,7 +124,7 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
       }
     }
   }
-  P.refresh_images();
+  S.refresh_halos();
 }
 
 template <int D>

@@ -1,14 +1,16 @@
-// Periodic boundaries: image particles in the store's image range (the same mechanism MPI
-// halos will use), and wrapping of owned particles that cross a periodic face.
+// Periodic boundaries: a halo layer (core/halo.hpp) of image particles in the store's image
+// range, and wrapping of owned particles that cross a periodic face (its migration).
 #pragma once
+#include <cstring>
 #include <vector>
 
+#include "sphflume/core/halo.hpp"
 #include "sphflume/core/particles.hpp"
 
 namespace sph {
 
 template <int D>
-struct Periodic {
+struct Periodic final : Halo<D> {
   using V = Vec<D>;
   bool axis[D]{};
   V lo{}, hi{};
@@ -16,6 +18,22 @@ struct Periodic {
   bool any() const {
     for (int d = 0; d < D; ++d) if (axis[d]) return true;
     return false;
+  }
+
+  // --- the halo layer ---
+  const char* name() const override { return "periodic"; }
+  bool active() const override { return any(); }
+  void migrate(ParticleStore<D>& P) override { wrap(P); }
+  void build(ParticleStore<D>& P, double margin) override {
+    begin_ = P.size();
+    build_images(P, margin);
+    end_ = P.size();
+  }
+  void refresh(ParticleStore<D>& P) override { P.refresh_images(begin_, end_); }
+  void refresh_column(const ParticleStore<D>& P, std::byte* column, std::size_t width) override {
+    const std::size_t n = P.n_owned();
+    for (std::size_t i = begin_; i < end_; ++i)
+      std::memcpy(column + i * width, column + std::size_t(P.image_source[i - n]) * width, width);
   }
   double period(int d) const { return hi[d] - lo[d]; }
 
@@ -60,6 +78,9 @@ struct Periodic {
         else if (P.pos[i][d] >= hi[d]) P.pos[i][d] -= period(d);
       }
   }
+
+ private:
+  std::size_t begin_ = 0, end_ = 0;  // this layer's images in the store
 };
 
 }  // namespace sph

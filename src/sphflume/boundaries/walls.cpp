@@ -152,10 +152,8 @@ class DummyWalls final : public WallModel<D> {
           return std::uint64_t(0);
       });
     });
-    P.refresh_images();
-    if (gv)  // images carry their source's correction (the sweep reads it for any wall candidate)
-      for (std::size_t k = 0; k < P.image_source.size(); ++k)
-        for (int d = 0; d < D; ++d) gv[(n + k) * D + d] = gv[std::size_t(P.image_source[k]) * D + d];
+    S.refresh_halos();
+    if (gv) S.refresh_halos(gv, D);  // images carry their source's correction (the sweep reads it for any wall candidate)
   }
 
  private:
@@ -219,7 +217,7 @@ class FixedGhostWalls final : public WallModel<D> {
       P.rho[i] = S.eos.density(pg);
       P.vel[i] = u;
     }
-    P.refresh_images();
+    S.refresh_halos();
   }
 };
 

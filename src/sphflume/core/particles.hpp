@@ -2,9 +2,10 @@
 // in one store, told apart by a kind tag.
 //
 // Layout: indices [0, n_owned) are the particles this process owns and integrates; indices
-// [n_owned, size()) are image copies (periodic images now, MPI halo copies later), each with the
-// index of the owned particle it copies in `image_source`. Images are rebuilt before every
-// neighbour pass and never integrated.
+// [n_owned, size()) are image copies made by the halo layers (core/halo.hpp: periodic images,
+// MPI halo copies), each with the index of the owned particle it copies in `image_source`
+// (kRemote: a copy of another rank's particle). Images are rebuilt before every neighbour pass
+// and never integrated.
 #pragma once
 #include <cstdint>
 #include <map>
@@ -50,6 +51,7 @@ class ParticleStore {
   std::vector<double> drho;
   // --- images ---
   std::vector<std::uint32_t> image_source;  // size() - n_owned entries
+  static constexpr std::uint32_t kRemote = 0xffffffffu;  // image_source of another rank's particle
 
   std::size_t size() const { return pos.size(); }
   std::size_t n_owned() const { return n_owned_; }
@@ -108,11 +110,12 @@ class ParticleStore {
     image_shift_.push_back(shift);
   }
 
-  /// Refresh every image's fields from its source, keeping the image's displacement.
-  void refresh_images() {
-    for (std::size_t k = 0; k < image_source.size(); ++k) {
-      const std::size_t i = n_owned_ + k, s = image_source[k];
-      copy_particle(s, i);
+  /// Refresh the fields of images [begin, end) (store indices) from their owned sources,
+  /// keeping each image's displacement.
+  void refresh_images(std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t k = i - n_owned_;
+      copy_particle(image_source[k], i);
       pos[i] += image_shift_[k];
     }
   }

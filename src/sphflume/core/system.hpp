@@ -9,6 +9,8 @@
 
 #include "sphflume/boundaries/periodic.hpp"
 #include "sphflume/core/cell_list.hpp"
+#include "sphflume/core/communicator.hpp"
+#include "sphflume/core/halo.hpp"
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/core/particles.hpp"
 #include "sphflume/physics/eos.hpp"
@@ -67,8 +69,21 @@ struct System {
   /// the gauges; set by the driver before each output.
   std::map<std::string, double> counters;
 
-  /// Sort the owned particles into cell order (moving every per-particle field), rebuild the
-  /// images and rebin. Without images the cell list then indexes the store directly
+  /// The MPI ranks' halo layer (sim/ranks; null in one process): built before the periodic images.
+  std::shared_ptr<Halo<D>> ranks;
+  /// The global reductions (time step, mass, gauges, summary): a no-op in one process.
+  std::shared_ptr<const Communicator> comm = std::make_shared<Communicator>();
+
+  /// The active halo layers, in build order (core/halo.hpp).
+  int halo_layers(Halo<D>** out) {
+    int k = 0;
+    if (ranks && ranks->active()) out[k++] = ranks.get();
+    if (periodic.active()) out[k++] = &periodic;
+    return k;
+  }
+
+  /// Sort the owned particles into cell order (moving every per-particle field), build the halo
+  /// layers and rebin. Without images the cell list then indexes the store directly
   /// (cells.identity()); images sit after the owned particles and are reached through sorted().
   /// Particle indices change: anything indexed by particle must be a store field.
   void update_neighbours() {
@@ -76,10 +91,32 @@ struct System {
     cells.build(particles.pos, particles.n_owned(), support);
     particles.permute(cells.sorted());
     cells.adopt_permutation();
-    if (periodic.any()) {
-      periodic.build_images(particles, support * 1.1 + dx);
-      if (particles.size() > particles.n_owned()) cells.build(particles.pos, particles.size(), support);
-    }
+    Halo<D>* layer[2];
+    const int nl = halo_layers(layer);
+    for (int l = 0; l < nl; ++l) layer[l]->build(particles, support * 1.1 + dx);
+    if (particles.size() > particles.n_owned()) cells.build(particles.pos, particles.size(), support);
+  }
+  /// Copy the fields of every image from its source again (after a pass changed fields that
+  /// later pair loops read from neighbours).
+  void refresh_halos() {
+    Halo<D>* layer[2];
+    const int nl = halo_layers(layer);
+    for (int l = 0; l < nl; ++l) layer[l]->refresh(particles);
+  }
+  /// The same for a per-particle array outside the store (a model's scratch), T per particle
+  /// times `per`, indexed as the store.
+  template <class T>
+  void refresh_halos(T* column, std::size_t per = 1) {
+    Halo<D>* layer[2];
+    const int nl = halo_layers(layer);
+    for (int l = 0; l < nl; ++l) layer[l]->refresh_column(particles, reinterpret_cast<std::byte*>(column), per * sizeof(T));
+  }
+  /// Owned particles that left this part of the domain (at the end of a step): wrapped through
+  /// periodic faces, handed to their new rank. Particle indices change.
+  void migrate() {
+    Halo<D>* layer[2];
+    const int nl = halo_layers(layer);
+    for (int l = 0; l < nl; ++l) layer[l]->migrate(particles);
   }
 
   template <class Fn>

@@ -58,7 +58,7 @@ void grenier_gamma(System<D>& S) {
       gam[a] = g;
     }
   });
-  P.refresh_images();
+  S.refresh_halos();
 }
 
 template void setup_phases<2>(const Case&, System<2>&);

@@ -182,7 +182,7 @@ void PorousMedia<D>::update(System<D>& S) {
     if (P.kind[i] == Kind::Wall) { phi[i] = 1.0; continue; }
     phi[i] = porosity(P.pos[i], &region_of_[i]);
   }
-  for (std::size_t k = 0; k < P.image_source.size(); ++k) phi[n + k] = phi[P.image_source[k]];
+  S.refresh_halos(phi.data());
 }
 
 template <int D>

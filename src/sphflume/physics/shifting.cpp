@@ -36,10 +36,8 @@ void Shifting<D>::compute(System<D>& S, double dt) {
       gc_[a] = gc;
       at_surface_[a] = divr < surface ? 1 : 0;
     }
-    for (std::size_t k = n; k < nall; ++k) {
-      gc_[k] = gc_[P.image_source[k - n]];
-      at_surface_[k] = at_surface_[P.image_source[k - n]];
-    }
+    S.refresh_halos(gc_.data());
+    S.refresh_halos(at_surface_.data());
     // pass 2: the displacement; zero at the surface, tangential next to it (Lind et al. 2012).
     // Only particles in cells next to a surface particle's cell can have one within the support.
     S.cells.mark_near(near_cells_, [&](std::size_t i) { return i < nall && at_surface_[i]; });

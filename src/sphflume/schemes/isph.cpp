@@ -202,7 +202,7 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   }
   amax_ = std::sqrt(amax2) / dt;
   if (shift_.on()) shift_.apply(S);
-  S.periodic.wrap(P);
+  S.migrate();
   S.time += dt;
   ++S.step;
 }
@@ -310,7 +310,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
     if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)
       P.rho[i] = phi && P.kind[i] == Kind::Fluid ? P.drho[i] * (S.eos.rho0 * phi[i] / reference_at(phi[i])) : P.drho[i] * norm_rho;
   if (o_.fs_divergence) {  // ∇·r_i = −Σ V_j r_ij·∇_i W_ij, V_j = m_j/ρ_j (walls: m/ρ0), into drho
-    P.refresh_images();
+    S.refresh_halos();
     S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < n; ++i) {
@@ -332,7 +332,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
     P.drho[i] = 0.0;
     if (P.kind[i] == Kind::Wall) P.rho[i] = S.eos.rho0;
   }
-  P.refresh_images();
+  S.refresh_halos();
   S.with_kernel([&](const auto& K) { this->assemble(S, K, dt); });
   // warm start: the pressures the unknowns had
   x_.assign(sys_.rows(), 0.0);
@@ -367,7 +367,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   }
   for (std::size_t i = 0; i < n; ++i)
     if (cls_[i] == 2) P.p[i] = map_[i] >= 0 ? P.p[static_cast<std::size_t>(map_[i])] + dummy_off_[i] : 0.0;
-  P.refresh_images();
+  S.refresh_halos();
 }
 
 template <int D>
