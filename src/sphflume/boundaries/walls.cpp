@@ -261,7 +261,7 @@ void WallModel<D>::add_forces(System<D>& S) const {
     Vec<D> f{};
     S.cells.for_neighbours(P.pos, P.pos[a], dx, [&](std::uint32_t k, const Vec<D>& r, double r2) {
       if (P.kind[k] != Kind::Wall) return;
-      const Vec<D>& nk = nrm[k < n ? k : P.image_source[k - n]];
+      const Vec<D>& nk = nrm[k];  // (images carry their source's normal)
       const double rn = dot(r, nk);  // r = x_a − x_k: distance on the fluid side of the wall particle
       if (!(rn > 0.0) || rn >= dx) return;
       const double rt = std::sqrt(std::max(0.0, r2 - rn * rn));
@@ -286,7 +286,9 @@ void WallModel<D>::add_backup(System<D>& S) const {
   const double s0 = 0.25 * dx;  // the fluid's normal distance from the surface is dx/2
   const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
   const double reach = std::hypot(dx + s0, dx);
-  // Found from the first-layer wall particles' side (far fewer than the fluid near walls), in
+  // Found from the first-layer wall particles' side (far fewer than the fluid near walls; owned
+  // walls and images alike, pushing only owned fluid, so that a periodic image or another
+  // rank's wall pushes this part's fluid exactly once), in
   // cells with fluid within reach (reach < the cell size): the stencil's fluid positions are
   // packed in float columns relative to the cell's first particle and tested 16 lanes at a
   // time with a slightly wider float test; the few candidates it passes are tested again in
@@ -296,14 +298,13 @@ void WallModel<D>::add_backup(System<D>& S) const {
   hits_.clear();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
-  const auto first_layer = [&](std::size_t k) {
-    if (k >= n || P.kind[k] != Kind::Wall) return false;
+  const auto first_layer = [&](std::size_t k) {  // (owned or image: images carry the fields)
+    if (P.kind[k] != Kind::Wall) return false;
     const double depth2 = dot(to[k], to[k]);
     return depth2 > 0.0 && depth2 < dx * dx;  // a corner's own point has no normal
   };
-  const auto source = [&](std::uint32_t j) { return j < n ? std::size_t(j) : std::size_t(P.image_source[j - n]); };
   const auto hit = [&](std::uint32_t j, std::size_t k) {  // the exact test
-    if (P.kind[source(j)] != Kind::Fluid) return false;
+    if (P.kind[j] != Kind::Fluid) return false;
     const Vec<D> r = P.pos[k] - P.pos[j];
     const double r2 = dot(r, r);
     if (!(r2 < reach * reach)) return false;
@@ -329,7 +330,7 @@ void WallModel<D>::add_backup(System<D>& S) const {
         const Vec<D> origin = P.pos[sorted[c0k]];
         std::size_t nf = 0;
         st.for_each([&](std::size_t, std::uint32_t j) {
-          if (P.kind[source(j)] != Kind::Fluid) return;
+          if (j >= n || P.kind[j] != Kind::Fluid) return;  // each part pushes its own fluid
           for (int d = 0; d < D; ++d) B[X0 + d][nf] = float(P.pos[j][d] - origin[d]);
           B[IDX][nf] = std::bit_cast<float>(j);
           ++nf;
@@ -373,7 +374,7 @@ void WallModel<D>::add_backup(System<D>& S) const {
   if (hits_.empty()) return;
   std::sort(hits_.begin(), hits_.end());
   for (const auto& [j, k] : hits_) {
-    const std::size_t a = j < n ? j : P.image_source[j - n];
+    const std::size_t a = j;  // (owned: every part pushes its own fluid, from its walls and its images' walls)
     const double depth = std::sqrt(dot(to[k], to[k]));
     const Vec<D> nk = (1.0 / depth) * to[k];
     const Vec<D> r = P.pos[j] - P.pos[k];

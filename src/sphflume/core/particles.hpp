@@ -7,7 +7,9 @@
 // (kRemote: a copy of another rank's particle). Images are rebuilt before every neighbour pass
 // and never integrated.
 #pragma once
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <numeric>
 #include <stdexcept>
@@ -118,6 +120,42 @@ class ParticleStore {
       copy_particle(image_source[k], i);
       pos[i] += image_shift_[k];
     }
+  }
+
+  // --- whole particles as bytes (the MPI halo and migration; every field, in a fixed order) ---
+  /// Bytes of one packed particle: the core fields, then the named fields in name order.
+  std::size_t packed_bytes() const {
+    return 4 * sizeof(V) + 4 * sizeof(double) + sizeof(Kind) + sizeof(std::uint32_t) + scalar_fields_.size() * sizeof(double) +
+           vector_fields_.size() * sizeof(V);
+  }
+  void pack(std::size_t i, std::byte* out) const {
+    auto put = [&](const auto& v) { std::memcpy(out, &v, sizeof(v)); out += sizeof(v); };
+    put(pos[i]); put(vel[i]); put(acc[i]); put(rho[i]); put(p[i]); put(mass[i]); put(drho[i]); put(kind[i]); put(id[i]);
+    for (const auto& [k, f] : scalar_fields_) put(f[i]);
+    for (const auto& [k, f] : vector_fields_) put(f[i]);
+    // (the image shift is not sent: a packed particle is always at its owner's position)
+  }
+  /// Overwrite particle i (owned or image) with a packed one.
+  void unpack(std::size_t i, const std::byte* in) {
+    auto get = [&](auto& v) { std::memcpy(&v, in, sizeof(v)); in += sizeof(v); };
+    get(pos[i]); get(vel[i]); get(acc[i]); get(rho[i]); get(p[i]); get(mass[i]); get(drho[i]); get(kind[i]); get(id[i]);
+    for (auto& [k, f] : scalar_fields_) get(f[i]);
+    for (auto& [k, f] : vector_fields_) get(f[i]);
+  }
+  /// Append a packed particle as owned (no images may exist).
+  void add_packed(const std::byte* in) {
+    if (size() != n_owned_) throw std::logic_error("ParticleStore::add_packed: images exist");
+    resize_all(n_owned_ + 1);
+    unpack(n_owned_, in);
+    ++n_owned_;
+  }
+  /// Append a packed particle of another rank as an image (image_source kRemote).
+  void add_remote_image(const std::byte* in) {
+    const std::size_t i = size();
+    resize_all(i + 1);
+    unpack(i, in);
+    image_source.push_back(kRemote);
+    image_shift_.push_back(V{});
   }
 
   /// Reorder owned particles: new index i holds old particle perm[i]. Requires no images.

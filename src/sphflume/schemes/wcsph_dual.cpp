@@ -356,7 +356,8 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
 #pragma omp parallel for schedule(static) reduction(max : umax2)
     for (std::size_t i = 0; i < n; ++i)
       if (P.kind[i] == Kind::Fluid) umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
-    const double speed = std::sqrt(std::max({umax2, 4.0 * S.h * max_acc_, 0.01 * S.eos.c0 * S.eos.c0}));
+    umax2 = S.comm->max(umax2);  // (every rank opens the same advection steps)
+    const double speed = std::sqrt(std::max({umax2, 4.0 * S.h * S.comm->max(max_acc_), 0.01 * S.eos.c0 * S.eos.c0}));
     adv_left_ += cfg_.advection_cfl * S.h / speed;
   }
   // half step of density and position, the pressure of the new density (the walls' comes

@@ -164,8 +164,8 @@ struct Run {
 
   void start_fresh() {
     scheme->initialise(S);
-    rs.dt_first = scheme->time_step(S);
-    rs.initial_mass = S.total_mass(Kind::Fluid);
+    rs.dt_first = S.comm->min(scheme->time_step(S));
+    rs.initial_mass = S.comm->sum(S.total_mass(Kind::Fluid));
     rs.next_output = c.output_interval;
   }
 
@@ -204,7 +204,7 @@ struct Run {
   /// One time step, the removal of particles that left the domain, and the health check.
   /// Returns true when an output is due (next_output has then moved past it).
   bool advance(double& dt) {
-    dt = scheme->time_step(S);
+    dt = S.comm->min(scheme->time_step(S));
     if (!(dt > kDtFloor * rs.dt_first)) {
       const std::size_t i = fastest_accelerating(S);
       throw SimulationError(fmt::format(
@@ -228,13 +228,20 @@ struct Run {
       throw SimulationError(h ? *h : fmt::format("at step {}, t = {:.9g} s: {}", S.step, S.time, e.what()));
     }
     // open boundaries; then re-sort if particles were created or deleted (see remove_escaped)
-    if (open.any() && open.update(S, rs.open)) S.update_neighbours();
+    if (open.any() && S.comm->any(open.update(S, rs.open))) S.update_neighbours();
     remove_escaped();
-    if (const auto h = check_health(S, limits)) throw SimulationError(*h);
+    health();
     const bool last = S.time >= c.t_end * (1.0 - 1e-12);
     if (!(S.time >= rs.next_output * (1.0 - 1e-9) || last)) return false;
     while (rs.next_output <= S.time * (1.0 + 1e-9)) rs.next_output += c.output_interval;
     return true;
+  }
+
+  /// A failure on any rank stops every rank (each says what it saw).
+  void health() {
+    const auto h = check_health(S, limits);
+    if (S.comm->any(h.has_value()))
+      throw SimulationError(h ? *h : fmt::format("at step {}, t = {:.9g} s: another rank failed (its message says why)", S.step, S.time));
   }
 
   /// Fluid particles outside the domain box are removed and counted per face.
@@ -249,7 +256,7 @@ struct Run {
       for (int d = 0; d < D; ++d)
         any = any || (!S.periodic.axis[d] && !(P.pos[i][d] >= lo[d] && P.pos[i][d] <= hi[d]));
     }
-    if (!any) return;
+    if (!S.comm->any(any)) return;
     std::vector<char> flag;
     for (std::size_t i = 0; i < P.n_owned(); ++i) {
       if (P.kind[i] != Kind::Fluid) continue;
@@ -264,9 +271,10 @@ struct Run {
         }
       }
     }
-    if (flag.empty()) return;
-    P.clear_images();
-    P.remove_if_flagged(flag);
+    if (!flag.empty()) {
+      P.clear_images();
+      P.remove_if_flagged(flag);
+    }
     // re-sort now: the order the next step starts from must not depend on whether an output
     // (which sorts) came in between, or restarts would not be bitwise
     S.update_neighbours();
