@@ -23,7 +23,9 @@ struct Periodic final : Halo<D> {
   // --- the halo layer ---
   const char* name() const override { return "periodic"; }
   bool active() const override { return any(); }
-  void migrate(ParticleStore<D>& P) override { wrap(P); }
+  /// (nothing: the schemes wrap at the end of each step, wrap(), because the two-stage
+  /// integrators keep the start-of-step positions x0 in the unwrapped frame until then)
+  void migrate(ParticleStore<D>&) override {}
   void build(ParticleStore<D>& P, double margin) override {
     begin_ = P.size();
     build_images(P, margin);

@@ -74,6 +74,9 @@ struct System {
   /// The global reductions (time step, mass, gauges, summary): a no-op in one process.
   std::shared_ptr<const Communicator> comm = std::make_shared<Communicator>();
 
+  /// Whether point x lies in this process's part of the domain (always, in one process).
+  bool owns(const Vec<D>& x) const { return !ranks || ranks->owns(x); }
+
   /// The active halo layers, in build order (core/halo.hpp).
   int halo_layers(Halo<D>** out) {
     int k = 0;
@@ -82,17 +85,19 @@ struct System {
     return k;
   }
 
-  /// Sort the owned particles into cell order (moving every per-particle field), build the halo
+  /// Hand the particles that left this part of the domain to their new owners (Halo::migrate),
+  /// sort the owned particles into cell order (moving every per-particle field), build the halo
   /// layers and rebin. Without images the cell list then indexes the store directly
   /// (cells.identity()); images sit after the owned particles and are reached through sorted().
   /// Particle indices change: anything indexed by particle must be a store field.
   void update_neighbours() {
     particles.clear_images();
+    Halo<D>* layer[2];
+    const int nl = halo_layers(layer);
+    for (int l = 0; l < nl; ++l) layer[l]->migrate(particles);  // (what left this part since the last build)
     cells.build(particles.pos, particles.n_owned(), support);
     particles.permute(cells.sorted());
     cells.adopt_permutation();
-    Halo<D>* layer[2];
-    const int nl = halo_layers(layer);
     for (int l = 0; l < nl; ++l) layer[l]->build(particles, support * 1.1 + dx);
     if (particles.size() > particles.n_owned()) cells.build(particles.pos, particles.size(), support);
   }
@@ -110,13 +115,6 @@ struct System {
     Halo<D>* layer[2];
     const int nl = halo_layers(layer);
     for (int l = 0; l < nl; ++l) layer[l]->refresh_column(particles, reinterpret_cast<std::byte*>(column), per * sizeof(T));
-  }
-  /// Owned particles that left this part of the domain (at the end of a step): wrapped through
-  /// periodic faces, handed to their new rank. Particle indices change.
-  void migrate() {
-    Halo<D>* layer[2];
-    const int nl = halo_layers(layer);
-    for (int l = 0; l < nl; ++l) layer[l]->migrate(particles);
   }
 
   template <class Fn>

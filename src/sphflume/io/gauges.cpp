@@ -51,11 +51,11 @@ Vec<D> line_normal(const GaugeConfig& g, double& ds) {
 
 template <int D>
 GaugeSet<D>::GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
-                      double resume_after)
+                      double resume_after, bool writer)
     : cfg_(gauges), level_top_(level_top), dir_(dir), means_(gauges.size()),
-      runmax_(gauges.size(), -std::numeric_limits<double>::infinity()), window_(gauges.size()) {
+      runmax_(gauges.size(), -std::numeric_limits<double>::infinity()), window_(gauges.size()), writer_(writer) {
   for (const auto& g : gauges) windowed_ |= g.type == "pressure" && g.window > 0.0;
-  if (gauges.empty()) return;
+  if (gauges.empty() || !writer) return;
   std::filesystem::create_directories(dir + "/gauges");
   const char* ax = D == 2 ? "xz" : "xyz";
   for (const auto& g : gauges) {
@@ -280,11 +280,19 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     return out;
   }
   if (g.type == "pressure") {
+    // each point is read by the part of the domain that holds it (its neighbours are there,
+    // owned or halo), the others add nothing; one sum over the parts
     auto p_at = [&](const Vec<D>& x) {
+      if (!S.owns(x)) return nan;
       auto v = interpolate_mls(S, x, [&](std::uint32_t b) { return P.p[b]; });
       return v ? *v : nan;
     };
-    if (!(g.diameter > 0.0)) return {p_at(at(g.point))};
+    if (!(g.diameter > 0.0)) {
+      const double v = p_at(at(g.point));
+      double sw[2] = {std::isfinite(v) ? v : 0.0, std::isfinite(v) ? 1.0 : 0.0};
+      S.comm->sum(sw, 2);
+      return {sw[1] > 0.0 ? sw[0] / sw[1] : nan};
+    }
     // the sensor face: points spread over it, each weighted by the part of the face it stands
     // for (2D: 5 points over the segment; 3D: the centre and 6 points at 0.7 R, equal areas)
     Vec<D> n = at(g.normal);
@@ -310,7 +318,9 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
         add(c + (0.7 * R * std::cos(a)) * t1 + (0.7 * R * std::sin(a)) * t2, 1.0);
       }
     }
-    return {wsum > 0.0 ? sum / wsum : nan};
+    double sw[2] = {sum, wsum};
+    S.comm->sum(sw, 2);
+    return {sw[1] > 0.0 ? sw[0] / sw[1] : nan};
   }
   if (g.type == "velocity_profile") {
     std::vector<double> out;
@@ -399,7 +409,9 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
       w += P.mass[i] / P.rho[i];
       v += P.mass[i] / (P.rho[i] * (phi ? phi[i] : 1.0));
     }
-    return {w, v};
+    double wv[2] = {w, v};
+    S.comm->sum(wv, 2);
+    return {wv[0], wv[1]};
   }
   if (g.type == "energy") {
     double ek = 0.0, ep = 0.0;
@@ -408,7 +420,9 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
       ek += 0.5 * P.mass[i] * dot(P.vel[i], P.vel[i]);
       ep -= P.mass[i] * dot(S.gravity, P.pos[i]);
     }
-    return {ek, ep, ek + ep};
+    double e[2] = {ek, ep};
+    S.comm->sum(e, 2);
+    return {e[0], e[1], e[0] + e[1]};
   }
   if (g.type == "front") {
     double best = -std::numeric_limits<double>::max();
@@ -423,6 +437,7 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
       });
       if (nb >= 3) best = s;
     }
+    best = S.comm->max(best);
     return {best == -std::numeric_limits<double>::max() ? nan : g.direction * best};
   }
   return {nan};
@@ -432,10 +447,12 @@ template <int D>
 void GaugeSet<D>::sample(const System<D>& S) {
   double top = level_top_;
   for (std::size_t i = 0; i < S.particles.n_owned(); ++i) top = std::max(top, S.particles.pos[i][D - 1] + S.support);
+  top = S.comm->max(top);
   for (std::size_t k = 0; k < cfg_.size(); ++k) {
+    auto v = evaluate(cfg_[k], S, top);  // (every rank: the reductions; one writes)
+    if (!writer_) continue;
     auto& f = *files_[k];
     f << fmt::format("{:.9g}", S.time);
-    auto v = evaluate(cfg_[k], S, top);
     if (cfg_[k].type == "pressure" && cfg_[k].window > 0.0) {
       // the window's mean and standard deviation (the samples of tick(), this one included)
       auto& w = window_[k];

@@ -52,7 +52,7 @@ class GaugeSet {
   /// Open the CSV files (truncating) and write their headers. After a restart (resume_after a
   /// time), keep the rows up to that time and append after them instead.
   GaugeSet(const std::vector<GaugeConfig>& gauges, const std::string& dir, double level_top,
-           double resume_after = std::numeric_limits<double>::quiet_NaN());
+           double resume_after = std::numeric_limits<double>::quiet_NaN(), bool writer = true);
   /// Append one row per gauge; S must have an up-to-date cell list.
   void sample(const System<D>& S);
   /// After every step: the samples of the gauges with a time window (pressure sensors).
@@ -80,6 +80,7 @@ class GaugeSet {
   std::vector<double> runmax_;  // runup gauges: the largest run-up so far (column max)
   std::vector<std::deque<std::pair<double, double>>> window_;  // windowed gauges: (t, value) samples
   bool windowed_ = false;
+  bool writer_ = true;  // false: a rank of a distributed run other than the first (computes, writes nothing)
 };
 
 }  // namespace sph

@@ -202,7 +202,7 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   }
   amax_ = std::sqrt(amax2) / dt;
   if (shift_.on()) shift_.apply(S);
-  S.migrate();
+  S.periodic.wrap(P);
   S.time += dt;
   ++S.step;
 }

@@ -119,7 +119,7 @@ void WCSPH<D>::step(System<D>& S, double dt) {
   if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
   else two_stage_step(S, dt);
   if (shift_.on()) shift_.apply(S);
-  S.migrate();  // (periodic wrap; MPI ranks hand over what left their slab)
+  S.periodic.wrap(S.particles);
   S.time += dt;
   ++S.step;
   if (cfg_.shepard_every > 0 && S.step % cfg_.shepard_every == 0) shepard_filter(S);

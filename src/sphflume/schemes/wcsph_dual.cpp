@@ -400,7 +400,6 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
     P.p[i] = S.eos_of(i).pressure(P.rho[i]);
   }
   S.pairs_last_pass = pairs_a;  // (pass B counts no pairs: it sees the same ones)
-  S.migrate();
   adv_left_ -= dt;
   S.time += dt;
   ++S.step;

@@ -30,6 +30,7 @@
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/scheme.hpp"
 #include "sphflume/sim/health.hpp"
+#include "sphflume/sim/ranks.hpp"
 
 namespace sph {
 namespace fs = std::filesystem;
@@ -312,14 +313,41 @@ struct Summary {
   double wall = 0.0;
 };
 
+/// Global sums of what each rank counted (the same values in one process).
+template <int D>
+struct Totals {
+  std::uint64_t kind[kKindCount]{};
+  double removed_mass = 0.0, inflow = 0.0, outflow = 0.0, backflow_mass = 0.0, final_mass = 0.0;
+  std::uint64_t backflow = 0;
+  std::map<std::string, long> removed_by_face;
+  Totals(const System<D>& S, const RunState& rs) {
+    for (int k = 0; k < kKindCount; ++k) kind[k] = S.particles.count(static_cast<Kind>(k));
+    S.comm->sum(kind, kKindCount);
+    double m[5] = {rs.removed_mass, rs.open.inflow_mass, rs.open.outflow_mass, rs.open.backflow_mass, S.total_mass(Kind::Fluid)};
+    S.comm->sum(m, 5);
+    removed_mass = m[0]; inflow = m[1]; outflow = m[2]; backflow_mass = m[3]; final_mass = m[4];
+    backflow = S.comm->sum(static_cast<std::uint64_t>(rs.open.backflow));
+    for (const char* f : {"x-", "x+", "y-", "y+", "z-", "z+"}) {
+      auto it = rs.removed_by_face.find(f);
+      const std::uint64_t n = S.comm->sum(static_cast<std::uint64_t>(it == rs.removed_by_face.end() ? 0 : it->second));
+      if (n > 0) removed_by_face[f] = static_cast<long>(n);
+    }
+  }
+  std::uint64_t operator[](Kind k) const { return kind[static_cast<int>(k)]; }
+};
+
+/// Every rank calls it (the totals are reductions); the first rank writes the file.
 template <int D>
 void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Summary& sm, const RunResult& res) {
   const System<D>& S = R.S;
   const RunState& rs = R.rs;
+  const Totals<D> tot(S, rs);
+  const RankStats ranks = rank_stats(S, res.steps);
+  if (!S.comm->root()) return;
   std::string faces;
-  for (const auto& [f, n] : rs.removed_by_face) faces += fmt::format("{}\"{}\": {}", faces.empty() ? "" : ", ", f, n);
+  for (const auto& [f, n] : tot.removed_by_face) faces += fmt::format("{}\"{}\": {}", faces.empty() ? "" : ", ", f, n);
   long removed = 0;
-  for (const auto& [f, n] : rs.removed_by_face) removed += n;
+  for (const auto& [f, n] : tot.removed_by_face) removed += n;
   std::string json = "{\n";
   json += fmt::format("  \"version\": \"{}\",\n  \"case\": \"{}\",\n  \"case_file\": \"{}\",\n", o.version, json_escape(c.name), json_escape(c.file));
   json += fmt::format("  \"dimension\": {},\n  \"scheme\": \"{}\",\n  \"kernel\": \"{}\",\n", D, R.scheme->name(), kernel_name(c.kernel));
@@ -335,18 +363,19 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   if (const std::string block = R.scheme->summary_json(); !block.empty()) json += block + ",\n";
   json += fmt::format("  \"dx\": {:.9g},\n  \"h\": {:.9g},\n  \"sound_speed\": {:.9g},\n", S.dx, S.h, S.eos.c0);
   json += fmt::format("  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"inflow\": {}, \"outflow\": {}, \"total\": {}, \"initial_fluid\": {}}},\n",
-                      S.particles.count(Kind::Fluid), S.particles.count(Kind::Wall), S.particles.count(Kind::Inflow),
-                      S.particles.count(Kind::Outflow), res.total, R.rep.fluid);
+                      tot[Kind::Fluid], tot[Kind::Wall], tot[Kind::Inflow], tot[Kind::Outflow], res.total, R.rep.fluid);
   json += fmt::format("  \"steps\": {},\n  \"total_steps\": {},\n  \"simulated_time\": {:.9g},\n  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.6g},\n  \"threads\": {},\n",
                       res.steps, S.step, S.time, c.t_end, sm.wall, thread_count());
+  json += fmt::format("  \"ranks\": {{\"count\": {}, \"halo_bytes_per_step\": {:.6g}, \"imbalance\": {:.4f}, \"migrated_per_step\": {:.4g}}},\n",
+                      S.comm->size(), ranks.halo_bytes_per_step, ranks.imbalance, ranks.migrated_per_step);
   json += fmt::format("  \"particle_steps_per_second\": {:.6g},\n  \"fluid_particle_steps_per_second\": {:.6g},\n",
                       res.particle_steps_per_second, res.fluid_particle_steps_per_second);
   json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
                       res.pair_interactions_per_second, res.bytes_per_particle);
   json += fmt::format("  \"last_dt\": {:.6g},\n  \"snapshots\": {},\n", sm.last_dt, sm.snapshots);
   json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": {:.17g}, \"outflow\": {:.17g}, \"backflow\": {:.17g}, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
-                      rs.initial_mass, rs.open.inflow_mass, rs.open.outflow_mass, rs.open.backflow_mass, rs.removed_mass, S.total_mass(Kind::Fluid), res.mass_error);
-  json += fmt::format("  \"backflow\": {{\"particles\": {}, \"mass\": {:.17g}}},\n", rs.open.backflow, rs.open.backflow_mass);
+                      rs.initial_mass, tot.inflow, tot.outflow, tot.backflow_mass, tot.removed_mass, tot.final_mass, res.mass_error);
+  json += fmt::format("  \"backflow\": {{\"particles\": {}, \"mass\": {:.17g}}},\n", tot.backflow, tot.backflow_mass);
   json += fmt::format("  \"removed_particles\": {{{}}},\n  \"removed_particles_total\": {},\n", faces, removed);
   json += fmt::format("  \"restarted_from\": \"{}\",\n  \"last_good_snapshot\": \"{}\",\n", json_escape(sm.restarted_from),
                       json_escape(sm.last_good));
@@ -357,6 +386,8 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
 
 template <int D>
 RunResult run_dim(const Case& c, const RunOptions& o) {
+  const auto comm = world();
+  const bool distributed = comm->size() > 1;
   Run<D> R(c);
   System<D>& S = R.S;
   const bool restart = !o.restart.empty();
@@ -366,6 +397,11 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       throw InputError(fmt::format("--restart {}: it is at t = {:.9g} s, at or past time.end = {} s: raise the end time "
                                    "(--set time.end=...)", o.restart, S.time, c.t_end));
   }
+  // mpirun -np N: every rank built (or read) the whole case; each keeps its slab (sim/ranks.hpp)
+  if (distributed) distribute<D>(S, comm, c.file);
+  if (distributed && comm->root() && o.write_output)
+    fmt::print(stderr, "note: {} ranks; snapshots and checkpoints are not written in distributed runs yet (gauges and "
+                       "summary.json are)\n", comm->size());
 #ifdef _OPENMP
   if (o.threads > 0) omp_set_num_threads(o.threads);
 #endif
@@ -391,16 +427,17 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   std::unique_ptr<GaugeSet<D>> gauges;
   if (o.write_output) {
     if (resume) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
-    else if (fs::exists(o.output + "/snapshots"))  // a re-run must not leave an earlier run's snapshots behind
+    else if (comm->root() && fs::exists(o.output + "/snapshots"))  // a re-run must not leave an earlier run's snapshots behind
       for (const auto& e : fs::directory_iterator(o.output + "/snapshots", ec))
         if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
     gauges = std::make_unique<GaugeSet<D>>(c.gauges, o.output, R.hi[D - 1],
-                                           resume ? S.time : std::numeric_limits<double>::quiet_NaN());
+                                           resume ? S.time : std::numeric_limits<double>::quiet_NaN(), comm->root());
   }
   if (!restart) {
     R.start_fresh();
-    if (const auto h = check_health(S, R.limits))
-      throw InputError(fmt::format("{}: the initial state is not sane, {}", c.file, *h));
+    const auto h = check_health(S, R.limits);
+    if (S.comm->any(h.has_value()))
+      throw InputError(fmt::format("{}: the initial state is not sane, {}", c.file, h ? *h : std::string("on another rank")));
   }
 
   const auto t0 = std::chrono::steady_clock::now();
@@ -418,7 +455,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     // snapshots at every snapshot_every-th output time (and the first and last); gauges at each
     const long k = std::lround(S.time / c.output_interval);
     const bool snap = always || c.snapshot_every <= 1 || k % c.snapshot_every == 0 || S.time >= c.t_end * (1.0 - 1e-12);
-    if (snap) {
+    if (snap && !distributed) {
       const RunState st = R.state();
       snaps.write(S.particles, S.time, S.step, &st);
     }
@@ -428,7 +465,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (S.transport)
       for (std::size_t k = 0; k < S.transport->count(); ++k) S.counters["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
     gauges->sample(S);
-    if (snap) {
+    if (snap && !distributed) {
       last_snapshot_step = S.step;
       restart_point = snaps.last_path();
     }
@@ -455,6 +492,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       if (out) output(false);
       const double w = elapsed();
       auto write_checkpoint = [&] {
+        if (distributed) return;
         RunState st = R.state();
         st.snapshots = snaps.entries();
         SnapshotWriter<D>::write_checkpoint(checkpoint, S.particles, st);
@@ -485,7 +523,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     status = "failed";
     failure = e.what();
     res.exit_code = 3;
-    if (o.write_output) last_good = write_last_good<D>(c, snaps, restart_point, good_step, last_snapshot_step);
+    if (o.write_output && !distributed) last_good = write_last_good<D>(c, snaps, restart_point, good_step, last_snapshot_step);
   } catch (const IoError& e) {  // a write failed (full disk, ...): the files already written are whole
     status = "failed";
     failure = e.what();
@@ -497,16 +535,26 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
 
   res.steps = steps_done;
   res.wall_seconds = wall;
-  res.fluid = S.particles.count(Kind::Fluid);
-  res.total = S.particles.n_owned();
+  {  // totals over the ranks
+    std::uint64_t cnt[3] = {S.particles.count(Kind::Fluid), S.particles.n_owned(), pairs_total};
+    S.comm->sum(cnt, 3);
+    double ps[2] = {particle_steps, fluid_particle_steps};
+    S.comm->sum(ps, 2);
+    res.fluid = cnt[0];
+    res.total = cnt[1];
+    pairs_total = cnt[2];
+    particle_steps = ps[0];
+    fluid_particle_steps = ps[1];
+  }
   res.particle_steps_per_second = wall > 0 ? particle_steps / wall : 0.0;
   res.fluid_particle_steps_per_second = wall > 0 ? fluid_particle_steps / wall : 0.0;
   res.pair_interactions_per_second = wall > 0 ? static_cast<double>(pairs_total) / wall : 0.0;
   res.bytes_per_particle = static_cast<double>(S.particles.bytes() + S.cells.bytes() + R.scheme->bytes() + S.walls->bytes()) /
                            static_cast<double>(std::max<std::size_t>(1, res.total));
-  const double m0 = R.rs.initial_mass, m1 = S.total_mass(Kind::Fluid);
-  const double min = R.rs.open.inflow_mass, mout = R.rs.open.outflow_mass;
-  res.mass_error = m0 > 0 ? (m0 + min - mout - R.rs.open.backflow_mass - R.rs.removed_mass - m1) / m0 : 0.0;
+  const Totals<D> tot(S, R.rs);
+  const double m0 = R.rs.initial_mass;
+  res.mass_error = m0 > 0 ? (m0 + tot.inflow - tot.outflow - tot.backflow_mass - tot.removed_mass - tot.final_mass) / m0 : 0.0;
+  const std::uint64_t walls_total = tot[Kind::Wall];
 
   Summary sm{status, failure, last_good, restart ? o.restart : std::string(), dt, snaps.count(), wall};
   try {
@@ -516,8 +564,12 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (res.exit_code == 0) res.exit_code = 3;
   }
 
+  if (!comm->root()) {  // (the first rank reports the run; the others only their own failure)
+    if (res.exit_code != 0 && !failure.empty()) fmt::print(stderr, "rank {}: {}\n", comm->rank(), failure);
+    return res;
+  }
   std::string faces;
-  for (const auto& [f, n] : R.rs.removed_by_face) faces += fmt::format("{}{}: {}", faces.empty() ? "" : ", ", f, n);
+  for (const auto& [f, n] : tot.removed_by_face) faces += fmt::format("{}{}: {}", faces.empty() ? "" : ", ", f, n);
   if (res.exit_code == 3)
     fmt::print(stderr, "error: the simulation failed: {}\n{}\n", failure,
                last_good.empty() ? "no snapshot could be written"
@@ -526,7 +578,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     fmt::print(stderr, "{}\n", failure);
   fmt::print("{} particles ({} fluid, {} wall), {} steps, simulated {:.4g} s in {} wall ({:.2f} M particle-steps/s, "
              "{:.1f} M pair interactions/s, {:.0f} bytes/particle, {} threads)\nmass error {:.2e}{}\noutput: {}\n",
-             res.total, res.fluid, S.particles.count(Kind::Wall), res.steps, S.time, hms(wall),
+             res.total, res.fluid, walls_total, res.steps, S.time, hms(wall),
              res.particle_steps_per_second / 1e6, res.pair_interactions_per_second / 1e6, res.bytes_per_particle,
              thread_count(), res.mass_error,
              faces.empty() ? "" : fmt::format(" (particles left the domain and were removed: {})", faces),

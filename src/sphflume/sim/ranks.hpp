@@ -1,0 +1,37 @@
+// Distributed runs: `mpirun -np N sphflume run CASE` splits the particles over N MPI ranks.
+// Each rank owns the particles of one slab of the domain along its longest axis (cuts balanced
+// by particle count, fluid weighing more than walls) and keeps copies of its neighbours'
+// particles within the halo margin: a Halo layer (core/halo.hpp) under the neighbour search,
+// built, refreshed and migrated by System like periodic images, plus a Communicator for the
+// global reductions. Physics code never calls MPI; everything MPI lives in ranks_mpi.cpp (a
+// build without MPI has ranks_serial.cpp: one process).
+#pragma once
+#include <memory>
+#include <string>
+
+#include "sphflume/core/communicator.hpp"
+#include "sphflume/core/system.hpp"
+
+namespace sph {
+
+/// The ranks this process runs with: one process (serial) unless it was started by mpirun with
+/// more than one rank (MPI is then initialised, once, and finalised at exit). A build without
+/// MPI started by mpirun with several ranks throws an InputError that says how to build one.
+std::shared_ptr<const Communicator> world();
+
+/// Split the system over the ranks of `comm` (size > 1): every rank has built the whole case;
+/// each keeps the particles of its slab and gets the slab halo layer and the communicator.
+/// Throws InputError for what distributed runs do not support yet (the case file's place named).
+template <int D>
+void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const std::string& what);
+
+/// Halo traffic and load balance of a distributed run, for summary.json (zeros in one process).
+struct RankStats {
+  double halo_bytes_per_step = 0.0;  // bytes sent per rank per step (builds and refreshes), mean over ranks
+  double imbalance = 1.0;            // max over ranks of owned particles / the mean
+  double migrated_per_step = 0.0;    // particles handed to another rank per step, all ranks
+};
+template <int D>
+RankStats rank_stats(const System<D>& S, long steps);
+
+}  // namespace sph

@@ -1,0 +1,260 @@
+// MPI ranks: the communicator over MPI_COMM_WORLD and the slab decomposition (ranks.hpp).
+// the C API only (OpenMPI's C++ bindings would need libmpi_cxx)
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "sphflume/core/errors.hpp"
+#include "sphflume/sim/ranks.hpp"
+
+namespace sph {
+namespace {
+
+class MpiCommunicator final : public Communicator {
+ public:
+  MpiCommunicator() {
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+  void sum(double* v, std::size_t n) const override { reduce(v, n, MPI_DOUBLE, MPI_SUM); }
+  void sum(std::uint64_t* v, std::size_t n) const override { reduce(v, n, MPI_UINT64_T, MPI_SUM); }
+  void min(double* v, std::size_t n) const override { reduce(v, n, MPI_DOUBLE, MPI_MIN); }
+  void max(double* v, std::size_t n) const override { reduce(v, n, MPI_DOUBLE, MPI_MAX); }
+
+ private:
+  int rank_ = 0, size_ = 1;
+  static void reduce(void* v, std::size_t n, MPI_Datatype t, MPI_Op op) {
+    MPI_Allreduce(MPI_IN_PLACE, v, static_cast<int>(n), t, op, MPI_COMM_WORLD);
+  }
+};
+
+void finalise_mpi() {
+  int fin = 0;
+  MPI_Finalized(&fin);
+  if (!fin) MPI_Finalize();
+}
+
+/// All-to-all exchange of byte buffers: send[q] goes to rank q; returns what each rank sent
+/// here, back to back in rank order, with recv_counts[q] bytes from rank q.
+std::vector<std::byte> exchange(const std::vector<std::vector<std::byte>>& send, std::vector<int>& recv_counts) {
+  const int size = static_cast<int>(send.size());
+  std::vector<int> sc(size), sd(size), rd(size);
+  recv_counts.assign(size, 0);
+  for (int q = 0; q < size; ++q) sc[q] = static_cast<int>(send[q].size());
+  MPI_Alltoall(sc.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::vector<std::byte> sbuf;
+  int st = 0, rt = 0;
+  for (int q = 0; q < size; ++q) {
+    sd[q] = st;
+    st += sc[q];
+    rd[q] = rt;
+    rt += recv_counts[q];
+    sbuf.insert(sbuf.end(), send[q].begin(), send[q].end());
+  }
+  std::vector<std::byte> rbuf(static_cast<std::size_t>(rt));
+  MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_BYTE, rbuf.data(), recv_counts.data(), rd.data(), MPI_BYTE,
+                MPI_COMM_WORLD);
+  return rbuf;
+}
+
+/// The slab decomposition along one axis: rank r owns [cut[r], cut[r+1]).
+template <int D>
+class Slabs final : public Halo<D> {
+ public:
+  Slabs(int axis, std::vector<double> cuts, int rank) : axis_(axis), cut_(std::move(cuts)), rank_(rank) {}
+  const char* name() const override { return "mpi"; }
+  bool active() const override { return true; }
+  int size() const { return static_cast<int>(cut_.size()) - 1; }
+  bool owns(const Vec<D>& x) const override { return owner(x[axis_]) == rank_; }
+  int owner(double x) const {
+    const int q = static_cast<int>(std::upper_bound(cut_.begin() + 1, cut_.end() - 1, x) - (cut_.begin() + 1));
+    return std::clamp(q, 0, size() - 1);
+  }
+
+  void migrate(ParticleStore<D>& P) override {
+    const std::size_t n = P.n_owned(), pb = P.packed_bytes();
+    std::vector<std::vector<std::byte>> send(size());
+    std::vector<char> flag;
+    for (std::size_t i = 0; i < n; ++i) {
+      const int q = owner(P.pos[i][axis_]);
+      if (q == rank_) continue;
+      if (flag.empty()) flag.assign(n, 0);
+      flag[i] = 1;
+      auto& b = send[q];
+      b.resize(b.size() + pb);
+      P.pack(i, b.data() + b.size() - pb);
+    }
+    std::vector<int> rc;
+    const auto in = exchange(send, rc);
+    if (!flag.empty()) P.remove_if_flagged(flag);
+    for (std::size_t off = 0; off < in.size(); off += pb) P.add_packed(in.data() + off);
+    migrated_ += static_cast<double>(in.size() / pb);
+  }
+
+  void build(ParticleStore<D>& P, double margin) override {
+    const std::size_t n = P.n_owned(), pb = P.packed_bytes();
+    send_.assign(size(), {});
+    std::vector<std::vector<std::byte>> send(size());
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = P.pos[i][axis_];
+      // the ranks whose slab, widened by the margin, holds x: neighbours only, searched outwards
+      for (int q = rank_ - 1; q >= 0 && x < cut_[q + 1] + margin; --q)
+        if (x >= cut_[q] - margin) send_[q].push_back(static_cast<std::uint32_t>(i));
+      for (int q = rank_ + 1; q < size() && x >= cut_[q] - margin; ++q)
+        if (x < cut_[q + 1] + margin) send_[q].push_back(static_cast<std::uint32_t>(i));
+    }
+    for (int q = 0; q < size(); ++q) {
+      send[q].resize(send_[q].size() * pb);
+      for (std::size_t k = 0; k < send_[q].size(); ++k) P.pack(send_[q][k], send[q].data() + k * pb);
+    }
+    const auto in = exchange(send, recv_);
+    begin_ = P.size();
+    for (std::size_t off = 0; off < in.size(); off += pb) P.add_remote_image(in.data() + off);
+    end_ = P.size();
+    count(send);
+  }
+
+  void refresh(ParticleStore<D>& P) override {
+    const std::size_t pb = P.packed_bytes();
+    std::vector<std::vector<std::byte>> send(size());
+    for (int q = 0; q < size(); ++q) {
+      send[q].resize(send_[q].size() * pb);
+      for (std::size_t k = 0; k < send_[q].size(); ++k) P.pack(send_[q][k], send[q].data() + k * pb);
+    }
+    std::vector<int> rc;
+    const auto in = exchange(send, rc);
+    std::size_t i = begin_;
+    for (std::size_t off = 0; off < in.size(); off += pb) P.unpack(i++, in.data() + off);
+    count(send);
+  }
+
+  void refresh_column(const ParticleStore<D>&, std::byte* column, std::size_t width) override {
+    std::vector<std::vector<std::byte>> send(size());
+    for (int q = 0; q < size(); ++q) {
+      send[q].resize(send_[q].size() * width);
+      for (std::size_t k = 0; k < send_[q].size(); ++k)
+        std::memcpy(send[q].data() + k * width, column + std::size_t(send_[q][k]) * width, width);
+    }
+    std::vector<int> rc;
+    const auto in = exchange(send, rc);
+    std::memcpy(column + begin_ * width, in.data(), in.size());
+    count(send);
+  }
+
+  double bytes_sent() const { return bytes_; }
+  double migrated() const { return migrated_; }
+
+ private:
+  int axis_;
+  std::vector<double> cut_;
+  int rank_;
+  std::vector<std::vector<std::uint32_t>> send_;  // owned particles each rank gets a copy of
+  std::vector<int> recv_;
+  std::size_t begin_ = 0, end_ = 0;
+  double bytes_ = 0.0, migrated_ = 0.0;
+  void count(const std::vector<std::vector<std::byte>>& send) {
+    for (const auto& b : send) bytes_ += static_cast<double>(b.size());
+  }
+};
+
+}  // namespace
+
+std::shared_ptr<const Communicator> world() {
+  const char* n = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (!n) n = std::getenv("PMI_SIZE");
+  if (!n || std::atoi(n) <= 1) return std::make_shared<Communicator>();
+  int init = 0;
+  MPI_Initialized(&init);
+  if (!init) {
+    int provided = 0;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    std::atexit(finalise_mpi);
+  }
+  return std::make_shared<MpiCommunicator>();
+}
+
+template <int D>
+void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const std::string& what) {
+  const int size = comm->size(), rank = comm->rank();
+  auto refuse = [&](const std::string& feature) {
+    throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
+                                 "process (without mpirun)", what, feature, size));
+  };
+  if (S.periodic.any()) refuse("a periodic domain (domain.periodic)");
+  if (S.before_rates) refuse("open boundaries");
+  if (S.motion) refuse("moving walls (motions)");
+  if (!S.phase_eos.empty()) refuse("several phases");
+  auto& P = S.particles;
+  P.clear_images();
+  // the slab axis: the longest extent of all particles
+  double lo[D], hi[D];
+  for (int d = 0; d < D; ++d) { lo[d] = std::numeric_limits<double>::max(); hi[d] = -lo[d]; }
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    for (int d = 0; d < D; ++d) { lo[d] = std::min(lo[d], P.pos[i][d]); hi[d] = std::max(hi[d], P.pos[i][d]); }
+  comm->min(lo, D);
+  comm->max(hi, D);
+  int axis = 0;
+  for (int d = 1; d < D; ++d)
+    if (hi[d] - lo[d] > hi[axis] - lo[axis]) axis = d;
+  // cuts balancing the work: a histogram of fluid (weight 1) and other particles (0.25: walls
+  // cost the extrapolation, not the pair passes), summed over the ranks
+  constexpr std::size_t kBins = 1 << 14;
+  std::vector<double> hist(kBins, 0.0);
+  const double span = std::max(hi[axis] - lo[axis], 1e-300), scale = kBins / span;
+  // every rank holds the whole case here: count it once (rank 0's copy)
+  if (rank == 0)
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      const auto b = std::min<std::size_t>(kBins - 1, static_cast<std::size_t>((P.pos[i][axis] - lo[axis]) * scale));
+      hist[b] += P.kind[i] == Kind::Fluid ? 1.0 : 0.25;
+    }
+  comm->sum(hist.data(), kBins);
+  double total = 0.0;
+  for (double h : hist) total += h;
+  std::vector<double> cuts(size + 1);
+  cuts[0] = -std::numeric_limits<double>::infinity();
+  cuts[size] = std::numeric_limits<double>::infinity();
+  double acc = 0.0;
+  std::size_t b = 0;
+  for (int q = 1; q < size; ++q) {
+    const double target = total * q / size;
+    while (b < kBins && acc + hist[b] < target) acc += hist[b++];
+    cuts[q] = lo[axis] + static_cast<double>(b) / scale;  // a bin edge
+  }
+  auto slabs = std::make_shared<Slabs<D>>(axis, cuts, rank);
+  std::vector<char> flag(P.n_owned(), 0);
+  for (std::size_t i = 0; i < P.n_owned(); ++i) flag[i] = slabs->owner(P.pos[i][axis]) != rank;
+  P.remove_if_flagged(flag);
+  S.ranks = slabs;
+  S.comm = comm;
+}
+
+template <int D>
+RankStats rank_stats(const System<D>& S, long steps) {
+  RankStats r;
+  const auto* sl = dynamic_cast<const Slabs<D>*>(S.ranks.get());
+  if (!sl) return r;
+  const auto& comm = *S.comm;
+  const double n = static_cast<double>(S.particles.n_owned());
+  r.imbalance = comm.max(n) / std::max(1.0, comm.sum(n) / comm.size());
+  const double st = std::max(1L, steps);
+  r.halo_bytes_per_step = comm.sum(sl->bytes_sent()) / comm.size() / st;
+  r.migrated_per_step = comm.sum(sl->migrated()) / st;
+  return r;
+}
+
+template void distribute<2>(System<2>&, std::shared_ptr<const Communicator>, const std::string&);
+template void distribute<3>(System<3>&, std::shared_ptr<const Communicator>, const std::string&);
+template RankStats rank_stats<2>(const System<2>&, long);
+template RankStats rank_stats<3>(const System<3>&, long);
+
+}  // namespace sph
