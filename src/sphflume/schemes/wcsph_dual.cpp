@@ -351,7 +351,10 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
   const std::size_t n = P.n_owned();
   const double hdt = 0.5 * dt;
   if (adv_left_ <= 0.0) {  // a new advection step: summation density, its length
-    if (cfg_.density_reinit) reinit_density(S);
+    if (cfg_.density_reinit) {
+      S.refresh_halos();  // (images at the positions the last step ended with)
+      reinit_density(S);
+    }
     double umax2 = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : umax2)
     for (std::size_t i = 0; i < n; ++i)
@@ -391,6 +394,7 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
   // only be missed where W' ~ (δ/h)³ < 1e-4 of its peak, and it is then missed by both particles
   // (the stencils are symmetric and the distance test uses the same positions): momentum stays
   // exact. (Rebuilding here would cost a second, partly serial, re-sort per step.)
+  S.refresh_halos();  // images (periodic, other ranks') at the kicked velocities and drifted positions
   S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 1>(S, K); });
   // the second half of Dρ; gauges and output see the pressure of the step's end
 #pragma omp parallel for schedule(static)
