@@ -1,6 +1,6 @@
 // Distributed runs: `mpirun -np N sphflume run CASE` splits the particles over N MPI ranks.
 // Each rank owns the particles of one slab of the domain along its longest axis (cuts balanced
-// by particle count, fluid weighing more than walls) and keeps copies of its neighbours'
+// by the fluid particle count) and keeps copies of its neighbours'
 // particles within the halo margin: a Halo layer (core/halo.hpp) under the neighbour search,
 // built, refreshed and migrated by System like periodic images, plus a Communicator for the
 // global reductions. Physics code never calls MPI; everything MPI lives in ranks_mpi.cpp (a

@@ -206,20 +206,27 @@ void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const st
   int axis = 0;
   for (int d = 1; d < D; ++d)
     if (hi[d] - lo[d] > hi[axis] - lo[axis]) axis = d;
-  // cuts balancing the work: a histogram of fluid (weight 1) and other particles (0.25: walls
-  // cost the extrapolation, not the pair passes), summed over the ranks
+  // cuts balancing the work: a histogram of the fluid particles, summed over the ranks. Walls
+  // weigh nothing: the pair passes run over fluid particles, and walls with no fluid near are
+  // skipped. (3D dam break, 395 k particles, 2 ranks: wall weight 0 / 0.1 / 0.25 / 0.5 / 1 gave
+  // 6.0 / 6.4 / 7.2 / 8.3 / 9.3 s for 60 steps; one rank 10.9 s.) A case without fluid counts
+  // every particle.
   constexpr std::size_t kBins = 1 << 14;
   std::vector<double> hist(kBins, 0.0);
   const double span = std::max(hi[axis] - lo[axis], 1e-300), scale = kBins / span;
   // every rank holds the whole case here: count it once (rank 0's copy)
-  if (rank == 0)
-    for (std::size_t i = 0; i < P.n_owned(); ++i) {
-      const auto b = std::min<std::size_t>(kBins - 1, static_cast<std::size_t>((P.pos[i][axis] - lo[axis]) * scale));
-      hist[b] += P.kind[i] == Kind::Fluid ? 1.0 : 0.25;
-    }
-  comm->sum(hist.data(), kBins);
   double total = 0.0;
-  for (double h : hist) total += h;
+  for (bool all : {false, true}) {
+    if (rank == 0)
+      for (std::size_t i = 0; i < P.n_owned(); ++i) {
+        if (!all && !fluid_like(P.kind[i])) continue;
+        const auto b = std::min<std::size_t>(kBins - 1, static_cast<std::size_t>((P.pos[i][axis] - lo[axis]) * scale));
+        hist[b] += 1.0;
+      }
+    comm->sum(hist.data(), kBins);
+    for (double h : hist) total += h;
+    if (total > 0.0) break;
+  }
   std::vector<double> cuts(size + 1);
   cuts[0] = -std::numeric_limits<double>::infinity();
   cuts[size] = std::numeric_limits<double>::infinity();
