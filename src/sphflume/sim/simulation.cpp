@@ -399,9 +399,14 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   }
   // mpirun -np N: every rank built (or read) the whole case; each keeps its slab (sim/ranks.hpp)
   if (distributed) {
-    if (R.open.any())
-      throw InputError(fmt::format("{}: open boundaries (open_boundaries) in a distributed run (mpirun -np {}) are not "
-                                   "supported yet: run it in one process (without mpirun)", c.file, comm->size()));
+    auto refuse = [&](const std::string& what) {
+      throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
+                                   "process (without mpirun)", c.file, what, comm->size()));
+    };
+    if (R.open.any()) refuse("open boundaries (open_boundaries)");
+    if (c.scheme.type == "isph") refuse("the ISPH scheme (scheme.type: isph)");
+    if (c.transport.on()) refuse("transported scalars (transport)");
+    if (c.turbulence.model == "mixing_length") refuse("the mixing-length model (turbulence.model: mixing_length)");
     distribute<D>(S, comm, c.file);  // (refuses what distributed runs do not support yet)
     for (const auto& g : c.gauges)  // the gauges whose value is a sum, a maximum or read where its point is
       if (g.type != "energy" && g.type != "front" && g.type != "pressure" && g.type != "water_volume")
