@@ -15,6 +15,9 @@ correctness) must give:
   within 1e-4 relative, front within 0.01 dx, wall pressure within 0.05 rho g H;
 - a run restarted on 2 ranks from a snapshot of a one-process run continues it: its end state matches the
   uninterrupted one-process run within the same gates;
+- a distributed run writes the same snapshot files as one process (every particle once, by id); a snapshot of a
+  2-rank run continues in one process; a rank killed mid-run leaves whole snapshots, and the last one restarts on 2
+  ranks and ends where the uninterrupted run does;
 - what distributed runs do not support yet (open boundaries, periodic domains, some gauges) is refused with exit 2
   and a message that names it.
 Usage: check_ranks.py SPHFLUME WORKDIR [--ranks 2,4]
@@ -169,6 +172,69 @@ if p.returncode == 0:
     check(abs(ea["total"][-1] - eb["total"][-1]) <= 1e-4 * abs(ea["total"][0]) and abs(fa["front"][-1] - fb["front"][-1]) <= 0.01 * 0.0125,
           f"restart on 2 ranks ends where one process does: energy {eb['total'][-1]:.6g} / {ea['total'][-1]:.6g}, "
           f"front {fb['front'][-1]:.6g} / {fa['front'][-1]:.6g}")
+
+def end_diff(a, b):
+    """Energy (relative) and front differences of two runs' last gauge rows (a restarted run's gauges start at the
+    restart time), with both last rows' times."""
+    ea, eb = gauge(a, "energy"), gauge(b, "energy")
+    fa, fb = gauge(a, "front"), gauge(b, "front")
+    return (abs(ea["total"][-1] - eb["total"][-1]) / abs(ea["total"][0]), abs(fa["front"][-1] - fb["front"][-1]),
+            ea["time"][-1], eb["time"][-1])
+
+
+# snapshots of a distributed run: gathered on the first rank, one file per output time as one process writes
+import h5py  # noqa: E402
+d1, d2 = os.path.join(args.work, "dambreak_2d_1"), os.path.join(args.work, "dambreak_2d_2")
+s1 = sorted(x for x in os.listdir(os.path.join(d1, "snapshots")) if x.endswith(".h5"))
+s2 = sorted(x for x in os.listdir(os.path.join(d2, "snapshots")) if x.endswith(".h5"))
+check(s1 == s2 and len(s2) == 21, f"2 ranks write the same {len(s1)} snapshot files as one process ({len(s2)})")
+with h5py.File(os.path.join(d2, "snapshots", s2[-1])) as f:
+    ids = list(f["id"][:])
+check(ids == list(range(len(ids))), f"the last 2-rank snapshot holds every particle once, by id ({len(ids)})")
+check(os.path.exists(os.path.join(d2, "particles.xdmf")), "2 ranks write particles.xdmf")
+
+# a restart point written by 2 ranks, continued in one process: ends where the 2-rank run does
+cont1 = os.path.join(args.work, "dambreak_2d_restart1")
+p = run(1, os.path.join(args.work, "dambreak_2d.yaml"), cont1, ["--restart", os.path.join(d2, "snapshots", s2[10])])
+check(p.returncode == 0, f"restart in one process from the 2-rank {s2[10]} ran ({p.returncode}) {p.stderr.strip()[-300:]}")
+if p.returncode == 0:
+    de, df, ta, tb = end_diff(d2, cont1)
+    check(ta == tb and de <= 1e-4 and df <= 0.01 * 0.0125,
+          f"it ends (t = {tb}) where the 2-rank run does: energy {de:.2e}, front {df / 0.0125:.2e} dx")
+
+# a rank killed mid-run: the snapshots already written are whole, and the last one restarts on 2 ranks
+import signal  # noqa: E402
+import time  # noqa: E402
+killed = os.path.join(args.work, "dambreak_2d_killed")
+cmd = mpirun(2) + [args.binary, "run", os.path.join(args.work, "dambreak_2d.yaml"), "-o", killed, "-q", "--threads", "1"]
+proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+snapdir = os.path.join(killed, "snapshots")
+t0 = time.time()
+while proc.poll() is None and time.time() - t0 < 600:
+    if os.path.isdir(snapdir) and len([x for x in os.listdir(snapdir) if x.endswith(".h5")]) >= 8:
+        break
+    time.sleep(0.01)
+ranks_pids = subprocess.run(["pgrep", "-P", str(proc.pid)], capture_output=True, text=True).stdout.split()
+if ranks_pids:
+    os.kill(int(ranks_pids[-1]), signal.SIGKILL)  # one rank (not mpirun)
+proc.wait(timeout=120)
+left = sorted(x for x in os.listdir(snapdir) if x.endswith(".h5"))
+check(proc.returncode != 0 and 8 <= len(left) < 21, f"killing one rank stops the run (exit {proc.returncode}) with {len(left)} snapshots")
+whole = True
+for x in left:
+    try:
+        with h5py.File(os.path.join(snapdir, x)) as f:
+            whole &= len(f["id"]) == len(ids)
+    except OSError:
+        whole = False
+check(whole, "every snapshot left is readable and holds every particle")
+again = os.path.join(args.work, "dambreak_2d_after_kill")
+p = run(2, os.path.join(args.work, "dambreak_2d.yaml"), again, ["--restart", os.path.join(snapdir, left[-1])])
+check(p.returncode == 0, f"restart on 2 ranks from {left[-1]} after the kill ran ({p.returncode})")
+if p.returncode == 0:
+    de, df, ta, tb = end_diff(d2, again)
+    check(ta == tb and de <= 1e-4 and df <= 0.01 * 0.0125,
+          f"it ends (t = {tb}) where the uninterrupted 2-rank run does: energy {de:.2e}, front {df / 0.0125:.2e} dx")
 
 # refused, with a message that names what
 for what, src, sets, needle in [

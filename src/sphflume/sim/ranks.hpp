@@ -25,6 +25,13 @@ std::shared_ptr<const Communicator> world();
 template <int D>
 void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const std::string& what);
 
+/// Every rank's owned particles on the first rank, ordered by particle id (snapshots and
+/// checkpoints of a distributed run: the same files as one process writes, readable by the same
+/// tools, and a restart point for any number of ranks). Every rank calls it; the others get an
+/// empty store.
+template <int D>
+void gather_particles(const System<D>& S, ParticleStore<D>& all);
+
 /// Halo traffic and load balance of a distributed run, for summary.json (zeros in one process).
 struct RankStats {
   double halo_bytes_per_step = 0.0;  // bytes sent per rank per step (builds and refreshes), mean over ranks

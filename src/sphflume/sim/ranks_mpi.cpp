@@ -259,6 +259,38 @@ RankStats rank_stats(const System<D>& S, long steps) {
   return r;
 }
 
+template <int D>
+void gather_particles(const System<D>& S, ParticleStore<D>& all) {
+  const auto& P = S.particles;
+  const std::size_t n = P.n_owned(), pb = P.packed_bytes();
+  std::vector<std::byte> mine(n * pb);
+  for (std::size_t i = 0; i < n; ++i) P.pack(i, mine.data() + i * pb);
+  const int size = S.comm->size();
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(size), offsets(size);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  long long total = 0;
+  for (int q = 0; q < size; ++q) {
+    offsets[q] = static_cast<int>(total);
+    total += counts[q];
+  }
+  if (total > std::numeric_limits<int>::max())
+    throw std::runtime_error("snapshot of a distributed run: more than 2 GB of particles to gather on one rank");
+  std::vector<std::byte> in(S.comm->root() ? static_cast<std::size_t>(total) : 0);
+  MPI_Gatherv(mine.data(), count, MPI_BYTE, in.data(), counts.data(), offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
+  all = ParticleStore<D>();
+  if (!S.comm->root()) return;
+  for (const auto& [name, f] : P.scalar_fields()) all.scalar(name);
+  for (const auto& [name, f] : P.vector_fields()) all.vector(name);
+  for (std::size_t off = 0; off < in.size(); off += pb) all.add_packed(in.data() + off);
+  std::vector<std::uint32_t> perm(all.n_owned());
+  for (std::size_t i = 0; i < perm.size(); ++i) perm[i] = static_cast<std::uint32_t>(i);
+  std::sort(perm.begin(), perm.end(), [&](std::uint32_t a, std::uint32_t b) { return all.id[a] < all.id[b]; });
+  all.permute(perm);
+}
+
+template void gather_particles<2>(const System<2>&, ParticleStore<2>&);
+template void gather_particles<3>(const System<3>&, ParticleStore<3>&);
 template void distribute<2>(System<2>&, std::shared_ptr<const Communicator>, const std::string&);
 template void distribute<3>(System<3>&, std::shared_ptr<const Communicator>, const std::string&);
 template RankStats rank_stats<2>(const System<2>&, long);

@@ -1,6 +1,7 @@
 // A build without MPI: one process. Started by mpirun with several ranks, it says how to get
 // a distributed build instead of running the same case N times side by side.
 #include <cstdlib>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -23,6 +24,13 @@ void distribute(System<D>&, std::shared_ptr<const Communicator>, const std::stri
 
 template <int D>
 RankStats rank_stats(const System<D>&, long) { return {}; }
+
+template <int D>
+void gather_particles(const System<D>&, ParticleStore<D>&) {
+  throw std::logic_error("gather_particles: a build without MPI has one process");
+}
+template void gather_particles<2>(const System<2>&, ParticleStore<2>&);
+template void gather_particles<3>(const System<3>&, ParticleStore<3>&);
 
 template void distribute<2>(System<2>&, std::shared_ptr<const Communicator>, const std::string&);
 template void distribute<3>(System<3>&, std::shared_ptr<const Communicator>, const std::string&);

@@ -414,9 +414,11 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
                                      "pressure and water_volume are): run without mpirun, or leave it out",
                                      c.file, g.name, g.type));
   }
-  if (distributed && comm->root() && o.write_output)
-    fmt::print(stderr, "note: {} ranks; snapshots and checkpoints are not written in distributed runs yet (gauges and "
-                       "summary.json are)\n", comm->size());
+  if (distributed && restart && !comm->root()) {  // the restart point's counters are global: the first rank keeps them
+    R.rs.removed_mass = 0.0;
+    R.rs.removed_by_face.clear();
+    R.rs.open = OpenFlowCounters{};
+  }
 #ifdef _OPENMP
   if (o.threads > 0) omp_set_num_threads(o.threads);
 #endif
@@ -441,7 +443,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   SnapshotWriter<D> snaps(o.output);
   std::unique_ptr<GaugeSet<D>> gauges;
   if (o.write_output) {
-    if (resume) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
+    if (resume && comm->root()) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
     else if (comm->root() && fs::exists(o.output + "/snapshots"))  // a re-run must not leave an earlier run's snapshots behind
       for (const auto& e : fs::directory_iterator(o.output + "/snapshots", ec))
         if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
@@ -464,23 +466,47 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   std::string restart_point = restart ? o.restart : std::string();
   const std::string checkpoint = o.output + "/checkpoint.h5";
 
+  // the state a restart point records: in a distributed run the counters summed over the ranks
+  auto global_state = [&] {
+    RunState st = R.state();
+    if (distributed) {
+      const Totals<D> tot(S, R.rs);
+      st.removed_mass = tot.removed_mass;
+      st.removed_by_face = tot.removed_by_face;
+      st.open.inflow_mass = tot.inflow;
+      st.open.outflow_mass = tot.outflow;
+      st.open.backflow_mass = tot.backflow_mass;
+      st.open.backflow = static_cast<long>(tot.backflow);
+    }
+    return st;
+  };
+  // snapshots and checkpoints of a distributed run: every rank's particles gathered on the first,
+  // which writes the same files as one process (sim/ranks.hpp)
+  ParticleStore<D> gathered;
+  auto write_snapshot = [&] {
+    const RunState st = global_state();
+    if (!distributed) {
+      snaps.write(S.particles, S.time, S.step, &st);
+      return;
+    }
+    gather_particles(S, gathered);
+    if (comm->root()) snaps.write(gathered, S.time, S.step, &st);
+    gathered = ParticleStore<D>();
+  };
   auto output = [&](bool always) {
     if (!o.write_output) return;
     S.update_neighbours();
     // snapshots at every snapshot_every-th output time (and the first and last); gauges at each
     const long k = std::lround(S.time / c.output_interval);
     const bool snap = always || c.snapshot_every <= 1 || k % c.snapshot_every == 0 || S.time >= c.t_end * (1.0 - 1e-12);
-    if (snap && !distributed) {
-      const RunState st = R.state();
-      snaps.write(S.particles, S.time, S.step, &st);
-    }
+    if (snap) write_snapshot();
     S.counters["inflow_mass"] = R.rs.open.inflow_mass;
     S.counters["outflow_mass"] = R.rs.open.outflow_mass;
     S.counters["backflow_mass"] = R.rs.open.backflow_mass;
     if (S.transport)
       for (std::size_t k = 0; k < S.transport->count(); ++k) S.counters["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
     gauges->sample(S);
-    if (snap && !distributed) {
+    if (snap) {
       last_snapshot_step = S.step;
       restart_point = snaps.last_path();
     }
@@ -507,12 +533,19 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       if (out) output(false);
       const double w = elapsed();
       auto write_checkpoint = [&] {
-        if (distributed) return;
-        RunState st = R.state();
+        RunState st = global_state();
         st.snapshots = snaps.entries();
-        SnapshotWriter<D>::write_checkpoint(checkpoint, S.particles, st);
+        if (!distributed) {
+          SnapshotWriter<D>::write_checkpoint(checkpoint, S.particles, st);
+          return;
+        }
+        gather_particles(S, gathered);
+        if (comm->root()) SnapshotWriter<D>::write_checkpoint(checkpoint, gathered, st);
+        gathered = ParticleStore<D>();
       };
-      if (const int sig = signals.caught()) {
+      // (in a distributed run every rank takes the same decisions: a signal or the checkpoint
+      // clock of any rank counts for all)
+      if (const int sig = distributed ? static_cast<int>(comm->max(double(signals.caught()))) : signals.caught()) {
         write_checkpoint();
         status = "interrupted";
         failure = fmt::format("stopped by signal {} at step {}, t = {:.9g} s; checkpoint written: resume with "
@@ -520,7 +553,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
         res.exit_code = 128 + sig;
         break;
       }
-      if (o.checkpoint_every > 0 && w - last_checkpoint >= o.checkpoint_every) {
+      if (o.checkpoint_every > 0 && comm->any(w - last_checkpoint >= o.checkpoint_every)) {
         last_checkpoint = w;
         write_checkpoint();
         restart_point = checkpoint;
