@@ -155,8 +155,8 @@ for name, src, sets, gauges, dx, scale_p in cases:
         check(p.returncode == 0, f"{name}: {n} ranks ran ({p.returncode}) {p.stderr.strip()[-300:]}")
         if p.returncode == 0:
             s = compare(name, one, out, dx, scale_p, f"{n} ranks")
-            check(s["ranks"]["count"] == n and s["ranks"]["halo_bytes_per_step"] > 0,
-                  f"{name}: summary.json reports {s['ranks']}")
+            check(s["ranks"]["count"] == n and s["ranks"]["halo_bytes_per_step"] > 0 and s["ranks"]["fluid_imbalance"] < 1.2,
+                  f"{name}: summary.json reports {s['ranks']} (fluid imbalance gate 1.2: rebalanced above 1.1)")
 
 # restart on another rank count: the one-process 2D run's snapshot at t = 1 continued on 2 ranks to t = 2
 snaps = sorted(os.listdir(os.path.join(args.work, "dambreak_2d_1", "snapshots")))

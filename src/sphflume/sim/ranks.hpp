@@ -37,6 +37,8 @@ struct RankStats {
   double halo_bytes_per_step = 0.0;  // bytes sent per rank per step (builds and refreshes), mean over ranks
   double imbalance = 1.0;            // max over ranks of owned particles / the mean
   double migrated_per_step = 0.0;    // particles handed to another rank per step, all ranks
+  double fluid_imbalance = 1.0;      // the same for the fluid particles (what the cuts balance)
+  long rebalances = 0;               // times the cuts were moved
 };
 template <int D>
 RankStats rank_stats(const System<D>& S, long steps);

@@ -366,8 +366,10 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
                       tot[Kind::Fluid], tot[Kind::Wall], tot[Kind::Inflow], tot[Kind::Outflow], res.total, R.rep.fluid);
   json += fmt::format("  \"steps\": {},\n  \"total_steps\": {},\n  \"simulated_time\": {:.9g},\n  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.6g},\n  \"threads\": {},\n",
                       res.steps, S.step, S.time, c.t_end, sm.wall, thread_count());
-  json += fmt::format("  \"ranks\": {{\"count\": {}, \"halo_bytes_per_step\": {:.6g}, \"imbalance\": {:.4f}, \"migrated_per_step\": {:.4g}}},\n",
-                      S.comm->size(), ranks.halo_bytes_per_step, ranks.imbalance, ranks.migrated_per_step);
+  json += fmt::format("  \"ranks\": {{\"count\": {}, \"halo_bytes_per_step\": {:.6g}, \"imbalance\": {:.4f}, "
+                      "\"fluid_imbalance\": {:.4f}, \"rebalances\": {}, \"migrated_per_step\": {:.4g}}},\n",
+                      S.comm->size(), ranks.halo_bytes_per_step, ranks.imbalance, ranks.fluid_imbalance, ranks.rebalances,
+                      ranks.migrated_per_step);
   json += fmt::format("  \"particle_steps_per_second\": {:.6g},\n  \"fluid_particle_steps_per_second\": {:.6g},\n",
                       res.particle_steps_per_second, res.fluid_particle_steps_per_second);
   json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
