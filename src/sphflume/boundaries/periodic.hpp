@@ -14,6 +14,9 @@ struct Periodic final : Halo<D> {
   using V = Vec<D>;
   bool axis[D]{};
   V lo{}, hi{};
+  /// Periodic axes whose images another layer makes (the MPI slabs, along their own axis):
+  /// wrapped here, imaged there.
+  bool imaged_elsewhere[D]{};
 
   bool any() const {
     for (int d = 0; d < D; ++d) if (axis[d]) return true;
@@ -22,7 +25,10 @@ struct Periodic final : Halo<D> {
 
   // --- the halo layer ---
   const char* name() const override { return "periodic"; }
-  bool active() const override { return any(); }
+  bool active() const override {
+    for (int d = 0; d < D; ++d) if (axis[d] && !imaged_elsewhere[d]) return true;
+    return false;
+  }
   /// (nothing: the schemes wrap at the end of each step, wrap(), because the two-stage
   /// integrators keep the start-of-step positions x0 in the unwrapped frame until then)
   void migrate(ParticleStore<D>&) override {}
@@ -39,18 +45,19 @@ struct Periodic final : Halo<D> {
   }
   double period(int d) const { return hi[d] - lo[d]; }
 
-  /// Add an image for every owned particle within `margin` of a periodic face (and of
-  /// edges/corners when several axes are periodic).
+  /// Add an image for every particle within `margin` of a periodic face (and of edges/corners
+  /// when several axes are periodic): the owned ones, and the copies earlier layers made (another
+  /// rank's particle next to a periodic face this rank also touches).
   void build_images(ParticleStore<D>& P, double margin) const {
     if (!any()) return;
-    const std::size_t n = P.n_owned();
+    const std::size_t n = P.size();
     for (std::size_t i = 0; i < n; ++i) {
       // each axis: -1 (near lo, image shifted by +L), +1 (near hi, shifted by -L), 0
       int side[D];
       bool near = false;
       for (int d = 0; d < D; ++d) {
         side[d] = 0;
-        if (!axis[d]) continue;
+        if (!axis[d] || imaged_elsewhere[d]) continue;
         if (P.pos[i][d] < lo[d] + margin) side[d] = -1;
         else if (P.pos[i][d] > hi[d] - margin) side[d] = 1;
         near |= side[d] != 0;

@@ -255,12 +255,17 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     for (int d = 0; d < D; ++d) x[d] = v[d];
     return x;
   };
-  if (g.type == "velocity") {
+  if (g.type == "velocity") {  // (read by the part of the domain that holds the point)
+    double v[D + 1] = {};
+    if (S.owns(at(g.point)))
+      for (int d = 0; d < D; ++d) {
+        const auto u = interpolate_shepard(S, at(g.point), [&](std::uint32_t b) { return P.vel[b][d]; });
+        if (u) { v[d] = *u; v[D] = 1.0; }
+      }
+    S.comm->sum(v, D + 1);
     std::vector<double> out(D, nan);
-    for (int d = 0; d < D; ++d) {
-      const auto v = interpolate_shepard(S, at(g.point), [&](std::uint32_t b) { return P.vel[b][d]; });
-      if (v) out[static_cast<std::size_t>(d)] = *v;
-    }
+    if (v[D] > 0.0)
+      for (int d = 0; d < D; ++d) out[static_cast<std::size_t>(d)] = v[d] / v[D] * (v[D] > 0 ? 1.0 : 0.0);
     return out;
   }
   if (g.type == "runup") {  // the waterline on a slope (2D), io/runup.cpp

@@ -111,6 +111,13 @@ template <int D>
 class Slabs final : public Halo<D> {
  public:
   Slabs(int axis, std::vector<double> cuts, int rank) : axis_(axis), cut_(std::move(cuts)), rank_(rank) {}
+  /// The slab axis is periodic with period [lo, hi): the first and last ranks are neighbours,
+  /// their copies shifted by the period (the schemes wrap the owned particles).
+  void set_period(double lo, double hi) {
+    periodic_ = true;
+    plo_ = lo;
+    phi_ = hi;
+  }
   const char* name() const override { return "mpi"; }
   bool active() const override { return true; }
   int size() const { return static_cast<int>(cut_.size()) - 1; }
@@ -155,19 +162,30 @@ class Slabs final : public Halo<D> {
   void build(ParticleStore<D>& P, double margin) override {
     const std::size_t n = P.n_owned(), pb = P.packed_bytes();
     send_.assign(size(), {});
-    std::vector<std::vector<std::byte>> send(size());
+    shift_.assign(size(), {});
+    const double L = phi_ - plo_;
+    // the ranks whose slab, widened by the margin, holds x (+ a period across a periodic face):
+    // neighbours only, searched outwards; the ends of a periodic axis are its faces
+    auto lower = [&](int q) { return q == 0 && periodic_ ? plo_ : cut_[q]; };
+    auto upper = [&](int q) { return q == size() - 1 && periodic_ ? phi_ : cut_[q + 1]; };
+    auto add = [&](std::size_t i, double x, double s, bool self) {
+      for (int q = rank_ - 1; q >= 0 && x < upper(q) + margin; --q)
+        if (x >= lower(q) - margin) { send_[q].push_back(static_cast<std::uint32_t>(i)); shift_[q].push_back(s); }
+      for (int q = rank_ + 1; q < size() && x >= lower(q) - margin; ++q)
+        if (x < upper(q) + margin) { send_[q].push_back(static_cast<std::uint32_t>(i)); shift_[q].push_back(s); }
+      if (self && x >= lower(rank_) - margin && x < upper(rank_) + margin) {
+        send_[rank_].push_back(static_cast<std::uint32_t>(i));
+        shift_[rank_].push_back(s);
+      }
+    };
     for (std::size_t i = 0; i < n; ++i) {
       const double x = P.pos[i][axis_];
-      // the ranks whose slab, widened by the margin, holds x: neighbours only, searched outwards
-      for (int q = rank_ - 1; q >= 0 && x < cut_[q + 1] + margin; --q)
-        if (x >= cut_[q] - margin) send_[q].push_back(static_cast<std::uint32_t>(i));
-      for (int q = rank_ + 1; q < size() && x >= cut_[q] - margin; ++q)
-        if (x < cut_[q + 1] + margin) send_[q].push_back(static_cast<std::uint32_t>(i));
+      add(i, x, 0.0, false);
+      if (periodic_ && x > phi_ - margin) add(i, x - L, -L, true);  // its image past the lower face
+      if (periodic_ && x < plo_ + margin) add(i, x + L, L, true);   // past the upper face
     }
-    for (int q = 0; q < size(); ++q) {
-      send[q].resize(send_[q].size() * pb);
-      for (std::size_t k = 0; k < send_[q].size(); ++k) P.pack(send_[q][k], send[q].data() + k * pb);
-    }
+    std::vector<std::vector<std::byte>> send(size());
+    pack_all(P, send);
     const auto in = exchange(send, recv_);
     begin_ = P.size();
     for (std::size_t off = 0; off < in.size(); off += pb) P.add_remote_image(in.data() + off);
@@ -178,10 +196,7 @@ class Slabs final : public Halo<D> {
   void refresh(ParticleStore<D>& P) override {
     const std::size_t pb = P.packed_bytes();
     std::vector<std::vector<std::byte>> send(size());
-    for (int q = 0; q < size(); ++q) {
-      send[q].resize(send_[q].size() * pb);
-      for (std::size_t k = 0; k < send_[q].size(); ++k) P.pack(send_[q][k], send[q].data() + k * pb);
-    }
+    pack_all(P, send);
     std::vector<int> rc;
     const auto in = exchange(send, rc);
     std::size_t i = begin_;
@@ -215,6 +230,26 @@ class Slabs final : public Halo<D> {
   std::vector<double> cut_;
   int rank_;
   std::vector<std::vector<std::uint32_t>> send_;  // owned particles each rank gets a copy of
+  std::vector<std::vector<double>> shift_;        // and the period added to each copy's position (0: none)
+  bool periodic_ = false;
+  double plo_ = 0.0, phi_ = 0.0;
+  /// The copies of send_, packed, their positions shifted across a periodic face where needed.
+  void pack_all(const ParticleStore<D>& P, std::vector<std::vector<std::byte>>& send) const {
+    const std::size_t pb = P.packed_bytes();
+    for (int q = 0; q < size(); ++q) {
+      send[q].resize(send_[q].size() * pb);
+      for (std::size_t k = 0; k < send_[q].size(); ++k) {
+        std::byte* out = send[q].data() + k * pb;
+        P.pack(send_[q][k], out);
+        if (shift_[q][k] != 0.0) {  // (the position is the packed particle's first field)
+          double x;
+          std::memcpy(&x, out + axis_ * sizeof(double), sizeof(double));
+          x += shift_[q][k];
+          std::memcpy(out + axis_ * sizeof(double), &x, sizeof(double));
+        }
+      }
+    }
+  }
   std::vector<int> recv_;
   std::size_t begin_ = 0, end_ = 0;
   double bytes_ = 0.0, migrated_ = 0.0;
@@ -247,7 +282,6 @@ void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const st
     throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
                                  "process (without mpirun)", what, feature, size));
   };
-  if (S.periodic.any()) refuse("a periodic domain (domain.periodic)");
   if (S.before_rates) refuse("open boundaries");
   if (S.motion) refuse("moving walls (motions)");
   if (!S.phase_eos.empty()) refuse("several phases");
@@ -268,6 +302,10 @@ void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const st
   // 0 / 0.1 / 0.25 / 0.5 / 1 gave 6.0 / 6.4 / 7.2 / 8.3 / 9.3 s for 60 steps; one rank 10.9 s)
   const std::vector<double> cuts = balanced_cuts(P, axis, size, true);
   auto slabs = std::make_shared<Slabs<D>>(axis, cuts, rank);
+  if (S.periodic.axis[axis]) {  // the slabs make the images across that axis's faces
+    slabs->set_period(S.periodic.lo[axis], S.periodic.hi[axis]);
+    S.periodic.imaged_elsewhere[axis] = true;
+  }
   std::vector<char> flag(P.n_owned(), 0);
   for (std::size_t i = 0; i < P.n_owned(); ++i) flag[i] = slabs->owner(P.pos[i][axis]) != rank;
   P.remove_if_flagged(flag);

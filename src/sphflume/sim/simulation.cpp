@@ -411,9 +411,9 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (c.turbulence.model == "mixing_length") refuse("the mixing-length model (turbulence.model: mixing_length)");
     distribute<D>(S, comm, c.file);  // (refuses what distributed runs do not support yet)
     for (const auto& g : c.gauges)  // the gauges whose value is a sum, a maximum or read where its point is
-      if (g.type != "energy" && g.type != "front" && g.type != "pressure" && g.type != "water_volume")
+      if (g.type != "energy" && g.type != "front" && g.type != "pressure" && g.type != "water_volume" && g.type != "velocity")
         throw InputError(fmt::format("{}: gauge '{}' (type {}) is not available in distributed runs yet (energy, front, "
-                                     "pressure and water_volume are): run without mpirun, or leave it out",
+                                     "pressure, velocity and water_volume are): run without mpirun, or leave it out",
                                      c.file, g.name, g.type));
   }
   if (distributed && restart && !comm->root()) {  // the restart point's counters are global: the first rank keeps them
