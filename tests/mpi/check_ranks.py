@@ -29,12 +29,16 @@ import json
 import math
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
+import h5py
 import yaml
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "robustness"))
+from common import ROOT, check, finish  # noqa: E402  (the robustness tests' helpers)
 ap = argparse.ArgumentParser()
 ap.add_argument("binary")
 ap.add_argument("work")
@@ -43,13 +47,6 @@ args = ap.parse_args()
 RANKS = [int(r) for r in args.ranks.split(",")]
 shutil.rmtree(args.work, ignore_errors=True)
 os.makedirs(args.work)
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 def mpirun(n):
@@ -200,7 +197,6 @@ def end_diff(a, b):
 
 
 # snapshots of a distributed run: gathered on the first rank, one file per output time as one process writes
-import h5py  # noqa: E402
 d1, d2 = os.path.join(args.work, "dambreak_2d_1"), os.path.join(args.work, "dambreak_2d_2")
 s1 = sorted(x for x in os.listdir(os.path.join(d1, "snapshots")) if x.endswith(".h5"))
 s2 = sorted(x for x in os.listdir(os.path.join(d2, "snapshots")) if x.endswith(".h5"))
@@ -220,8 +216,6 @@ if p.returncode == 0:
           f"it ends (t = {tb}) where the 2-rank run does: energy {de:.2e}, front {df / 0.0125:.2e} dx")
 
 # a rank killed mid-run: the snapshots already written are whole, and the last one restarts on 2 ranks
-import signal  # noqa: E402
-import time  # noqa: E402
 killed = os.path.join(args.work, "dambreak_2d_killed")
 cmd = mpirun(2) + [args.binary, "run", os.path.join(args.work, "dambreak_2d.yaml"), "-o", killed, "-q", "--threads", "1"]
 proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -263,7 +257,4 @@ for what, src, sets, needle in [
     msg = [line for line in p.stderr.splitlines() if line.startswith("error:")]
     check(p.returncode == 2 and any(needle in line for line in msg), f"2 ranks refuse {what}: exit {p.returncode}, {msg[:1]}")
 
-if failures:
-    print(f"{len(failures)} check(s) failed")
-    sys.exit(1)
-print("all checks passed")
+finish("check_ranks")
