@@ -32,6 +32,12 @@ void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const st
 template <int D>
 void gather_particles(const System<D>& S, ParticleStore<D>& all);
 
+/// A failure in a distributed run: the other ranks may be waiting in a collective call, so the
+/// run cannot wind down as one process does (no summary.json; the snapshots already written are
+/// whole, and the last one is the restart point). Prints the message with the rank and aborts
+/// every rank with `code`.
+[[noreturn]] void abort_ranks(const Communicator& comm, const std::string& message, int code);
+
 /// Halo traffic and load balance of a distributed run, for summary.json (zeros in one process).
 struct RankStats {
   double halo_bytes_per_step = 0.0;  // bytes sent per rank per step (builds and refreshes), mean over ranks

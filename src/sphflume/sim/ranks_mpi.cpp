@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -328,6 +330,14 @@ RankStats rank_stats(const System<D>& S, long steps) {
   const double nf = static_cast<double>(S.particles.count(Kind::Fluid));
   r.fluid_imbalance = comm.max(nf) / std::max(1.0, comm.sum(nf) / comm.size());
   return r;
+}
+
+void abort_ranks(const Communicator& comm, const std::string& message, int code) {
+  fmt::print(stderr, "error (rank {} of {}): {}\nstopping every rank; the last snapshot written is the restart point\n",
+             comm.rank(), comm.size(), message);
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::abort();  // (MPI_Abort does not return)
 }
 
 template <int D>

@@ -25,6 +25,10 @@ void distribute(System<D>&, std::shared_ptr<const Communicator>, const std::stri
 template <int D>
 RankStats rank_stats(const System<D>&, long) { return {}; }
 
+void abort_ranks(const Communicator&, const std::string& message, int) {
+  throw std::logic_error("abort_ranks: a build without MPI has one process (" + message + ")");
+}
+
 template <int D>
 void gather_particles(const System<D>&, ParticleStore<D>&) {
   throw std::logic_error("gather_particles: a build without MPI has one process");

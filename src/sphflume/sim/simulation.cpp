@@ -573,11 +573,16 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     status = "failed";
     failure = e.what();
     res.exit_code = 3;
-    if (o.write_output && !distributed) last_good = write_last_good<D>(c, snaps, restart_point, good_step, last_snapshot_step);
+    if (distributed) abort_ranks(*comm, failure, 3);
+    if (o.write_output) last_good = write_last_good<D>(c, snaps, restart_point, good_step, last_snapshot_step);
   } catch (const IoError& e) {  // a write failed (full disk, ...): the files already written are whole
     status = "failed";
     failure = e.what();
     res.exit_code = 3;
+    if (distributed) abort_ranks(*comm, failure, 3);
+  } catch (const std::exception& e) {
+    if (distributed) abort_ranks(*comm, e.what(), 3);
+    throw;
   }
   if (o.progress && tty) fmt::print(stderr, "\n");
   const double wall = elapsed();
