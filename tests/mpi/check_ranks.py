@@ -12,8 +12,11 @@ correctness) must give:
   dam break the release's acoustic ringing at the reservoir wall (+-0.6 rho g H) amplifies them to 0.03 rho g H by
   t = 2. For scale, one process with gravity changed by one float ulp (2^-23 relative, nothing else changed)
   differs from the unchanged run by 0.009 rho g H, 2.6e-5 relative energy and 2.3e-4 dx front there
-  (tests/mpi/README.md). The gates are fixed, far below any physical change and above round-off growth: energy
-  within 1e-4 relative, front within 0.01 dx, wall pressure within 0.05 rho g H;
+  (tests/mpi/README.md); the same ranks differ there by 0.03-0.06 from one run of the code to the next as the
+  summation order changes (energy 2e-5 to 5e-5, front up to 5e-3 dx on 4 ranks). The gates are fixed, about 5
+  times the largest of those and far below any physical change (dx +-2 % moves the energy by 1e-2): energy
+  within 3e-4 relative, front within 0.02 dx, wall pressure within 0.1 rho g H at every sample and within
+  0.01 rho g H in its mean over the run's second half (the ringing averages out);
 - a run restarted on 2 ranks from a snapshot of a one-process run continues it: its end state matches the
   uninterrupted one-process run within the same gates;
 - a distributed run writes the same snapshot files as one process (every particle once, by id); a snapshot of a
@@ -123,12 +126,16 @@ def diffs(a, b):
     if os.path.exists(os.path.join(a, "gauges", "u_mid.csv")):
         ua, ub = gauge(a, "u_mid"), gauge(b, "u_mid")
         du = max(abs(ua["ux"][i] - ub["ux"][i]) for i in range(n)) / max(abs(x) for x in ua["ux"][:n])
-    dp = 0.0
+    dp = dm = 0.0
     if os.path.exists(os.path.join(a, "gauges", "p_wall.csv")):
-        pa, pb = gauge(a, "p_wall")["pressure"][:n], gauge(b, "p_wall")["pressure"][:n]
+        ga, gb = gauge(a, "p_wall"), gauge(b, "p_wall")
+        pa, pb = ga["pressure"][:n], gb["pressure"][:n]
         for x, y in zip(pa, pb):
             dp = max(dp, math.inf if (x != x) != (y != y) else (abs(x - y) if x == x else 0.0))
-    return de, df, dp, du
+        # the time mean over the second half of the run (both wet): what a ringing signal can be compared by
+        half = [(x, y) for t, x, y in zip(ga["time"][:n], pa, pb) if t >= 0.5 * ga["time"][n - 1] and x == x and y == y]
+        dm = abs(sum(x for x, _ in half) - sum(y for _, y in half)) / max(1, len(half))
+    return de, df, dp, du, dm
 
 
 def compare(name, a, b, dx, scale_p, label):
@@ -141,14 +148,16 @@ def compare(name, a, b, dx, scale_p, label):
     ea, eb = gauge(a, "energy"), gauge(b, "energy")
     n = min(len(ea["time"]), len(eb["time"]))
     check(n >= 3 and len(ea["time"]) == len(eb["time"]), f"{name} {label}: {n} gauge rows in both")
-    de, df, dp, du = diffs(a, b)
-    check(de <= 1e-4, f"{name} {label}: energy differs by {de:.2e} relative (gate 1e-4)")
+    de, df, dp, du, dm = diffs(a, b)
+    check(de <= 3e-4, f"{name} {label}: energy differs by {de:.2e} relative (gate 3e-4)")
     if os.path.exists(os.path.join(a, "gauges", "u_mid.csv")):
         check(du <= 1e-4, f"{name} {label}: mid-channel velocity differs by {du:.2e} of its largest value (gate 1e-4)")
     if os.path.exists(os.path.join(a, "gauges", "front.csv")):
-        check(df <= 0.01 * dx, f"{name} {label}: front differs by {df / dx:.2e} dx (gate 0.01 dx)")
+        check(df <= 0.02 * dx, f"{name} {label}: front differs by {df / dx:.2e} dx (gate 0.02 dx)")
     if os.path.exists(os.path.join(a, "gauges", "p_wall.csv")):
-        check(dp <= 0.05 * scale_p, f"{name} {label}: wall pressure differs by {dp / scale_p:.2e} rho g H (gate 0.05)")
+        check(dp <= 0.1 * scale_p and dm <= 0.01 * scale_p,
+              f"{name} {label}: wall pressure differs by {dp / scale_p:.2e} rho g H at most (gate 0.1), its mean over "
+              f"the second half by {dm / scale_p:.2e} (gate 0.01)")
     return sb
 
 
