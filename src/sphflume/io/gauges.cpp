@@ -265,7 +265,7 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     S.comm->sum(v, D + 1);
     std::vector<double> out(D, nan);
     if (v[D] > 0.0)
-      for (int d = 0; d < D; ++d) out[static_cast<std::size_t>(d)] = v[d] / v[D] * (v[D] > 0 ? 1.0 : 0.0);
+      for (int d = 0; d < D; ++d) out[static_cast<std::size_t>(d)] = v[d] / v[D];
     return out;
   }
   if (g.type == "runup") {  // the waterline on a slope (2D), io/runup.cpp
