@@ -56,11 +56,50 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
     double top = -1e300;
     for (std::size_t i = 0; i < n; ++i)
       if (P.kind[i] == Kind::Fluid && std::abs(P.pos[i][0] - xn) < dx_) top = std::max(top, P.pos[i][D - 1]);
+    top = S.comm->max(top);
     if (top > -1e300) level = top + 0.5 * dx_;
   }
-  // Shepard average over fluid particles (not the imposed ones) at x: (u, rho); false if none
-  auto average = [&](const Vec<D>& x, Vec<D>& u, double& rho) {
-    return S.with_kernel([&](const auto& K) {
+  // The averaging nodes this part of the domain asks for (two per particle: the near node, and
+  // the far node of a recycling inflow or the inlet node of an "inlet" outflow pressure).
+  // A node may lie in another rank's part: every rank's nodes are gathered, each is averaged
+  // by the rank that holds it (its neighbours, owned or halo, are there), and one sum over the
+  // ranks brings the averages back (in one process: the same averages, in the same order).
+  std::vector<std::size_t> who;
+  std::vector<double> nodes;  // 2 x D coordinates per particle of `who`
+  auto push = [&](const Vec<D>& a, const Vec<D>& b) {
+    for (int d = 0; d < D; ++d) nodes.push_back(a[d]);
+    for (int d = 0; d < D; ++d) nodes.push_back(b[d]);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Kind k = P.kind[i];
+    if (k == Kind::Inflow && avg_in) {
+      Vec<D> node = P.pos[i], far = P.pos[i];
+      node[0] = in_->x1 + 0.5 * dx_;
+      far[0] = in_->average_at > 0.0 ? in_->x1 + in_->average_at : node[0];
+      who.push_back(i);
+      push(node, far);
+    } else if (k == Kind::Outflow && (ext_u || ext_p || inlet_p)) {
+      Vec<D> node = P.pos[i], nin = P.pos[i];
+      node[0] = out_->x0 - 0.5 * dx_;
+      if (inlet_p) nin[0] = in_->x1 + 0.5 * dx_;
+      who.push_back(i);
+      push(node, nin);
+    }
+  }
+  const std::vector<double> all = S.comm->allgather(nodes);
+  std::uint64_t asked = 0;
+  const std::size_t before = static_cast<std::size_t>(S.comm->exscan(who.size(), asked));
+  // per node: found (0/1), rho, u (D); summed over the ranks (only the holder adds)
+  constexpr int kW = D + 2;
+  const std::size_t nn = all.size() / D;
+  std::vector<double> avg(nn * kW, 0.0);
+  S.with_kernel([&](const auto& K) {
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::size_t q = 0; q < nn; ++q) {
+      Vec<D> x;
+      for (int d = 0; d < D; ++d) x[d] = all[q * D + static_cast<std::size_t>(d)];
+      if (!S.owns(x)) continue;
+      // Shepard average over fluid particles (not the imposed ones)
       double sw = 0.0, sr = 0.0;
       Vec<D> su{};
       S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
@@ -70,27 +109,32 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
         sr += w * P.rho[b];
         su += w * P.vel[b];
       });
-      if (sw <= 0.0) return false;
-      u = (1.0 / sw) * su;
-      rho = sr / sw;
-      return true;
-    });
+      if (sw <= 0.0) continue;
+      double* a = &avg[q * kW];
+      a[0] = 1.0;
+      a[1] = sr / sw;
+      const Vec<D> u = (1.0 / sw) * su;
+      for (int d = 0; d < D; ++d) a[2 + d] = u[d];
+    }
+  });
+  S.comm->sum(avg.data(), avg.size());
+  auto result = [&](std::size_t q, Vec<D>& u, double& rho) {
+    const double* a = &avg[q * kW];
+    if (!(a[0] > 0.5)) return false;
+    rho = a[1];
+    for (int d = 0; d < D; ++d) u[d] = a[2 + d];
+    return true;
   };
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Kind k = P.kind[i];
-    if (k == Kind::Inflow && avg_in) {
-      Vec<D> node = P.pos[i];
-      node[0] = in_->x1 + 0.5 * dx_;
-      Vec<D> u;
-      double rho;
-      if (!average(node, u, rho)) continue;
-      if (in_->average_at > 0.0) {  // the velocity from a node further downstream (recycling)
-        Vec<D> far = node, uf;
-        double rf;
-        far[0] = in_->x1 + in_->average_at;
-        if (average(far, uf, rf)) u = uf;
-      }
+#pragma omp parallel for schedule(static)
+  for (std::size_t j = 0; j < who.size(); ++j) {
+    const std::size_t i = who[j], q = 2 * (before + j);  // this particle's two nodes in the gathered list
+    Vec<D> u;
+    double rho;
+    if (P.kind[i] == Kind::Inflow) {
+      if (!result(q, u, rho)) continue;
+      Vec<D> uf;
+      double rf;
+      if (in_->average_at > 0.0 && result(q + 1, uf, rf)) u = uf;  // the velocity from a node further downstream (recycling)
       // Kazemi's inflow particles keep the elevation of their fluid layer: they take the
       // averaged streamwise velocity only (a vertical part would carry the bottom row through
       // the bed), and never upstream (the algorithm has no backflow at the inlet)
@@ -98,32 +142,26 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
       P.vel[i][0] = std::max(u[0], 0.0);
       P.rho[i] = rho;
       P.p[i] = S.eos.pressure(rho);
-    } else if (k == Kind::Outflow && (ext_u || ext_p || hyd_p || inlet_p)) {
-      Vec<D> node = P.pos[i];
-      node[0] = out_->x0 - 0.5 * dx_;
-      Vec<D> u;
-      double rho;
-      const bool found = (ext_u || ext_p) && average(node, u, rho);
-      if (found && ext_u) P.vel[i] = u;
-      if (found && ext_p) {
-        P.rho[i] = rho;
-        P.p[i] = S.eos.pressure(rho);
-      }
-      if (inlet_p) {  // the pressure of the fluid at the same height just inside the inlet
-        Vec<D> nin = P.pos[i], ui;
-        double ri;
-        nin[0] = in_->x1 + 0.5 * dx_;
-        if (average(nin, ui, ri)) {
-          P.rho[i] = ri;
-          P.p[i] = S.eos.pressure(ri);
-        }
-      }
-      if (hyd_p) {
+      continue;
+    }
+    const bool found = (ext_u || ext_p) && result(q, u, rho);
+    if (found && ext_u) P.vel[i] = u;
+    if (found && ext_p) {
+      P.rho[i] = rho;
+      P.p[i] = S.eos.pressure(rho);
+    }
+    if (inlet_p && result(q + 1, u, rho)) {  // the pressure of the fluid at the same height just inside the inlet
+      P.rho[i] = rho;
+      P.p[i] = S.eos.pressure(rho);
+    }
+  }
+  if (hyd_p)
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      if (P.kind[i] == Kind::Outflow) {
         P.p[i] = background_ + rho0_ * gz_ * std::max(0.0, level - P.pos[i][D - 1]);
         P.rho[i] = S.eos.density(P.p[i]);
       }
-    }
-  }
   S.refresh_halos();
 }
 
@@ -228,7 +266,13 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
         break;
     }
   }
-  if (born.empty() && gone.empty()) return false;
+  // new ids: numbered in rank order after every id given so far (one process: in store order)
+  std::uint64_t created = born.size();
+  const std::uint64_t first = in_ ? S.comm->exscan(born.size(), created) : 0;
+  if (born.empty() && gone.empty()) {
+    k.next_id += static_cast<std::uint32_t>(created);
+    return false;
+  }
   P.clear_images();
   // particles that became fluid start their integrator history from their current state; a new
   // inflow particle replaces each, one zone length upstream
@@ -250,7 +294,7 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
   for (std::size_t j = 0; j < spawn.size(); ++j) {
     P.add(spawn[j], Vec<D>{}, rho0_, spawn_mass[j], Kind::Inflow);
     const std::size_t i = P.n_owned() - 1;
-    P.id[i] = k.next_id++;
+    P.id[i] = k.next_id + static_cast<std::uint32_t>(first + j);
     if (in_->velocity == "averaged") {  // Kazemi: the new particle takes the converted one's state
       P.vel[i] = spawn_vel[j];
       P.rho[i] = spawn_rho[j];
@@ -261,6 +305,7 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
     if (vprev) (*vprev)[i] = P.vel[i];
     if (rprev) (*rprev)[i] = P.rho[i];
   }
+  k.next_id += static_cast<std::uint32_t>(created);
   return true;
 }
 

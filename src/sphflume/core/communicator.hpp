@@ -5,6 +5,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace sph {
 
@@ -18,6 +19,11 @@ class Communicator {
   virtual void sum(std::uint64_t*, std::size_t) const {}
   virtual void min(double*, std::size_t) const {}
   virtual void max(double*, std::size_t) const {}
+  /// Every rank's values, concatenated in rank order, on every rank.
+  virtual std::vector<double> allgather(const std::vector<double>& v) const { return v; }
+  /// The sum of v over the ranks before this one (0 on the first), and the sum over all of
+  /// them in `total`: numbering items that several ranks create, in rank order.
+  virtual std::uint64_t exscan(std::uint64_t v, std::uint64_t& total) const { total = v; return 0; }
   double sum(double v) const { sum(&v, 1); return v; }
   std::uint64_t sum(std::uint64_t v) const { sum(&v, 1); return v; }
   double min(double v) const { min(&v, 1); return v; }

@@ -47,6 +47,37 @@ Vec<D> line_normal(const GaugeConfig& g, double& ds) {
   return nrm;
 }
 
+/// Values at points, each computed by the part of the domain that holds the point (its
+/// neighbours, owned or halo, are there) and summed over the parts: f(x, out) writes nv values
+/// (NaN allowed); a point no part holds reads NaN. In one process: f at every point, as is.
+template <int D, class F>
+std::vector<double> at_held_points(const System<D>& S, const std::vector<Vec<D>>& pts, int nv, F&& f) {
+  const std::size_t w = static_cast<std::size_t>(nv) + 1;
+  std::vector<double> buf(pts.size() * w, 0.0);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (S.owns(pts[i])) {
+      f(pts[i], &buf[i * w]);
+      buf[i * w + w - 1] = 1.0;
+    }
+  S.comm->sum(buf.data(), buf.size());
+  std::vector<double> out(pts.size() * (w - 1), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (buf[i * w + w - 1] > 0.0)
+      for (std::size_t k = 0; k + 1 < w; ++k) out[i * (w - 1) + k] = buf[i * w + k] / buf[i * w + w - 1];
+  return out;
+}
+
+/// The g.points points of a gauge line, evenly from start to end.
+template <int D>
+std::vector<Vec<D>> line_points(const GaugeConfig& g) {
+  std::vector<Vec<D>> pts(static_cast<std::size_t>(g.points));
+  for (int i = 0; i < g.points; ++i) {
+    const double s = static_cast<double>(i) / (g.points - 1);
+    for (int d = 0; d < D; ++d) pts[static_cast<std::size_t>(i)][d] = g.start[d] + s * (g.end[d] - g.start[d]);
+  }
+  return pts;
+}
+
 }  // namespace
 
 template <int D>
@@ -135,24 +166,22 @@ std::vector<double> GaugeSet<D>::evaluate_stress(const GaugeConfig& g, const Sys
   const char* xz = "tau_xz";
   const std::vector<double>* tau = P.has_scalar(xz) ? &P.scalar_fields().at(xz) : nullptr;
   const std::vector<double>* nut = P.has_scalar("nu_t") ? &P.scalar_fields().at("nu_t") : nullptr;
-  std::vector<double> out;
-  for (int i = 0; i < g.points; ++i) {
-    const double s = static_cast<double>(i) / (g.points - 1);
-    Vec<D> x{};
-    for (int d = 0; d < D; ++d) x[d] = g.start[d] + s * (g.end[d] - g.start[d]);
+  return at_held_points(S, line_points<D>(g), 4, [&](const Vec<D>& x, double* out) {
     auto u = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][0]; });
     auto w = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][D - 1]; });
     if (!u || !w) {
-      out.insert(out.end(), {nan, nan, nan, nan});
-      continue;
+      for (int k = 0; k < 4; ++k) out[k] = nan;
+      return;
     }
     const double ub = *u, wb = *w;
     auto tt = tau ? interpolate_shepard(S, x, [&](std::uint32_t b) { return (*tau)[b]; }) : std::optional<double>(0.0);
     auto tr = interpolate_shepard(S, x, [&](std::uint32_t b) { return -(P.vel[b][0] - ub) * (P.vel[b][D - 1] - wb); });
     auto nt = nut ? interpolate_shepard(S, x, [&](std::uint32_t b) { return (*nut)[b]; }) : std::optional<double>(0.0);
-    out.insert(out.end(), {ub, tt ? *tt : nan, tr ? *tr : nan, nt ? *nt : nan});
-  }
-  return out;
+    out[0] = ub;
+    out[1] = tt ? *tt : nan;
+    out[2] = tr ? *tr : nan;
+    out[3] = nt ? *nt : nan;
+  });
 }
 
 template <int D>
@@ -255,19 +284,13 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     for (int d = 0; d < D; ++d) x[d] = v[d];
     return x;
   };
-  if (g.type == "velocity") {  // (read by the part of the domain that holds the point)
-    double v[D + 1] = {};
-    if (S.owns(at(g.point)))
+  if (g.type == "velocity")
+    return at_held_points(S, {at(g.point)}, D, [&](const Vec<D>& x, double* out) {
       for (int d = 0; d < D; ++d) {
-        const auto u = interpolate_shepard(S, at(g.point), [&](std::uint32_t b) { return P.vel[b][d]; });
-        if (u) { v[d] = *u; v[D] = 1.0; }
+        const auto u = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d]; });
+        out[d] = u ? *u : nan;
       }
-    S.comm->sum(v, D + 1);
-    std::vector<double> out(D, nan);
-    if (v[D] > 0.0)
-      for (int d = 0; d < D; ++d) out[static_cast<std::size_t>(d)] = v[d] / v[D];
-    return out;
-  }
+    });
   if (g.type == "runup") {  // the waterline on a slope (2D), io/runup.cpp
     const auto w = runup_waterline(g, S);
     return {w[0], w[1], nan};  // max: filled by sample()
@@ -327,19 +350,13 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     S.comm->sum(sw, 2);
     return {sw[1] > 0.0 ? sw[0] / sw[1] : nan};
   }
-  if (g.type == "velocity_profile") {
-    std::vector<double> out;
-    for (int i = 0; i < g.points; ++i) {
-      const double s = static_cast<double>(i) / (g.points - 1);
-      Vec<D> x{};
-      for (int d = 0; d < D; ++d) x[d] = g.start[d] + s * (g.end[d] - g.start[d]);
+  if (g.type == "velocity_profile")
+    return at_held_points(S, line_points<D>(g), D, [&](const Vec<D>& x, double* out) {
       for (int d = 0; d < D; ++d) {
         auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d]; });
-        out.push_back(v ? *v : nan);
+        out[d] = v ? *v : nan;
       }
-    }
-    return out;
-  }
+    });
   if (g.type == "stress_profile") return evaluate_stress(g, S);
   if (g.type == "scalar" || g.type == "scalar_profile" || g.type == "scalar_mass" || g.type == "scalar_flux" ||
       g.type == "phase")
@@ -370,36 +387,49 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     const double* phi = porosity_field(S);
     double ds = 0.0;
     const Vec<D> nrm = line_normal<D>(g, ds);
-    std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size(), 0.0);
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      const double s = static_cast<double>(i) / (g.points - 1);
-      Vec<D> x{};
-      for (int d = 0; d < D; ++d) x[d] = g.start[d] + s * (g.end[d] - g.start[d]);
-      f[i] = fluid_fraction(S, x);
-      if (f[i] <= 0.0) continue;
+    const auto fu = at_held_points(S, line_points<D>(g), 2, [&](const Vec<D>& x, double* out) {
+      out[0] = fluid_fraction(S, x);
+      out[1] = 0.0;
+      if (out[0] <= 0.0) return;
       for (int d = 0; d < D; ++d) {
         auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d] * (phi ? phi[b] : 1.0); });
-        un[i] += (v ? *v : 0.0) * nrm[d];
+        out[1] += (v ? *v : 0.0) * nrm[d];
       }
+    });
+    std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size());
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      f[i] = std::isfinite(fu[2 * i]) ? fu[2 * i] : 0.0;  // (a point outside every part: dry)
+      un[i] = std::isfinite(fu[2 * i + 1]) ? fu[2 * i + 1] : 0.0;
     }
     return {wet_integral(f, un, ds)};
   }
   if (g.type == "water_level") {
-    // scan down the vertical line in steps of dx/4 from the top of the particles
+    // scan down the vertical line in steps of dx/4 from the top of the particles (in blocks of
+    // points: each is read by the part of the domain that holds it)
     Vec<D> x = at(g.point);
     const double step = 0.25 * S.dx;
     double zlo = level_top;
     for (std::size_t i = 0; i < P.n_owned(); ++i) zlo = std::min(zlo, P.pos[i][vz]);
+    zlo = S.comm->min(zlo);
     double prev_f = 0.0, prev_z = level_top;
-    for (double z = level_top; z >= zlo; z -= step) {
-      x[vz] = z;
-      const double f = fluid_fraction(S, x);
-      if (f >= 0.5) {
-        if (z == level_top) return {z};
-        return {z + (prev_z - z) * (f - 0.5) / (f - prev_f)};
+    constexpr int kBlock = 32;
+    std::vector<Vec<D>> pts;
+    for (double z = level_top; z >= zlo;) {
+      pts.clear();
+      for (int k = 0; k < kBlock && z >= zlo; ++k, z -= step) {
+        x[vz] = z;
+        pts.push_back(x);
       }
-      prev_f = f;
-      prev_z = z;
+      const auto fr = at_held_points(S, pts, 1, [&](const Vec<D>& p, double* out) { out[0] = fluid_fraction(S, p); });
+      for (std::size_t k = 0; k < pts.size(); ++k) {
+        const double zk = pts[k][vz], f = std::isfinite(fr[k]) ? fr[k] : 0.0;
+        if (f >= 0.5) {
+          if (zk == level_top) return {zk};
+          return {zk + (prev_z - zk) * (f - 0.5) / (f - prev_f)};
+        }
+        prev_f = f;
+        prev_z = zk;
+      }
     }
     return {nan};
   }

@@ -234,8 +234,11 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
   const bool symplectic = cfg_.integrator == Integrator::Symplectic;
   kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
   im = S.porous ? P.scalar("inertia").data() : nullptr;
+  // (the owned particles again: in a distributed run the re-sort above also hands particles
+  // that crossed into another rank's part to it, with their x0, v0 and rho0)
+  const std::size_t n2 = P.n_owned();
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n2; ++i) {
     const bool fluid = P.kind[i] == Kind::Fluid;
     if (P.kind[i] == Kind::Inflow || P.kind[i] == Kind::Outflow) {
       P.pos[i] = x0[i] + dt * P.vel[i];

@@ -378,9 +378,12 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
   S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 0>(S, K); });
   S.walls->add_forces(S);
   for (auto& f : S.forces) f->add(S);
+  // the owned particles after the re-sort: in a distributed run it also handed the particles
+  // that crossed into another rank's part to that rank
+  const std::size_t na = P.n_owned();
   double amax = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : amax)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < na; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     amax = std::max(amax, dot(P.acc[i], P.acc[i]));
     P.vel[i] += dt * P.acc[i];
@@ -398,7 +401,7 @@ void WCSPH<D>::dual_step(System<D>& S, double dt) {
   S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 1>(S, K); });
   // the second half of Dρ; gauges and output see the pressure of the step's end
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < na; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     P.rho[i] += hdt * P.drho[i];
     P.p[i] = S.eos_of(i).pressure(P.rho[i]);

@@ -32,6 +32,27 @@ class MpiCommunicator final : public Communicator {
   void sum(std::uint64_t* v, std::size_t n) const override { reduce(v, n, MPI_UINT64_T, MPI_SUM); }
   void min(double* v, std::size_t n) const override { reduce(v, n, MPI_DOUBLE, MPI_MIN); }
   void max(double* v, std::size_t n) const override { reduce(v, n, MPI_DOUBLE, MPI_MAX); }
+  std::vector<double> allgather(const std::vector<double>& v) const override {
+    std::vector<int> counts(static_cast<std::size_t>(size_)), displ(counts.size());
+    const int n = static_cast<int>(v.size());
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    int total = 0;
+    for (std::size_t q = 0; q < counts.size(); ++q) { displ[q] = total; total += counts[q]; }
+    std::vector<double> all(static_cast<std::size_t>(total));
+    MPI_Allgatherv(v.data(), n, MPI_DOUBLE, all.data(), counts.data(), displ.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+    return all;
+  }
+  std::uint64_t exscan(std::uint64_t v, std::uint64_t& total) const override {
+    std::vector<std::uint64_t> all(static_cast<std::size_t>(size_));
+    MPI_Allgather(&v, 1, MPI_UINT64_T, all.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+    std::uint64_t before = 0;
+    total = 0;
+    for (int q = 0; q < size_; ++q) {
+      if (q < rank_) before += all[static_cast<std::size_t>(q)];
+      total += all[static_cast<std::size_t>(q)];
+    }
+    return before;
+  }
 
  private:
   int rank_ = 0, size_ = 1;
@@ -284,7 +305,6 @@ void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const st
     throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
                                  "process (without mpirun)", what, feature, size));
   };
-  if (S.before_rates) refuse("open boundaries");
   if (S.motion) refuse("moving walls (motions)");
   if (!S.phase_eos.empty()) refuse("several phases");
   auto& P = S.particles;

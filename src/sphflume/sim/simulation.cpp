@@ -12,8 +12,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -405,21 +407,24 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
                                    "process (without mpirun)", c.file, what, comm->size()));
     };
-    if (R.open.any()) refuse("open boundaries (open_boundaries)");
     if (c.scheme.type == "isph") refuse("the ISPH scheme (scheme.type: isph)");
     if (c.transport.on()) refuse("transported scalars (transport)");
     if (c.turbulence.model == "mixing_length") refuse("the mixing-length model (turbulence.model: mixing_length)");
     distribute<D>(S, comm, c.file);  // (refuses what distributed runs do not support yet)
-    for (const auto& g : c.gauges)  // the gauges whose value is a sum, a maximum or read where its point is
-      if (g.type != "energy" && g.type != "front" && g.type != "pressure" && g.type != "water_volume" && g.type != "velocity")
-        throw InputError(fmt::format("{}: gauge '{}' (type {}) is not available in distributed runs yet (energy, front, "
-                                     "pressure, velocity and water_volume are): run without mpirun, or leave it out",
-                                     c.file, g.name, g.type));
+    // the gauges whose value is a sum, a maximum or read where its points are
+    static const std::set<std::string> kDistributed = {"energy", "front", "pressure", "water_volume", "velocity",
+        "velocity_profile", "stress_profile", "flux", "water_level", "depth_profile", "boundary_volume"};
+    for (const auto& g : c.gauges)
+      if (!kDistributed.count(g.type))
+        throw InputError(fmt::format("{}: gauge '{}' (type {}) is not available in distributed runs yet ({} are): run "
+                                     "without mpirun, or leave it out", c.file, g.name, g.type, fmt::join(kDistributed, ", ")));
   }
   if (distributed && restart && !comm->root()) {  // the restart point's counters are global: the first rank keeps them
     R.rs.removed_mass = 0.0;
     R.rs.removed_by_face.clear();
+    const std::uint32_t next_id = R.rs.open.next_id;  // (the next new particle's id is the same on every rank)
     R.rs.open = OpenFlowCounters{};
+    R.rs.open.next_id = next_id;
   }
 #ifdef _OPENMP
   if (o.threads > 0) omp_set_num_threads(o.threads);
@@ -502,9 +507,12 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     const long k = std::lround(S.time / c.output_interval);
     const bool snap = always || c.snapshot_every <= 1 || k % c.snapshot_every == 0 || S.time >= c.t_end * (1.0 - 1e-12);
     if (snap) write_snapshot();
-    S.counters["inflow_mass"] = R.rs.open.inflow_mass;
-    S.counters["outflow_mass"] = R.rs.open.outflow_mass;
-    S.counters["backflow_mass"] = R.rs.open.backflow_mass;
+    if (R.open.any()) {  // (the boundary_volume gauge's cumulative masses, summed over the ranks)
+      const Totals<D> tot(S, R.rs);
+      S.counters["inflow_mass"] = tot.inflow;
+      S.counters["outflow_mass"] = tot.outflow;
+      S.counters["backflow_mass"] = tot.backflow_mass;
+    }
     if (S.transport)
       for (std::size_t k = 0; k < S.transport->count(); ++k) S.counters["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
     gauges->sample(S);
