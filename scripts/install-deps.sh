@@ -10,7 +10,7 @@ PKGS=(
   build-essential g++ cmake make pkg-config git
   libeigen3-dev libmuparser-dev libyaml-cpp-dev libhdf5-dev libcli11-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libhypre-dev libopenmpi-dev openmpi-bin
+  libhypre-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
   python3 python3-numpy python3-matplotlib python3-h5py python3-yaml
   clang libclang-rt-14-dev
 )

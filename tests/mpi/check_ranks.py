@@ -26,7 +26,7 @@ correctness) must give:
   masses and the masses through their boundaries, and their profile and flux gauges agree within 1e-4;
 - what distributed runs do not support yet (the mixing-length model, some gauges) is refused with exit 2 and a
   message that names it.
-Usage: check_ranks.py SPHFLUME WORKDIR [--ranks 2,4]
+Usage: check_ranks.py SPHFLUME WORKDIR [--ranks 2,4] [--snapshot-writes collective|gathered]
 """
 import argparse
 import csv
@@ -48,6 +48,8 @@ ap = argparse.ArgumentParser()
 ap.add_argument("binary")
 ap.add_argument("work")
 ap.add_argument("--ranks", default="2")
+ap.add_argument("--snapshot-writes", default="", help="how a distributed run must write its snapshots: collective "
+                "(the build's HDF5 is parallel) or gathered (on rank 0); empty: either")
 args = ap.parse_args()
 RANKS = [int(r) for r in args.ranks.split(",")]
 shutil.rmtree(args.work, ignore_errors=True)
@@ -300,7 +302,14 @@ s2 = sorted(x for x in os.listdir(os.path.join(d2, "snapshots")) if x.endswith("
 check(s1 == s2 and len(s2) == 21, f"2 ranks write the same {len(s1)} snapshot files as one process ({len(s2)})")
 with h5py.File(os.path.join(d2, "snapshots", s2[-1])) as f:
     ids = list(f["id"][:])
-check(ids == list(range(len(ids))), f"the last 2-rank snapshot holds every particle once, by id ({len(ids)})")
+    conn = list(f["connectivity"][:])
+    n_xyz = f["position"].shape
+check(sorted(ids) == list(range(len(ids))) and conn == list(range(len(ids))) and n_xyz == (len(ids), 3),
+      f"the last 2-rank snapshot holds every particle once ({len(ids)} ids, connectivity 0..N-1, positions {n_xyz})")
+sw = json.load(open(os.path.join(d2, "summary.json")))["ranks"]["snapshot_writes"]
+check(sw == args.snapshot_writes if args.snapshot_writes else sw in ("collective", "gathered"),
+      f"summary.json says how the 2 ranks wrote their snapshots: {sw} (expected: {args.snapshot_writes or 'either'})")
+print(f"snapshot writes of the 2-rank runs: {sw} ('collective': parallel HDF5, every rank its own rows)")
 check(os.path.exists(os.path.join(d2, "particles.xdmf")), "2 ranks write particles.xdmf")
 
 # a restart point written by 2 ranks, continued in one process: ends where the 2-rank run does

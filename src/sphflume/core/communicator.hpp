@@ -24,6 +24,10 @@ class Communicator {
   /// The sum of v over the ranks before this one (0 on the first), and the sum over all of
   /// them in `total`: numbering items that several ranks create, in rank order.
   virtual std::uint64_t exscan(std::uint64_t v, std::uint64_t& total) const { total = v; return 0; }
+  /// Set up HDF5 property lists (file access, data transfer; hid_t values, -1 to skip one) for
+  /// a file that every rank writes together: MPI-IO with collective transfers (parallel HDF5).
+  /// False where this build or this run cannot (one process; HDF5 without MPI support).
+  virtual bool parallel_hdf5(std::int64_t /*fapl*/, std::int64_t /*dxpl*/) const { return false; }
   double sum(double v) const { sum(&v, 1); return v; }
   std::uint64_t sum(std::uint64_t v) const { sum(&v, 1); return v; }
   double min(double v) const { min(&v, 1); return v; }

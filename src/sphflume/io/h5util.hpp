@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/core/communicator.hpp"
 #include "sphflume/io/case.hpp"
 #include "sphflume/io/snapshot.hpp"
 
@@ -26,13 +27,38 @@ inline void check(herr_t st, const std::string& what, const std::string& path) {
                               std::strerror(errno)));
 }
 
+/// The rows of a dataset this process writes. By default all of them (one process writes the
+/// file). In a file written by every rank together (parallel HDF5, MPI-IO), a dataset has
+/// `total` rows and this rank writes its block from `offset`; text (one copy, the same on every
+/// rank) is the first rank's, written by it alone. Every rank makes the same calls in the same
+/// order with the same dataset shapes (or parallel HDF5 waits forever in the file's close).
+struct Rows {
+  bool collective = false;
+  hsize_t total = 0, offset = 0;
+  hid_t dxpl = H5P_DEFAULT;  // collective transfers
+  bool root = true;
+  const Communicator* comm = nullptr;
+};
+
 inline void write_dataset(hid_t f, const std::string& name, hid_t type, const void* data, hsize_t n, hsize_t cols,
-                          const std::string& path) {
-  hsize_t dims[2] = {n, cols};
-  const hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, nullptr);
+                          const std::string& path, const Rows* rows = nullptr) {
+  const bool coll = rows && rows->collective;
+  hsize_t dims[2] = {coll ? rows->total : n, cols};
+  const int rank = cols > 1 ? 2 : 1;
+  const hid_t space = H5Screate_simple(rank, dims, nullptr);
   const hid_t ds = H5Dcreate2(f, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (ds < 0) { H5Sclose(space); throw IoError(fmt::format("HDF5: cannot create dataset {} in '{}'", name, path)); }
-  const herr_t st = n > 0 ? H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+  herr_t st = 0;
+  if (coll) {  // this rank's block of rows (possibly none: every rank takes part in the write)
+    hsize_t start[2] = {rows->offset, 0}, count[2] = {n, cols};
+    const hid_t mem = H5Screate_simple(rank, count, nullptr);
+    if (n > 0) H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+    else { H5Sselect_none(space); H5Sselect_none(mem); }
+    st = rows->total > 0 ? H5Dwrite(ds, type, mem, space, rows->dxpl, data) : 0;
+    H5Sclose(mem);
+  } else {
+    st = n > 0 ? H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+  }
   H5Dclose(ds);
   H5Sclose(space);
   check(st, name, path);
@@ -48,7 +74,15 @@ inline void write_attr(hid_t f, const char* name, hid_t type, const void* v, con
 }
 
 /// Text as a 1-D dataset of bytes (h5py: bytes(f[name][:]).decode()).
-inline void write_text(hid_t f, const std::string& name, const std::string& text, const std::string& path) {
+inline void write_text(hid_t f, const std::string& name, const std::string& text, const std::string& path,
+                       const Rows* rows = nullptr) {
+  if (rows && rows->collective) {  // (its length from the first rank: the shape must agree everywhere)
+    Rows one = *rows;
+    one.total = static_cast<hsize_t>(rows->comm->max(rows->root ? static_cast<double>(text.size()) : 0.0));
+    one.offset = 0;
+    write_dataset(f, name, H5T_NATIVE_UCHAR, text.data(), rows->root ? text.size() : 0, 1, path, &one);
+    return;
+  }
   write_dataset(f, name, H5T_NATIVE_UCHAR, text.data(), text.size(), 1, path);
 }
 

@@ -87,19 +87,20 @@ std::vector<SnapshotEntry> parse_index(const std::string& text) {
 }  // namespace
 
 template <int D>
-void write_restart_group(long long file_id, const ParticleStore<D>& P, const RunState& rs, const std::string& path) {
+void write_restart_group(long long file_id, const ParticleStore<D>& P, const RunState& rs, const std::string& path,
+                         const h5::Rows* rows) {
   const hid_t f = static_cast<hid_t>(file_id);
   const hid_t g = H5Gcreate2(f, "restart", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (g < 0) throw IoError(fmt::format("HDF5: cannot create group /restart in '{}'", path));
   struct Closer { hid_t g; ~Closer() { H5Gclose(g); } } closer{g};
   const std::size_t n = P.n_owned();
-  h5::write_dataset(g, "acc", H5T_NATIVE_DOUBLE, P.acc.data(), n, D, path);
-  h5::write_dataset(g, "drho", H5T_NATIVE_DOUBLE, P.drho.data(), n, 1, path);
-  for (const auto& [name, v] : P.vector_fields()) h5::write_dataset(g, "vector_" + name, H5T_NATIVE_DOUBLE, v.data(), n, D, path);
-  for (const auto& [name, v] : P.scalar_fields()) h5::write_dataset(g, "scalar_" + name, H5T_NATIVE_DOUBLE, v.data(), n, 1, path);
-  h5::write_text(g, "case", rs.case_text, path);
-  h5::write_text(g, "counters", counters_text(rs), path);
-  h5::write_text(g, "snapshot_index", index_text(rs.snapshots), path);
+  h5::write_dataset(g, "acc", H5T_NATIVE_DOUBLE, P.acc.data(), n, D, path, rows);
+  h5::write_dataset(g, "drho", H5T_NATIVE_DOUBLE, P.drho.data(), n, 1, path, rows);
+  for (const auto& [name, v] : P.vector_fields()) h5::write_dataset(g, "vector_" + name, H5T_NATIVE_DOUBLE, v.data(), n, D, path, rows);
+  for (const auto& [name, v] : P.scalar_fields()) h5::write_dataset(g, "scalar_" + name, H5T_NATIVE_DOUBLE, v.data(), n, 1, path, rows);
+  h5::write_text(g, "case", rs.case_text, path, rows);
+  h5::write_text(g, "counters", counters_text(rs), path, rows);
+  h5::write_text(g, "snapshot_index", index_text(rs.snapshots), path, rows);
 }
 
 template <int D>
@@ -173,8 +174,8 @@ void read_restart(const std::string& path, ParticleStore<D>& P, RunState& rs) {
   P.shrink_to_fit();
 }
 
-template void write_restart_group<2>(long long, const ParticleStore<2>&, const RunState&, const std::string&);
-template void write_restart_group<3>(long long, const ParticleStore<3>&, const RunState&, const std::string&);
+template void write_restart_group<2>(long long, const ParticleStore<2>&, const RunState&, const std::string&, const h5::Rows*);
+template void write_restart_group<3>(long long, const ParticleStore<3>&, const RunState&, const std::string&, const h5::Rows*);
 template void read_restart<2>(const std::string&, ParticleStore<2>&, RunState&);
 template void read_restart<3>(const std::string&, ParticleStore<3>&, RunState&);
 

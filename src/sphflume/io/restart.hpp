@@ -42,9 +42,12 @@ struct RunState {
 };
 
 
-/// Write the /restart group into an open HDF5 file (hid_t passed as long long).
+namespace h5 { struct Rows; }
+/// Write the /restart group into an open HDF5 file (hid_t passed as long long); rows: this
+/// rank's part of a file every rank writes together (io/h5util.hpp), null for one process.
 template <int D>
-void write_restart_group(long long file_id, const ParticleStore<D>& P, const RunState& rs, const std::string& path);
+void write_restart_group(long long file_id, const ParticleStore<D>& P, const RunState& rs, const std::string& path,
+                         const h5::Rows* rows = nullptr);
 
 /// Read a restart point: replaces P's particles (memory order kept) and fills rs.
 /// Throws InputError naming the file when it is not a restart point of a D-dimensional run.

@@ -37,19 +37,12 @@ void write_file_atomically(const std::string& path, const std::string& text) {
 
 namespace {
 
-/// Write one particle file (fields, attributes, optional /restart group) to `tmp`.
-/// HDF5 builds the file in memory (core driver, no backing store) and we write the image
-/// ourselves: a full disk is then an ordinary failed write, which HDF5 1.10 does not survive
-/// cleanly when it meets it itself (the library crashed at exit on a file whose close failed).
+/// The datasets and attributes of a particle file, into the open file f (rows: this rank's
+/// block of a file every rank writes together; null for one process).
 template <int D>
-void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs) {
+void write_contents(hid_t fid, const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs,
+                    const h5::Rows* rows) {
   const std::size_t n = P.n_owned();
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves
-  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  H5Pset_fapl_core(fapl, 1 << 20, 0);
-  h5::File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl)};
-  H5Pclose(fapl);
-  if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' in memory", tmp));
   std::vector<double> buf(n * 3, 0.0);
   auto vec3 = [&](const std::vector<Vec<D>>& v) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -59,26 +52,42 @@ void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t
     }
     return buf.data();
   };
-  h5::write_dataset(f.id, "position", H5T_NATIVE_DOUBLE, vec3(P.pos), n, 3, tmp);
-  h5::write_dataset(f.id, "velocity", H5T_NATIVE_DOUBLE, vec3(P.vel), n, 3, tmp);
-  h5::write_dataset(f.id, "pressure", H5T_NATIVE_DOUBLE, P.p.data(), n, 1, tmp);
-  h5::write_dataset(f.id, "density", H5T_NATIVE_DOUBLE, P.rho.data(), n, 1, tmp);
-  h5::write_dataset(f.id, "mass", H5T_NATIVE_DOUBLE, P.mass.data(), n, 1, tmp);
+  h5::write_dataset(fid, "position", H5T_NATIVE_DOUBLE, vec3(P.pos), n, 3, tmp, rows);
+  h5::write_dataset(fid, "velocity", H5T_NATIVE_DOUBLE, vec3(P.vel), n, 3, tmp, rows);
+  h5::write_dataset(fid, "pressure", H5T_NATIVE_DOUBLE, P.p.data(), n, 1, tmp, rows);
+  h5::write_dataset(fid, "density", H5T_NATIVE_DOUBLE, P.rho.data(), n, 1, tmp, rows);
+  h5::write_dataset(fid, "mass", H5T_NATIVE_DOUBLE, P.mass.data(), n, 1, tmp, rows);
   std::vector<std::int32_t> kind(n);
   for (std::size_t i = 0; i < n; ++i) kind[i] = static_cast<std::int32_t>(P.kind[i]);
-  h5::write_dataset(f.id, "kind", H5T_NATIVE_INT32, kind.data(), n, 1, tmp);
-  h5::write_dataset(f.id, "id", H5T_NATIVE_UINT32, P.id.data(), n, 1, tmp);
+  h5::write_dataset(fid, "kind", H5T_NATIVE_INT32, kind.data(), n, 1, tmp, rows);
+  h5::write_dataset(fid, "id", H5T_NATIVE_UINT32, P.id.data(), n, 1, tmp, rows);
   // explicit Polyvertex connectivity: VTK's XDMF3 reader makes no cells without it
+  const std::size_t first = rows && rows->collective ? rows->offset : 0;
   std::vector<std::int32_t> conn(n);
-  for (std::size_t i = 0; i < n; ++i) conn[i] = static_cast<std::int32_t>(i);
-  h5::write_dataset(f.id, "connectivity", H5T_NATIVE_INT32, conn.data(), n, 1, tmp);
+  for (std::size_t i = 0; i < n; ++i) conn[i] = static_cast<std::int32_t>(first + i);
+  h5::write_dataset(fid, "connectivity", H5T_NATIVE_INT32, conn.data(), n, 1, tmp, rows);
   for (const auto& [fname, field] : P.scalar_fields())  // "_name": internal scratch (restart groups keep it)
-    if (fname[0] != '_') h5::write_dataset(f.id, fname, H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp);
-  h5::write_attr(f.id, "time", H5T_NATIVE_DOUBLE, &t, tmp);
-  h5::write_attr(f.id, "step", H5T_NATIVE_LONG, &step, tmp);
+    if (fname[0] != '_') h5::write_dataset(fid, fname, H5T_NATIVE_DOUBLE, field.data(), n, 1, tmp, rows);
+  h5::write_attr(fid, "time", H5T_NATIVE_DOUBLE, &t, tmp);
+  h5::write_attr(fid, "step", H5T_NATIVE_LONG, &step, tmp);
   const int dim = D;
-  h5::write_attr(f.id, "dimension", H5T_NATIVE_INT, &dim, tmp);
-  if (rs) write_restart_group<D>(f.id, P, *rs, tmp);
+  h5::write_attr(fid, "dimension", H5T_NATIVE_INT, &dim, tmp);
+  if (rs) write_restart_group<D>(fid, P, *rs, tmp, rows);
+}
+
+/// Write one particle file (fields, attributes, optional /restart group) to `tmp`.
+/// HDF5 builds the file in memory (core driver, no backing store) and we write the image
+/// ourselves: a full disk is then an ordinary failed write, which HDF5 1.10 does not survive
+/// cleanly when it meets it itself (the library crashed at exit on a file whose close failed).
+template <int D>
+void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // we report errors ourselves
+  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fapl_core(fapl, 1 << 20, 0);
+  h5::File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl)};
+  H5Pclose(fapl);
+  if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' in memory", tmp));
+  write_contents<D>(f.id, tmp, P, t, step, rs, nullptr);
   if (H5Fflush(f.id, H5F_SCOPE_GLOBAL) < 0) throw IoError(fmt::format("HDF5: cannot finish '{}' in memory", tmp));
   const ssize_t size = H5Fget_file_image(f.id, nullptr, 0);
   if (size <= 0) throw IoError(fmt::format("HDF5: cannot get the image of '{}'", tmp));
@@ -91,6 +100,33 @@ void write_particles(const std::string& tmp, const ParticleStore<D>& P, double t
   if (!out) throw IoError(fmt::format("writing '{}' failed (disk full?): {}", tmp, std::strerror(errno)));
   out.close();
   if (!out) throw IoError(fmt::format("closing '{}' failed (disk full?): {}", tmp, std::strerror(errno)));
+}
+
+/// The same file written by every rank together (parallel HDF5: MPI-IO, collective transfers):
+/// each rank its own particles, as a block of rows after those of the ranks before it. A
+/// failure on one rank is a failure of the run (every rank is then stopped), and the temporary
+/// file is left under its .tmp name, which nothing reads as a snapshot.
+template <int D>
+void write_particles_together(const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs,
+                              const Communicator& comm) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  h5::Rows rows;
+  rows.collective = true;
+  std::uint64_t total = 0;
+  rows.offset = comm.exscan(P.n_owned(), total);
+  rows.total = total;
+  rows.root = comm.root();
+  rows.comm = &comm;
+  const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  rows.dxpl = H5Pcreate(H5P_DATASET_XFER);
+  struct Plists { hid_t a, b; ~Plists() { H5Pclose(a); H5Pclose(b); } } plists{fapl, rows.dxpl};
+  if (!comm.parallel_hdf5(fapl, rows.dxpl)) throw IoError(fmt::format("HDF5: no parallel (MPI-IO) access for '{}'", tmp));
+  h5::File f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl)};
+  if (f.id < 0) throw IoError(fmt::format("HDF5: cannot create '{}' (folder missing, no permission?)", tmp));
+  write_contents<D>(f.id, tmp, P, t, step, rs, &rows);
+  const hid_t id = f.id;
+  f.id = -1;
+  if (H5Fclose(id) < 0) throw IoError(fmt::format("HDF5: cannot finish '{}' (disk full?)", tmp));
 }
 
 /// Run a writer on `tmp`; on failure remove the partial file, so that nothing half-written stays.
@@ -114,38 +150,64 @@ void rename_into_place(const std::string& tmp, const std::string& path) {
 }  // namespace
 
 template <int D>
+SnapshotWriter<D>::SnapshotWriter(std::string dir, std::shared_ptr<const Communicator> comm)
+    : dir_(std::move(dir)), comm_(std::move(comm)) {
+  if (comm_ && comm_->size() > 1) {  // (the same answer on every rank: one build, one library)
+    const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    collective_ = comm_->parallel_hdf5(fapl, -1);
+    H5Pclose(fapl);
+  }
+}
+
+template <int D>
+void SnapshotWriter<D>::write_file(const std::string& tmp, const ParticleStore<D>& P, double t, long step,
+                                   const RunState* rs) const {
+  if (collective_) {
+    write_particles_together<D>(tmp, P, t, step, rs, *comm_);
+    return;
+  }
+  write_or_clean(tmp, [&] { write_particles<D>(tmp, P, t, step, rs); });
+}
+
+template <int D>
 std::string SnapshotWriter<D>::write(const ParticleStore<D>& P, double t, long step, const RunState* rs) {
   const std::string name = fmt::format("snap_{:06d}.h5", entries_.size());
   const std::string rel = "snapshots/" + name;
   const std::string path = dir_ + "/" + rel, tmp = path + ".tmp";
-  fs::create_directories(dir_ + "/snapshots");
-  SnapshotEntry e{rel, t, P.n_owned(), {}};
+  std::error_code ec;
+  fs::create_directories(dir_ + "/snapshots", ec);  // (every rank of a collective write: none may open first)
+  if (ec) throw IoError(fmt::format("cannot create '{}/snapshots': {}", dir_, ec.message()));
+  std::uint64_t total = P.n_owned();
+  if (collective_) comm_->exscan(P.n_owned(), total);
+  SnapshotEntry e{rel, t, static_cast<std::size_t>(total), {}};
   for (const auto& [fname, field] : P.scalar_fields())
     if (fname[0] != '_') e.scalars.push_back(fname);
   if (rs) {  // the series in the file includes this snapshot
     RunState r = *rs;
     r.snapshots = entries_;
     r.snapshots.push_back(e);
-    write_or_clean(tmp, [&] { write_particles<D>(tmp, P, t, step, &r); });
+    write_file(tmp, P, t, step, &r);
   } else {
-    write_or_clean(tmp, [&] { write_particles<D>(tmp, P, t, step, nullptr); });
+    write_file(tmp, P, t, step, nullptr);
   }
-  rename_into_place(tmp, path);
+  const bool root = !comm_ || comm_->root();
+  if (root) rename_into_place(tmp, path);
   entries_.push_back(e);
-  write_xdmf();
+  if (root) write_xdmf();
   return path;
 }
 
 template <int D>
-void SnapshotWriter<D>::write_checkpoint(const std::string& path, const ParticleStore<D>& P, const RunState& rs) {
+void SnapshotWriter<D>::write_checkpoint(const std::string& path, const ParticleStore<D>& P, const RunState& rs) const {
   const std::string tmp = path + ".tmp";
-  write_or_clean(tmp, [&] { write_particles<D>(tmp, P, rs.time, rs.step, &rs); });
-  rename_into_place(tmp, path);
+  write_file(tmp, P, rs.time, rs.step, &rs);
+  if (!comm_ || comm_->root()) rename_into_place(tmp, path);
 }
 
 template <int D>
 void SnapshotWriter<D>::resume(const std::vector<SnapshotEntry>& entries) {
   entries_ = entries;
+  if (comm_ && !comm_->root()) return;  // (the first rank tidies the folder)
   std::error_code ec;
   if (fs::exists(dir_ + "/snapshots"))
     for (const auto& e : fs::directory_iterator(dir_ + "/snapshots", ec)) {

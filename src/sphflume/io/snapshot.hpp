@@ -7,10 +7,12 @@
 // plus any extra per-particle scalar fields; attributes time, step, dimension; and the group
 // /restart (io/restart.hpp) that makes every snapshot a restart point.
 #pragma once
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "sphflume/core/communicator.hpp"
 #include "sphflume/core/errors.hpp"
 #include "sphflume/core/particles.hpp"
 
@@ -22,12 +24,20 @@ struct SnapshotEntry;
 template <int D>
 class SnapshotWriter {
  public:
-  explicit SnapshotWriter(std::string dir) : dir_(std::move(dir)) {}
+  /// comm: the ranks of a distributed run. With parallel HDF5 every rank then writes its own
+  /// particles into the same files together (collective MPI-IO writes; collective()), and every
+  /// rank calls write, write_checkpoint and resume; the first rank renames the files into place
+  /// and writes the XDMF.
+  explicit SnapshotWriter(std::string dir, std::shared_ptr<const Communicator> comm = nullptr);
+  /// Whether the ranks write their particles together (false in one process, and in a
+  /// distributed run whose HDF5 has no MPI support: the caller then gathers the particles on
+  /// the first rank, which writes alone).
+  bool collective() const { return collective_; }
   /// Write the owned particles at time t as the next snapshot of the series; returns its path.
   /// With rs, the snapshot is a restart point (rs.snapshots is the series so far).
   std::string write(const ParticleStore<D>& P, double t, long step, const RunState* rs = nullptr);
   /// Write a restart point outside the series (e.g. OUTPUT/checkpoint.h5), atomically.
-  static void write_checkpoint(const std::string& path, const ParticleStore<D>& P, const RunState& rs);
+  void write_checkpoint(const std::string& path, const ParticleStore<D>& P, const RunState& rs) const;
   /// Continue a series after a restart: keep these entries, delete later snapshot files.
   void resume(const std::vector<SnapshotEntry>& entries);
   const std::string& dir() const { return dir_; }
@@ -38,7 +48,10 @@ class SnapshotWriter {
 
  private:
   void write_xdmf() const;
+  void write_file(const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs) const;
   std::string dir_;
+  std::shared_ptr<const Communicator> comm_;
+  bool collective_ = false;
   std::vector<SnapshotEntry> entries_;
 };
 

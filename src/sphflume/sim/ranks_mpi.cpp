@@ -3,6 +3,8 @@
 #define OMPI_SKIP_MPICXX 1
 #define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
+#include <hdf5.h>  // (the parallel HDF5 build's, when it is the one found: H5_HAVE_PARALLEL)
+#include <type_traits>
 
 #include <algorithm>
 #include <cmath>
@@ -41,6 +43,18 @@ class MpiCommunicator final : public Communicator {
     std::vector<double> all(static_cast<std::size_t>(total));
     MPI_Allgatherv(v.data(), n, MPI_DOUBLE, all.data(), counts.data(), displ.data(), MPI_DOUBLE, MPI_COMM_WORLD);
     return all;
+  }
+  bool parallel_hdf5(std::int64_t fapl, std::int64_t dxpl) const override {
+#ifdef H5_HAVE_PARALLEL
+    static_assert(std::is_same_v<hid_t, std::int64_t>, "hid_t is passed as a 64-bit integer");
+    if (fapl >= 0 && H5Pset_fapl_mpio(fapl, MPI_COMM_WORLD, MPI_INFO_NULL) < 0) return false;
+    if (dxpl >= 0 && H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE) < 0) return false;
+    return true;
+#else
+    (void)fapl;
+    (void)dxpl;
+    return false;
+#endif
   }
   std::uint64_t exscan(std::uint64_t v, std::uint64_t& total) const override {
     std::vector<std::uint64_t> all(static_cast<std::size_t>(size_));

@@ -313,6 +313,7 @@ struct Summary {
   double last_dt = 0.0;
   std::size_t snapshots = 0;
   double wall = 0.0;
+  std::string snapshot_writes = "one process";  // distributed: "collective" (parallel HDF5) or "gathered"
 };
 
 /// Global sums of what each rank counted (the same values in one process).
@@ -369,9 +370,10 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   json += fmt::format("  \"steps\": {},\n  \"total_steps\": {},\n  \"simulated_time\": {:.9g},\n  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.6g},\n  \"threads\": {},\n",
                       res.steps, S.step, S.time, c.t_end, sm.wall, thread_count());
   json += fmt::format("  \"ranks\": {{\"count\": {}, \"halo_bytes_per_step\": {:.6g}, \"imbalance\": {:.4f}, "
-                      "\"fluid_imbalance\": {:.4f}, \"rebalances\": {}, \"migrated_per_step\": {:.4g}}},\n",
+                      "\"fluid_imbalance\": {:.4f}, \"rebalances\": {}, \"migrated_per_step\": {:.4g}, "
+                      "\"snapshot_writes\": \"{}\"}},\n",
                       S.comm->size(), ranks.halo_bytes_per_step, ranks.imbalance, ranks.fluid_imbalance, ranks.rebalances,
-                      ranks.migrated_per_step);
+                      ranks.migrated_per_step, sm.snapshot_writes);
   json += fmt::format("  \"particle_steps_per_second\": {:.6g},\n  \"fluid_particle_steps_per_second\": {:.6g},\n",
                       res.particle_steps_per_second, res.fluid_particle_steps_per_second);
   json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
@@ -447,10 +449,10 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (dir.filename() == "snapshots") dir = dir.parent_path();
     resume = fs::equivalent(dir, o.output, ec);
   }
-  SnapshotWriter<D> snaps(o.output);
+  SnapshotWriter<D> snaps(o.output, comm);  // (distributed: the ranks write together where HDF5 has MPI-IO)
   std::unique_ptr<GaugeSet<D>> gauges;
   if (o.write_output) {
-    if (resume && comm->root()) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
+    if (resume) snaps.resume(R.rs.snapshots);  // later snapshots of the interrupted run go
     else if (comm->root() && fs::exists(o.output + "/snapshots"))  // a re-run must not leave an earlier run's snapshots behind
       for (const auto& e : fs::directory_iterator(o.output + "/snapshots", ec))
         if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
@@ -484,15 +486,19 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       st.open.outflow_mass = tot.outflow;
       st.open.backflow_mass = tot.backflow_mass;
       st.open.backflow = static_cast<long>(tot.backflow);
+      // the scheme's state over the ranks: its largest acceleration and eddy viscosity (the
+      // others are the same on every rank); pollutant source masses add up
+      for (auto& [k, v] : st.scheme) v = k.rfind("source_mass.", 0) == 0 ? comm->sum(v) : comm->max(v);
     }
     return st;
   };
-  // snapshots and checkpoints of a distributed run: every rank's particles gathered on the first,
-  // which writes the same files as one process (sim/ranks.hpp)
+  // snapshots and checkpoints of a distributed run: every rank writes its particles into the same
+  // files together (parallel HDF5); with an HDF5 without MPI-IO, every rank's particles are
+  // gathered on the first, which writes the same files as one process (sim/ranks.hpp)
   ParticleStore<D> gathered;
   auto write_snapshot = [&] {
     const RunState st = global_state();
-    if (!distributed) {
+    if (!distributed || snaps.collective()) {
       snaps.write(S.particles, S.time, S.step, &st);
       return;
     }
@@ -545,12 +551,12 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       auto write_checkpoint = [&] {
         RunState st = global_state();
         st.snapshots = snaps.entries();
-        if (!distributed) {
-          SnapshotWriter<D>::write_checkpoint(checkpoint, S.particles, st);
+        if (!distributed || snaps.collective()) {
+          snaps.write_checkpoint(checkpoint, S.particles, st);
           return;
         }
         gather_particles(S, gathered);
-        if (comm->root()) SnapshotWriter<D>::write_checkpoint(checkpoint, gathered, st);
+        if (comm->root()) snaps.write_checkpoint(checkpoint, gathered, st);
         gathered = ParticleStore<D>();
       };
       // (in a distributed run every rank takes the same decisions: a signal or the checkpoint
@@ -619,7 +625,8 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   res.mass_error = m0 > 0 ? (m0 + tot.inflow - tot.outflow - tot.backflow_mass - tot.removed_mass - tot.final_mass) / m0 : 0.0;
   const std::uint64_t walls_total = tot[Kind::Wall];
 
-  Summary sm{status, failure, last_good, restart ? o.restart : std::string(), dt, snaps.count(), wall};
+  Summary sm{status, failure, last_good, restart ? o.restart : std::string(), dt, snaps.count(), wall,
+             !distributed ? "one process" : snaps.collective() ? "collective" : "gathered"};
   try {
     write_summary<D>(o, c, R, sm, res);
   } catch (const IoError& e) {
