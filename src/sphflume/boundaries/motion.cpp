@@ -74,6 +74,10 @@ Vec<D> WallMotion<D>::pressure_force(const System<D>& S, std::size_t k) const {
     if (!p) continue;  // dry
     f -= (*p * da / depth) * s;  // the water pushes the face inwards (against its outward normal)
   }
+  double fs[3] = {0.0, 0.0, 0.0};  // (summed over the parts of the domain: each adds its own walls)
+  for (int d = 0; d < D; ++d) fs[d] = f[d];
+  S.comm->sum(fs, D);
+  for (int d = 0; d < D; ++d) f[d] = fs[d];
   return f;
 }
 

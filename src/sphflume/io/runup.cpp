@@ -41,6 +41,26 @@ std::array<double, 2> runup_waterline(const GaugeConfig& g, const System<D>& S) 
       top_x[k] = P.pos[i][0];
     }
   }
+  // over the parts of the domain: each stretch's extremes, and its top particle (the one
+  // furthest up the face; its position from the part that holds it)
+  S.comm->min(lo.data(), nb);
+  S.comm->max(hi.data(), nb);
+  std::vector<double> best = top_s, zx(3 * nb, 0.0);
+  S.comm->max(best.data(), nb);
+  for (std::size_t k = 0; k < nb; ++k)
+    if (std::isfinite(top_s[k]) && top_s[k] == best[k]) {
+      zx[3 * k] = top_z[k];
+      zx[3 * k + 1] = top_x[k];
+      zx[3 * k + 2] = 1.0;
+    }
+  S.comm->sum(zx.data(), zx.size());
+  for (std::size_t k = 0; k < nb; ++k) {
+    top_s[k] = best[k];
+    if (zx[3 * k + 2] > 0.0) {
+      top_z[k] = zx[3 * k] / zx[3 * k + 2];
+      top_x[k] = zx[3 * k + 1] / zx[3 * k + 2];
+    }
+  }
   // walk up from the toe through the stretches the water touches; the waterline is the highest of
   // their surface particles at most film / tan(slope) up the face from the last thick stretch's
   // (the thin edge of a water body whose surface meets the face at up to the face's own angle)

@@ -1,7 +1,7 @@
 // The PPE solved by hypre (Debian's libhypre-dev): BiCGSTAB preconditioned by one V-cycle of
 // BoomerAMG, an algebraic multigrid whose iteration count stays nearly flat as the particle count
 // grows (Jacobi-preconditioned Krylov solvers need ~N^(1/2) iterations on a 2D Poisson matrix).
-// One process here (MPI_COMM_SELF); the distributed PPE of issue 24 hands hypre each rank's rows.
+// One process (MPI_COMM_SELF), or every rank of a distributed run with its own rows (MPI_COMM_WORLD).
 // the C API only (OpenMPI's C++ bindings would need libmpi_cxx)
 #define OMPI_SKIP_MPICXX 1
 #define MPICH_SKIP_MPICXX 1
@@ -13,6 +13,7 @@
 #include <HYPRE_utilities.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -46,7 +47,9 @@ void start_hypre() {
 
 class HypreAmg final : public PressureSolver {
  public:
-  HypreAmg(double tol, int maxit) : tol_(tol), maxit_(maxit) { start_hypre(); }
+  HypreAmg(double tol, int maxit, bool all_ranks) : tol_(tol), maxit_(maxit), comm_(all_ranks ? MPI_COMM_WORLD : MPI_COMM_SELF) {
+    start_hypre();
+  }
   const char* name() const override { return "hypre_boomeramg"; }
 
   SolveReport solve(const SparseRows& s, std::vector<double>& x) override {
@@ -54,15 +57,20 @@ class HypreAmg final : public PressureSolver {
     rep.unknowns = s.rows();
     rep.nonzeros = s.nonzeros();
     const auto n = static_cast<HYPRE_Int>(s.rows());
+    const auto lo = static_cast<HYPRE_Int>(s.first_row), hi = lo + n - 1;  // this rank's rows (hi < lo: none)
     if (x.size() != s.rows()) x.assign(s.rows(), 0.0);
-    if (n == 0) { rep.converged = true; return rep; }
+    std::uint64_t sizes[2] = {s.rows(), s.nonzeros()};
+    if (comm_ != MPI_COMM_SELF) MPI_Allreduce(MPI_IN_PLACE, sizes, 2, MPI_UINT64_T, MPI_SUM, comm_);
+    rep.unknowns = sizes[0];
+    rep.nonzeros = sizes[1];
+    if (sizes[0] == 0) { rep.converged = true; return rep; }  // (the same answer on every rank)
     // the scheme's Laplacian has a negative diagonal: hypre's smoothers want −A (an M-matrix)
     ncols_.resize(s.rows());
     rows_.resize(s.rows());
     cols_.assign(s.col.begin(), s.col.end());
     vals_.resize(s.nonzeros());
     for (std::size_t r = 0; r < s.rows(); ++r) {
-      rows_[r] = static_cast<HYPRE_Int>(r);
+      rows_[r] = lo + static_cast<HYPRE_Int>(r);
       ncols_[r] = static_cast<HYPRE_Int>(s.start[r + 1] - s.start[r]);
     }
     for (std::size_t k = 0; k < s.nonzeros(); ++k) vals_[k] = -s.val[k];
@@ -70,7 +78,7 @@ class HypreAmg final : public PressureSolver {
     for (std::size_t r = 0; r < s.rows(); ++r) rhs_[r] = -s.rhs[r];
 
     HYPRE_IJMatrix A;
-    HYPRE_IJMatrixCreate(MPI_COMM_SELF, 0, n - 1, 0, n - 1, &A);
+    HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &A);
     HYPRE_IJMatrixSetObjectType(A, HYPRE_PARCSR);
     HYPRE_IJMatrixSetRowSizes(A, ncols_.data());
     HYPRE_IJMatrixInitialize(A);
@@ -79,7 +87,7 @@ class HypreAmg final : public PressureSolver {
     HYPRE_ParCSRMatrix pA;
     HYPRE_IJMatrixGetObject(A, reinterpret_cast<void**>(&pA));
     auto vec = [&](const double* v, HYPRE_IJVector& V) {
-      HYPRE_IJVectorCreate(MPI_COMM_SELF, 0, n - 1, &V);
+      HYPRE_IJVectorCreate(comm_, lo, hi, &V);
       HYPRE_IJVectorSetObjectType(V, HYPRE_PARCSR);
       HYPRE_IJVectorInitialize(V);
       HYPRE_IJVectorSetValues(V, n, rows_.data(), v);
@@ -88,8 +96,9 @@ class HypreAmg final : public PressureSolver {
       HYPRE_IJVectorGetObject(V, reinterpret_cast<void**>(&p));
       return p;
     };
-    HYPRE_IJVector B, X;
+    HYPRE_IJVector B, X, R;
     HYPRE_ParVector pb = vec(rhs_.data(), B), px = vec(x.data(), X);  // x: the warm start
+    HYPRE_ParVector pr = vec(rhs_.data(), R);
 
     HYPRE_Solver amg, krylov;
     HYPRE_BoomerAMGCreate(&amg);
@@ -102,7 +111,7 @@ class HypreAmg final : public PressureSolver {
     HYPRE_BoomerAMGSetNumSweeps(amg, 1);
     HYPRE_BoomerAMGSetMaxIter(amg, 1);          // one V-cycle as the preconditioner
     HYPRE_BoomerAMGSetTol(amg, 0.0);
-    HYPRE_ParCSRBiCGSTABCreate(MPI_COMM_SELF, &krylov);
+    HYPRE_ParCSRBiCGSTABCreate(comm_, &krylov);
     HYPRE_ParCSRBiCGSTABSetTol(krylov, tol_);
     HYPRE_ParCSRBiCGSTABSetMaxIter(krylov, maxit_);
     HYPRE_ParCSRBiCGSTABSetPrintLevel(krylov, 0);
@@ -113,21 +122,19 @@ class HypreAmg final : public PressureSolver {
     HYPRE_Int its = 0;
     HYPRE_ParCSRBiCGSTABGetNumIterations(krylov, &its);
     HYPRE_ClearAllErrors();  // a non-convergence is judged below from the residual itself
+    // the plain residual |b − A x| / |b| (of −A and −b: the same norms), over every rank's rows
+    HYPRE_ParCSRMatrixMatvec(-1.0, pA, px, 1.0, pr);
+    double rn = 0.0, bn = 0.0;
+    HYPRE_ParVectorInnerProd(pr, pr, &rn);
+    HYPRE_ParVectorInnerProd(pb, pb, &bn);
     HYPRE_IJVectorGetValues(X, n, rows_.data(), x.data());
     HYPRE_ParCSRBiCGSTABDestroy(krylov);
     HYPRE_BoomerAMGDestroy(amg);
     HYPRE_IJVectorDestroy(B);
     HYPRE_IJVectorDestroy(X);
+    HYPRE_IJVectorDestroy(R);
     HYPRE_IJMatrixDestroy(A);
 
-    // the residual of the scheme's own system, as the Eigen solver reports it
-    double rn = 0.0, bn = 0.0;
-    for (std::size_t r = 0; r < s.rows(); ++r) {
-      double ax = 0.0;
-      for (std::size_t k = s.start[r]; k < s.start[r + 1]; ++k) ax += s.val[k] * x[static_cast<std::size_t>(s.col[k])];
-      rn += (s.rhs[r] - ax) * (s.rhs[r] - ax);
-      bn += s.rhs[r] * s.rhs[r];
-    }
     rep.iterations = static_cast<int>(its);
     rep.residual = bn > 0.0 ? std::sqrt(rn / bn) : std::sqrt(rn);
     // hypre's BiCGSTAB stops on its own (preconditioned) norm: allow a factor 10 on the plain one
@@ -140,6 +147,7 @@ class HypreAmg final : public PressureSolver {
  private:
   double tol_;
   int maxit_;
+  MPI_Comm comm_;
   std::vector<HYPRE_Int> ncols_, rows_, cols_;
   std::vector<double> vals_, rhs_;
   std::size_t bytes_ = 0;
@@ -149,8 +157,8 @@ class HypreAmg final : public PressureSolver {
 
 bool have_hypre() { return true; }
 
-std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations) {
-  return std::make_unique<HypreAmg>(tolerance, max_iterations);
+std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks) {
+  return std::make_unique<HypreAmg>(tolerance, max_iterations, all_ranks);
 }
 
 }  // namespace sph

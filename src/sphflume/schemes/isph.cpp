@@ -147,12 +147,15 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
     x0[i] = P.pos[i];
     v0[i] = P.vel[i];
   }
-  // the largest fluid speed now, and the step the Courant number allows for it
+  // the largest fluid speed now (over the ranks: every rank redoes the same steps), and the step
+  // the Courant number allows for it
   auto courant_step = [&]() {
     double u2 = 0.0;
+    const std::size_t m = P.n_owned();
 #pragma omp parallel for schedule(static) reduction(max : u2)
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < m; ++i)
       if (P.kind[i] == Kind::Fluid) u2 = std::max(u2, dot(P.vel[i], P.vel[i]));
+    u2 = S.comm->max(u2);
     return u2 > 0.0 ? o_.cfl * S.dx / std::sqrt(u2) : std::numeric_limits<double>::infinity();
   };
   // Tsurudome §4.5: the Courant condition is checked after the prediction and after the correction;
@@ -162,8 +165,10 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   const double slack = 1.25;
   double dt = dt_in;
   for (int attempt = 0;; ++attempt) {
+    // (the owned particles: a redo comes after a re-sort, which in a distributed run migrates)
+    const std::size_t m = P.n_owned();
 #pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < m; ++i) {
       P.pos[i] = x0[i];
       P.vel[i] = v0[i];
       if (P.kind[i] != Kind::Fluid) continue;
@@ -193,8 +198,9 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   double amax2 = 0.0;
   const auto& x0s = P.vector("x0");
   const auto& v0s = P.vector("v0");
+  const std::size_t m = P.n_owned();
 #pragma omp parallel for schedule(static) reduction(max : amax2)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < m; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     const Vec<D> dv = P.vel[i] - v0s[i];
     amax2 = std::max(amax2, dot(dv, dv));
@@ -247,16 +253,20 @@ void ISPH<D>::classify(System<D>& S) {
     const Vec<D> target = P.pos[i] + ((len - half) / len) * s;
     double best = reach * reach;
     int pick = -1;
+    // (j: the foot as this part of the domain sees it, owned, a periodic image or another
+    // rank's copy: its pressure comes back through the halo)
     S.cells.for_neighbours(P.pos, target, reach, [&](std::uint32_t j, const Vec<D>&, double r2) {
-      const std::size_t o = j < n ? j : P.image_source[j - n];
-      if (P.kind[o] != Kind::Wall || !(norm((*to)[o]) < S.dx)) return;
-      if (r2 < best) { best = r2; pick = static_cast<int>(o); }
+      if (P.kind[j] != Kind::Wall || !(norm((*to)[j]) < S.dx)) return;
+      if (r2 < best) { best = r2; pick = static_cast<int>(j); }
     });
     map_[i] = pick;
   }
   int k = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (cls_[i] == 0) unknown_[i] = k++;
+  // the unknowns' global numbers: this rank's after those of the ranks before it (one process: 0..)
+  std::uint64_t total = 0;
+  first_row_ = static_cast<std::size_t>(S.comm->exscan(static_cast<std::uint64_t>(k), total));
   dummy_off_.assign(n, 0.0);
   if (o_.dummy_body_force) {
     const auto* aw = P.find_vector("wall_acc");
@@ -266,6 +276,21 @@ void ISPH<D>::classify(System<D>& S) {
         dummy_off_[i] = S.eos.rho0 * dot(g, P.pos[i] - P.pos[static_cast<std::size_t>(map_[i])]);
       }
   }
+  // per particle as the pair loops see them (owned and copies): the PPE column a neighbour's
+  // pressure stands in (its own unknown; a dummy's: its foot's; -1: a known pressure) and a
+  // dummy's known offset, filled for the owned particles and copied to the halo
+  col_.assign(P.size(), -1.0);
+  off_.assign(P.size(), 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (cls_[i] == 0) col_[i] = static_cast<double>(first_row_ + static_cast<std::size_t>(unknown_[i]));
+  S.refresh_halos(col_.data());
+  for (std::size_t i = 0; i < n; ++i)
+    if (cls_[i] == 2) {
+      off_[i] = dummy_off_[i];
+      if (map_[i] >= 0) col_[i] = col_[static_cast<std::size_t>(map_[i])];  // (-1 where the foot is dry)
+    }
+  S.refresh_halos(col_.data());
+  S.refresh_halos(off_.data());
 }
 
 template <int D>
@@ -318,8 +343,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
         double s = 0.0;
         S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
           if (!(r2 > 0.0)) return;
-          const std::size_t o = j < n ? j : P.image_source[j - n];
-          const double rho_j = P.kind[o] == Kind::Wall ? S.eos.rho0 : P.rho[j];
+          const double rho_j = P.kind[j] == Kind::Wall ? S.eos.rho0 : P.rho[j];
           s -= P.mass[j] / rho_j * K.F(std::sqrt(r2)) * r2;
         });
         P.drho[i] = s;
@@ -339,6 +363,10 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   for (std::size_t i = 0; i < n; ++i)
     if (unknown_[i] >= 0) x_[static_cast<std::size_t>(unknown_[i])] = P.p[i];
   stats_.assemble_s += seconds_since(t0);
+  if (S.comm->size() > 1 && !solver_all_ranks_) {  // a distributed run: hypre over every rank's rows
+    solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, true);
+    solver_all_ranks_ = solver_chosen_ = true;
+  }
   if (o_.solver_auto && !solver_chosen_) {
     // solver.type auto: Eigen's Jacobi BiCGSTAB for small systems (no hierarchy to build each step),
     // hypre's BoomerAMG from kAutoAmgUnknowns on (BiCGSTAB's iterations grow as N^(1/2) and far worse
@@ -365,6 +393,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
     if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
     P.p[i] = unknown_[i] >= 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
   }
+  S.refresh_halos();  // (the feet's pressures, also where a foot is another part's)
   for (std::size_t i = 0; i < n; ++i)
     if (cls_[i] == 2) P.p[i] = map_[i] >= 0 ? P.p[static_cast<std::size_t>(map_[i])] + dummy_off_[i] : 0.0;
   S.refresh_halos();
@@ -386,15 +415,14 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   std::vector<double> rhs(rows, 0.0);
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
-    const int me = unknown_[i];
-    if (me < 0) continue;
-    auto& e = row[static_cast<std::size_t>(me)];
+    if (unknown_[i] < 0) continue;
+    auto& e = row[static_cast<std::size_t>(unknown_[i])];
+    const int me = static_cast<int>(first_row_) + unknown_[i];  // (columns are global unknown numbers)
     double diag = 0.0, div = 0.0, known = 0.0;
     const double ri = P.rho[i];
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
       if (!(r2 > 0.0)) return;
-      const std::size_t o = j < n ? j : P.image_source[j - n];
-      const Kind kj = P.kind[o];
+      const Kind kj = P.kind[j];
       if (kj != Kind::Fluid && kj != Kind::Wall) return;
       const double F = ker.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
       double c;
@@ -412,11 +440,8 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
         c = laplacian_weight(P.mass[j], ri, P.rho[j], F, r2, eta2);
         div += P.mass[j] * F * dot(P.vel[j] - P.vel[i], rij);
       }
-      int col = -1;
-      if (cls_[o] == 0) col = unknown_[o];
-      else if (cls_[o] == 2 && map_[o] >= 0 && cls_[static_cast<std::size_t>(map_[o])] == 0)
-        col = unknown_[static_cast<std::size_t>(map_[o])];
-      if (cls_[o] == 2) known -= c * dummy_off_[o];  // a dummy's P_foot + offset: the offset is known
+      const int col = static_cast<int>(col_[j]);
+      if (off_[j] != 0.0) known -= c * off_[j];  // a dummy's P_foot + offset: the offset is known
       if (col == me) return;  // the particle itself (a dummy under it, or its own image): cancels
       diag -= c;
       if (col >= 0) e.emplace_back(col, c);
@@ -436,8 +461,9 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     // the density-invariant part: a deficit (a truncated support at the free surface, or a
     // particle the flow has just left room around) is not sucked back unless asked for
     const double b_std = (o_.density_deficit ? rr - ri : std::min(rr - ri, 0.0)) / (rr * dt * dt);
-    rhs[static_cast<std::size_t>(me)] = gamma * b_hs + (1.0 - gamma) * b_std + known;
+    rhs[static_cast<std::size_t>(unknown_[i])] = gamma * b_hs + (1.0 - gamma) * b_std + known;
   }
+  sys_.first_row = first_row_;
   sys_.start.assign(1, 0);
   sys_.col.clear();
   sys_.val.clear();

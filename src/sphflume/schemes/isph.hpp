@@ -84,6 +84,7 @@ class ISPH final : public Scheme<D> {
   Shifting<D> shift_;
   std::unique_ptr<PressureSolver> solver_;
   bool solver_chosen_ = false;  // solver.type auto: decided at the first solve by its size
+  bool solver_all_ranks_ = false;  // distributed: hypre over every rank's rows
   static constexpr std::size_t kAutoAmgUnknowns = 10000;
   double rho_ref_ = 0.0;
   // porous media: the reference density of a lattice of spacing dx/φ^(1/D) (the fluid inside a
@@ -100,6 +101,8 @@ class ISPH final : public Scheme<D> {
   std::vector<char> cls_;
   std::vector<int> unknown_, map_;
   std::vector<double> dummy_off_;  // dummy_pressure body_force: P_dummy − P_foot
+  std::size_t first_row_ = 0;      // the global number of this rank's first unknown
+  std::vector<double> col_, off_;  // per particle, images included: PPE column (-1 none), dummy offset
   SparseRows sys_;
   std::vector<double> x_;
 };

@@ -12,7 +12,10 @@
 namespace sph {
 
 /// A sparse system in compressed-row form: row r's entries are col[start[r] .. start[r+1]).
+/// In a distributed run each rank holds its own rows, first_row.. of the global system, and the
+/// columns are global unknown numbers (one process: first_row 0).
 struct SparseRows {
+  std::size_t first_row = 0;
   std::vector<std::size_t> start{0};
   std::vector<int> col;
   std::vector<double> val;
@@ -43,8 +46,9 @@ class PressureSolver {
 std::unique_ptr<PressureSolver> make_eigen_solver(double tolerance, int max_iterations);
 
 /// hypre's BiCGSTAB with a BoomerAMG V-cycle as the preconditioner (scheme.solver.type: boomeramg),
-/// when SPHFlume was built with hypre (have_hypre()).
+/// when SPHFlume was built with hypre (have_hypre()). all_ranks: the system is distributed over
+/// the ranks of MPI_COMM_WORLD (each passes its rows; every rank calls solve), else one process's.
 bool have_hypre();
-std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations);
+std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks = false);
 
 }  // namespace sph

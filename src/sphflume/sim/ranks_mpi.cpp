@@ -319,7 +319,6 @@ void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const st
     throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
                                  "process (without mpirun)", what, feature, size));
   };
-  if (S.motion) refuse("moving walls (motions)");
   if (!S.phase_eos.empty()) refuse("several phases");
   auto& P = S.particles;
   P.clear_images();

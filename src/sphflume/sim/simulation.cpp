@@ -30,6 +30,7 @@
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/transport.hpp"
+#include "sphflume/schemes/pressure_solver.hpp"
 #include "sphflume/schemes/scheme.hpp"
 #include "sphflume/sim/health.hpp"
 #include "sphflume/sim/ranks.hpp"
@@ -409,13 +410,19 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
                                    "process (without mpirun)", c.file, what, comm->size()));
     };
-    if (c.scheme.type == "isph") refuse("the ISPH scheme (scheme.type: isph)");
+    if (c.scheme.type == "isph" && !have_hypre())
+      refuse("the ISPH scheme without hypre (its pressure equation across ranks is solved by hypre: install "
+             "libhypre-dev and rebuild)");
+    if (c.scheme.type == "isph" && !c.isph.amg && !c.isph.solver_auto)
+      refuse("scheme.solver.type: bicgstab (Eigen's solver holds the whole system in one process: use "
+             "scheme.solver.type: boomeramg or auto, hypre over every rank's rows)");
     if (c.transport.on()) refuse("transported scalars (transport)");
     if (c.turbulence.model == "mixing_length") refuse("the mixing-length model (turbulence.model: mixing_length)");
     distribute<D>(S, comm, c.file);  // (refuses what distributed runs do not support yet)
     // the gauges whose value is a sum, a maximum or read where its points are
     static const std::set<std::string> kDistributed = {"energy", "front", "pressure", "water_volume", "velocity",
-        "velocity_profile", "stress_profile", "flux", "water_level", "depth_profile", "boundary_volume"};
+        "velocity_profile", "stress_profile", "flux", "water_level", "depth_profile", "boundary_volume", "runup",
+        "paddle"};
     for (const auto& g : c.gauges)
       if (!kDistributed.count(g.type))
         throw InputError(fmt::format("{}: gauge '{}' (type {}) is not available in distributed runs yet ({} are): run "
