@@ -214,19 +214,12 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
   const auto* Cp = P.find_scalar(g.field);
   if (!Cp) return {nan};
   const auto& C = *Cp;
-  if (g.type == "scalar") {
-    auto v = interpolate_shepard(S, point(g.point, g.point, 0.0), [&](std::uint32_t b) { return C[b]; });
-    return {v ? *v : nan};
-  }
-  if (g.type == "scalar_profile") {
-    std::vector<double> out;
-    for (int i = 0; i < g.points; ++i) {
-      auto v = interpolate_shepard(S, point(g.start, g.end, static_cast<double>(i) / (g.points - 1)),
-                                   [&](std::uint32_t b) { return C[b]; });
-      out.push_back(v ? *v : nan);
-    }
-    return out;
-  }
+  auto value_at = [&](const Vec<D>& x, double* out) {
+    auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b]; });
+    out[0] = v ? *v : nan;
+  };
+  if (g.type == "scalar") return at_held_points(S, {point(g.point, g.point, 0.0)}, 1, value_at);
+  if (g.type == "scalar_profile") return at_held_points(S, line_points<D>(g), 1, value_at);
   if (g.type == "scalar_mass") {  // pollutant mass Σ m C/ρ = Σ V C, extremes of C, mass centroid
     double m = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
     double c[3] = {0.0, 0.0, 0.0};
@@ -241,6 +234,12 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
       hi = std::max(hi, C[i]);
       for (int d = 0; d < D; ++d) c[d] += mi * P.pos[i][d];
     }
+    double sums[4] = {m, c[0], c[1], c[2]};  // (over the parts of the domain)
+    S.comm->sum(sums, 4);
+    m = sums[0];
+    for (int d = 0; d < D; ++d) c[d] = sums[1 + d];
+    lo = S.comm->min(lo);
+    hi = S.comm->max(hi);
     auto it = S.counters.find("source_mass." + g.field);
     const double src = it == S.counters.end() ? 0.0 : it->second;
     std::vector<double> out = {m, lo, hi};
@@ -257,19 +256,23 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
   // part is not included), ∇C the first-order consistent kernel gradient
   double ds = 0.0;
   const Vec<D> nrm = line_normal<D>(g, ds);
-  std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size(), 0.0);
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    const Vec<D> x = point(g.start, g.end, static_cast<double>(i) / (g.points - 1));
-    f[i] = fluid_fraction(S, x);
-    if (f[i] <= 0.0) continue;
+  const auto fu = at_held_points(S, line_points<D>(g), 2, [&](const Vec<D>& x, double* out) {
+    out[0] = fluid_fraction(S, x);
+    out[1] = 0.0;
+    if (out[0] <= 0.0) return;
     for (int d = 0; d < D; ++d) {
       auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b] * P.vel[b][d]; });
-      un[i] += (v ? *v : 0.0) * nrm[d];
+      out[1] += (v ? *v : 0.0) * nrm[d];
     }
     if constexpr (D == 2)
       if (diffusivity > 0.0)
         if (auto gr = interpolate_gradient(S, x, [&](std::uint32_t b) { return C[b]; }))
-          un[i] -= diffusivity * dot(*gr, nrm);
+          out[1] -= diffusivity * dot(*gr, nrm);
+  });
+  std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    f[i] = std::isfinite(fu[2 * i]) ? fu[2 * i] : 0.0;  // (a point outside every part: dry)
+    un[i] = std::isfinite(fu[2 * i + 1]) ? fu[2 * i + 1] : 0.0;
   }
   return {wet_integral(f, un, ds)};
 }

@@ -174,8 +174,9 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
     for (const auto& so : sc.sources) {
       if (so.has_value) continue;
       const double tag = 2.0 + flux_index++;
-      std::size_t nw = 0;
+      std::uint64_t nw = 0;
       for (std::size_t i = 0; i < n; ++i) nw += (P.kind[i] == Kind::Wall && src[i] == tag);
+      nw = S.comm->sum(nw);  // (the region's wall particles on every rank: it may straddle a cut)
       const double Q = so.flux * cell_area * static_cast<double>(nw);
       std::vector<double> omega(n, 0.0);
       double total = 0.0;
@@ -189,10 +190,12 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
         omega[a] = w * P.mass[a] / P.rho[a];
         total += omega[a];
       }
+      const double mine = total;
+      total = S.comm->sum(total);  // (shared among the fluid near the region on every rank)
       if (!(total > 0.0)) continue;  // no fluid near the source now: nothing released
       for (std::size_t a = 0; a < n; ++a)
         if (omega[a] > 0.0) rate[a] += Q * omega[a] / total / P.mass[a];
-      src_rate += Q;
+      src_rate += S.comm->size() > 1 ? Q * (mine / total) : Q;  // (this rank's share; one process: Q)
     }
     source_rate_[k] = src_rate;
   }

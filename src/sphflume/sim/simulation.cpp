@@ -416,13 +416,12 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (c.scheme.type == "isph" && !c.isph.amg && !c.isph.solver_auto)
       refuse("scheme.solver.type: bicgstab (Eigen's solver holds the whole system in one process: use "
              "scheme.solver.type: boomeramg or auto, hypre over every rank's rows)");
-    if (c.transport.on()) refuse("transported scalars (transport)");
     if (c.turbulence.model == "mixing_length") refuse("the mixing-length model (turbulence.model: mixing_length)");
     distribute<D>(S, comm, c.file);  // (refuses what distributed runs do not support yet)
     // the gauges whose value is a sum, a maximum or read where its points are
     static const std::set<std::string> kDistributed = {"energy", "front", "pressure", "water_volume", "velocity",
         "velocity_profile", "stress_profile", "flux", "water_level", "depth_profile", "boundary_volume", "runup",
-        "paddle"};
+        "paddle", "scalar", "scalar_profile", "scalar_mass", "scalar_flux"};
     for (const auto& g : c.gauges)
       if (!kDistributed.count(g.type))
         throw InputError(fmt::format("{}: gauge '{}' (type {}) is not available in distributed runs yet ({} are): run "
@@ -434,6 +433,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     const std::uint32_t next_id = R.rs.open.next_id;  // (the next new particle's id is the same on every rank)
     R.rs.open = OpenFlowCounters{};
     R.rs.open.next_id = next_id;
+    if (S.transport) S.transport->restore_source_masses(std::vector<double>(S.transport->count(), 0.0));
   }
 #ifdef _OPENMP
   if (o.threads > 0) omp_set_num_threads(o.threads);
@@ -527,7 +527,8 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       S.counters["backflow_mass"] = tot.backflow_mass;
     }
     if (S.transport)
-      for (std::size_t k = 0; k < S.transport->count(); ++k) S.counters["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
+      for (std::size_t k = 0; k < S.transport->count(); ++k)  // (summed over the ranks)
+        S.counters["source_mass." + S.transport->name(k)] = S.comm->sum(S.transport->source_mass(k));
     gauges->sample(S);
     if (snap) {
       last_snapshot_step = S.step;
