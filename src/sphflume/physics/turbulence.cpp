@@ -4,7 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "sphflume/core/errors.hpp"
 
 namespace sph {
 
@@ -79,27 +82,46 @@ double Turbulence<D>::eddy_viscosity(double s, double lm, double delta) const {
 
 template <int D>
 std::vector<double> Turbulence<D>::column_surface(const System<D>& S, double width) {
+  // the highest water particle of every column (width x width in plan), as a grid over the
+  // columns the water spans, filled by every part of the domain and reduced to its maximum over
+  // them (a column may be cut across, or its neighbour be another rank's)
   const auto& P = S.particles;
   const std::size_t n = P.n_owned();
-  auto key = [&](const Vec<D>& x, int di, int dj) {
-    const long long i = static_cast<long long>(std::floor(x[0] / width)) + di;
-    const long long j = D == 3 ? static_cast<long long>(std::floor(x[1] / width)) + dj : 0;
-    return (i << 32) ^ (j & 0xffffffffLL);
-  };
-  std::unordered_map<long long, double> top;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  auto col = [&](double x) { return std::floor(x / width); };
+  double lo[2] = {inf, inf}, hi[2] = {-inf, -inf};
   for (std::size_t a = 0; a < n; ++a) {
     if (!fluid_like(P.kind[a])) continue;
-    auto [it, fresh] = top.try_emplace(key(P.pos[a], 0, 0), P.pos[a][D - 1]);
-    if (!fresh) it->second = std::max(it->second, P.pos[a][D - 1]);
+    for (int d = 0; d < D - 1; ++d) {
+      lo[d] = std::min(lo[d], col(P.pos[a][d]));
+      hi[d] = std::max(hi[d], col(P.pos[a][d]));
+    }
   }
-  std::vector<double> zs(n, -std::numeric_limits<double>::infinity());
+  S.comm->min(lo, 2);
+  S.comm->max(hi, 2);
+  std::vector<double> zs(n, -inf);
+  if (!(lo[0] <= hi[0])) return zs;  // no water anywhere
+  // one empty column on either side, so that every particle's neighbours are on the grid
+  const double nxd = hi[0] - lo[0] + 3.0, nyd = D == 3 ? hi[1] - lo[1] + 3.0 : 1.0;
+  if (nxd * nyd > 5.0e7)
+    throw SimulationError(fmt::format("mixing length: the water spans {:.3g} x {:.3g} columns of width {:.3g} m (particles "
+                                      "flew apart? or set turbulence.column_width larger)", nxd, nyd, width));
+  const std::size_t nx = static_cast<std::size_t>(nxd), ny = static_cast<std::size_t>(nyd);
+  auto cell = [&](const Vec<D>& x, int di, int dj) {
+    const std::size_t i = static_cast<std::size_t>(col(x[0]) - lo[0] + 1.0 + di);
+    const std::size_t j = D == 3 ? static_cast<std::size_t>(col(x[1]) - lo[1] + 1.0 + dj) : 0;
+    return j * nx + i;
+  };
+  std::vector<double> top(nx * ny, -inf);
+  for (std::size_t a = 0; a < n; ++a)
+    if (fluid_like(P.kind[a])) top[cell(P.pos[a], 0, 0)] = std::max(top[cell(P.pos[a], 0, 0)], P.pos[a][D - 1]);
+  S.comm->max(top.data(), top.size());
   const int r3 = D == 3 ? 1 : 0;
   for (std::size_t a = 0; a < n; ++a) {
     if (!fluid_like(P.kind[a])) continue;
-    double z = -std::numeric_limits<double>::infinity();
+    double z = -inf;
     for (int di = -1; di <= 1; ++di)
-      for (int dj = -r3; dj <= r3; ++dj)
-        if (auto it = top.find(key(P.pos[a], di, dj)); it != top.end()) z = std::max(z, it->second);
+      for (int dj = -r3; dj <= r3; ++dj) z = std::max(z, top[cell(P.pos[a], di, dj)]);
     zs[a] = z + 0.5 * S.dx;
   }
   return zs;
