@@ -25,10 +25,10 @@ correctness) must give:
   ranks and ends where the uninterrupted run does;
 - a moving paddle and a run-up gauge across ranks stay within 5 times the differences a one-ulp change of gravity makes;
 - open channels (particles created and deleted, inflow states averaged at nodes on other ranks, a transported
-  pollutant with a bed source across the cut) keep their counts,
+  pollutant with a bed source across the cut) and an air bubble in water (two phases) keep their counts,
   masses and the masses through their boundaries, and their profile and flux gauges agree within 1e-4;
-- what distributed runs do not support (several phases; ISPH with Eigen's solver, which holds the whole system in
-  one process) is refused with exit 2 and a message that names it.
+- what distributed runs do not support (ISPH with Eigen's solver, which holds the whole system in one process) is
+  refused with exit 2 and a message that names it.
 Usage: check_ranks.py SPHFLUME WORKDIR [--ranks 2,4] [--snapshot-writes collective|gathered]
 """
 import argparse
@@ -253,6 +253,12 @@ channels.append(("channel_scalar", "channel_release.yaml",
                  {"particles.dx": 0.01, "time.end": 1.0, "time.output_interval": 0.1,
                   "transport.scalars.0.sources": [{"shape": "box", "min": [0.4, -0.05], "max": [0.6, 0.0], "flux": 0.01}]},
                  CR_GAUGES))
+# two phases (Federico's air bubble in water, coarse, its first 0.01 s: the case's small air time step makes it
+# slow): the phase field travels with the particles and the bubble's gauge (area, top, centroid) is reduced
+with open(os.path.join(ROOT, "cases", "bubble_air.yaml")) as f:
+    BUB_GAUGES = yaml.safe_load(f)["gauges"]
+channels.append(("bubble_air", "bubble_air.yaml",
+                 {"particles.dx": 0.02, "time.end": 0.01, "time.output_interval": 0.002}, BUB_GAUGES))
 for name, src, sets, gauges in channels:
     case = variant(src, name, sets, gauges)
     one = os.path.join(args.work, name + "_1")
@@ -261,7 +267,8 @@ for name, src, sets, gauges in channels:
     if p.returncode != 0:
         continue
     sa = json.load(open(os.path.join(one, "summary.json")))
-    check(sa["mass"]["inflow"] > 0 and sa["mass"]["outflow"] > 0, f"{name}: water enters and leaves ({sa['mass']})")
+    if name.startswith("channel"):
+        check(sa["mass"]["inflow"] > 0 and sa["mass"]["outflow"] > 0, f"{name}: water enters and leaves ({sa['mass']})")
     for n in RANKS:
         out = os.path.join(args.work, f"{name}_{n}")
         p = run(n, case, out)
@@ -415,9 +422,7 @@ if p.returncode == 0:
           f"it ends (t = {tb}) where the uninterrupted 2-rank run does: energy {de:.2e}, front {df / 0.0125:.2e} dx")
 
 # refused, with a message that names what
-# (the gauge of a phase is refused too, but its case is refused before: several phases)
 for what, case, needle, extra in [
-        ("several phases", os.path.join(ROOT, "cases", "bubble_air.yaml"), "several phases", []),
         ("ISPH with Eigen's solver", os.path.join(ROOT, "cases", "dambreak_2d.yaml"), "bicgstab",
          ["--set=scheme.type=isph", "--set=scheme.solver.type=bicgstab"])]:
     out = os.path.join(args.work, "refused")

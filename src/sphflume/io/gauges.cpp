@@ -208,6 +208,12 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
       cx += v * P.pos[i][0];
       cz += v * P.pos[i][D - 1];
     }
+    double sums[3] = {area, cx, cz};  // (over the parts of the domain)
+    S.comm->sum(sums, 3);
+    area = sums[0];
+    cx = sums[1];
+    cz = sums[2];
+    top = S.comm->max(top);
     if (!(area > 0.0)) return {0.0, nan, nan, nan};
     return {area, top, cx / area, cz / area};
   }

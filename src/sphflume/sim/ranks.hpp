@@ -21,9 +21,8 @@ std::shared_ptr<const Communicator> world();
 
 /// Split the system over the ranks of `comm` (size > 1): every rank has built the whole case;
 /// each keeps the particles of its slab and gets the slab halo layer and the communicator.
-/// Throws InputError for what distributed runs do not support yet (the case file's place named).
 template <int D>
-void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const std::string& what);
+void distribute(System<D>& S, std::shared_ptr<const Communicator> comm);
 
 /// Every rank's owned particles on the first rank, ordered by particle id (snapshots and
 /// checkpoints of a distributed run: the same files as one process writes, readable by the same

@@ -313,13 +313,8 @@ std::shared_ptr<const Communicator> world() {
 }
 
 template <int D>
-void distribute(System<D>& S, std::shared_ptr<const Communicator> comm, const std::string& what) {
+void distribute(System<D>& S, std::shared_ptr<const Communicator> comm) {
   const int size = comm->size(), rank = comm->rank();
-  auto refuse = [&](const std::string& feature) {
-    throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
-                                 "process (without mpirun)", what, feature, size));
-  };
-  if (!S.phase_eos.empty()) refuse("several phases");
   auto& P = S.particles;
   P.clear_images();
   // the slab axis: the longest extent of all particles
@@ -405,8 +400,8 @@ void gather_particles(const System<D>& S, ParticleStore<D>& all) {
 
 template void gather_particles<2>(const System<2>&, ParticleStore<2>&);
 template void gather_particles<3>(const System<3>&, ParticleStore<3>&);
-template void distribute<2>(System<2>&, std::shared_ptr<const Communicator>, const std::string&);
-template void distribute<3>(System<3>&, std::shared_ptr<const Communicator>, const std::string&);
+template void distribute<2>(System<2>&, std::shared_ptr<const Communicator>);
+template void distribute<3>(System<3>&, std::shared_ptr<const Communicator>);
 template RankStats rank_stats<2>(const System<2>&, long);
 template RankStats rank_stats<3>(const System<3>&, long);
 

@@ -20,7 +20,7 @@ std::shared_ptr<const Communicator> world() {
 }
 
 template <int D>
-void distribute(System<D>&, std::shared_ptr<const Communicator>, const std::string&) {}
+void distribute(System<D>&, std::shared_ptr<const Communicator>) {}
 
 template <int D>
 RankStats rank_stats(const System<D>&, long) { return {}; }
@@ -36,8 +36,8 @@ void gather_particles(const System<D>&, ParticleStore<D>&) {
 template void gather_particles<2>(const System<2>&, ParticleStore<2>&);
 template void gather_particles<3>(const System<3>&, ParticleStore<3>&);
 
-template void distribute<2>(System<2>&, std::shared_ptr<const Communicator>, const std::string&);
-template void distribute<3>(System<3>&, std::shared_ptr<const Communicator>, const std::string&);
+template void distribute<2>(System<2>&, std::shared_ptr<const Communicator>);
+template void distribute<3>(System<3>&, std::shared_ptr<const Communicator>);
 template RankStats rank_stats<2>(const System<2>&, long);
 template RankStats rank_stats<3>(const System<3>&, long);
 

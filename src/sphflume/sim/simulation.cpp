@@ -12,10 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <set>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -407,7 +405,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   // mpirun -np N: every rank built (or read) the whole case; each keeps its slab (sim/ranks.hpp)
   if (distributed) {
     auto refuse = [&](const std::string& what) {
-      throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported yet: run it in one "
+      throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported: run it in one "
                                    "process (without mpirun)", c.file, what, comm->size()));
     };
     if (c.scheme.type == "isph" && !have_hypre())
@@ -416,16 +414,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (c.scheme.type == "isph" && !c.isph.amg && !c.isph.solver_auto)
       refuse("scheme.solver.type: bicgstab (Eigen's solver holds the whole system in one process: use "
              "scheme.solver.type: boomeramg or auto, hypre over every rank's rows)");
-    if (c.turbulence.model == "mixing_length") refuse("the mixing-length model (turbulence.model: mixing_length)");
-    distribute<D>(S, comm, c.file);  // (refuses what distributed runs do not support yet)
-    // the gauges whose value is a sum, a maximum or read where its points are
-    static const std::set<std::string> kDistributed = {"energy", "front", "pressure", "water_volume", "velocity",
-        "velocity_profile", "stress_profile", "flux", "water_level", "depth_profile", "boundary_volume", "runup",
-        "paddle", "scalar", "scalar_profile", "scalar_mass", "scalar_flux"};
-    for (const auto& g : c.gauges)
-      if (!kDistributed.count(g.type))
-        throw InputError(fmt::format("{}: gauge '{}' (type {}) is not available in distributed runs yet ({} are): run "
-                                     "without mpirun, or leave it out", c.file, g.name, g.type, fmt::join(kDistributed, ", ")));
+    distribute<D>(S, comm);  // (every gauge reduces its value over the ranks: io/gauges.cpp)
   }
   if (distributed && restart && !comm->root()) {  // the restart point's counters are global: the first rank keeps them
     R.rs.removed_mass = 0.0;
