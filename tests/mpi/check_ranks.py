@@ -202,21 +202,30 @@ cases = [
                   {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
      0.01, 1000 * 9.81 * 0.3534),
 ]
-for name, src, sets, gauges, dx, scale_p in cases:
-    case = variant(src, name, sets, gauges)
+def one_and_ranks(name, case):
+    """Run `case` in one process and on each rank count (checking that each ran). Returns the one-process output
+    folder (None if it failed) and the (ranks, folder) of the distributed runs that ran."""
     one = os.path.join(args.work, name + "_1")
     p = run(1, case, one)
     check(p.returncode == 0, f"{name}: one process ran ({p.returncode}) {p.stderr.strip()[-300:]}")
     if p.returncode != 0:
-        continue
+        return None, []
+    ran = []
     for n in RANKS:
         out = os.path.join(args.work, f"{name}_{n}")
         p = run(n, case, out)
         check(p.returncode == 0, f"{name}: {n} ranks ran ({p.returncode}) {p.stderr.strip()[-300:]}")
         if p.returncode == 0:
-            s = compare(name, one, out, dx, scale_p, f"{n} ranks")
-            check(s["ranks"]["count"] == n and s["ranks"]["halo_bytes_per_step"] > 0 and s["ranks"]["fluid_imbalance"] < 1.2,
-                  f"{name}: summary.json reports {s['ranks']} (fluid imbalance gate 1.2: rebalanced above 1.1)")
+            ran.append((n, out))
+    return one, ran
+
+
+for name, src, sets, gauges, dx, scale_p in cases:
+    one, ran = one_and_ranks(name, variant(src, name, sets, gauges))
+    for n, out in ran:
+        s = compare(name, one, out, dx, scale_p, f"{n} ranks")
+        check(s["ranks"]["count"] == n and s["ranks"]["halo_bytes_per_step"] > 0 and s["ranks"]["fluid_imbalance"] < 1.2,
+              f"{name}: summary.json reports {s['ranks']} (fluid imbalance gate 1.2: rebalanced above 1.1)")
 
 # open channels: particles created at the inlet (new ids numbered in rank order after every id given so far) and
 # deleted past the outlet on other ranks than the first. Federico's imposed parabolic inflow (laminar channel, coarse),
@@ -260,21 +269,13 @@ with open(os.path.join(ROOT, "cases", "bubble_air.yaml")) as f:
 channels.append(("bubble_air", "bubble_air.yaml",
                  {"particles.dx": 0.02, "time.end": 0.01, "time.output_interval": 0.002}, BUB_GAUGES))
 for name, src, sets, gauges in channels:
-    case = variant(src, name, sets, gauges)
-    one = os.path.join(args.work, name + "_1")
-    p = run(1, case, one)
-    check(p.returncode == 0, f"{name}: one process ran ({p.returncode}) {p.stderr.strip()[-300:]}")
-    if p.returncode != 0:
+    one, ran = one_and_ranks(name, variant(src, name, sets, gauges))
+    if one is None:
         continue
     sa = json.load(open(os.path.join(one, "summary.json")))
     if name.startswith("channel"):
         check(sa["mass"]["inflow"] > 0 and sa["mass"]["outflow"] > 0, f"{name}: water enters and leaves ({sa['mass']})")
-    for n in RANKS:
-        out = os.path.join(args.work, f"{name}_{n}")
-        p = run(n, case, out)
-        check(p.returncode == 0, f"{name}: {n} ranks ran ({p.returncode}) {p.stderr.strip()[-300:]}")
-        if p.returncode != 0:
-            continue
+    for n, out in ran:
         sb = json.load(open(os.path.join(out, "summary.json")))
         for k in ("fluid", "inflow", "outflow", "wall", "total"):
             check(sa["particles"].get(k) == sb["particles"].get(k),

@@ -37,7 +37,7 @@ void write_file_atomically(const std::string& path, const std::string& text) {
 
 namespace {
 
-/// The datasets and attributes of a particle file, into the open file f (rows: this rank's
+/// The datasets and attributes of a particle file, into the open file fid (rows: this rank's
 /// block of a file every rank writes together; null for one process).
 template <int D>
 void write_contents(hid_t fid, const std::string& tmp, const ParticleStore<D>& P, double t, long step, const RunState* rs,
