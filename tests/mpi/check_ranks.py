@@ -54,7 +54,7 @@ ap.add_argument("--ranks", default="2")
 ap.add_argument("--snapshot-writes", default="", help="how a distributed run must write its snapshots: collective "
                 "(the build's HDF5 is parallel) or gathered (on rank 0); empty: either")
 args = ap.parse_args()
-RANKS = [int(r) for r in args.ranks.split(",")]
+RANKS = sorted({2} | {int(r) for r in args.ranks.split(",")})  # (2 always: the restart, snapshot and fault checks use it)
 shutil.rmtree(args.work, ignore_errors=True)
 os.makedirs(args.work)
 
