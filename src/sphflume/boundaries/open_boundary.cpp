@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace sph {
@@ -60,7 +61,8 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
     if (top > -1e300) level = top + 0.5 * dx_;
   }
   // The averaging nodes this part of the domain asks for (two per particle: the near node, and
-  // the far node of a recycling inflow or the inlet node of an "inlet" outflow pressure).
+  // the far node of a recycling inflow or the inlet node of an "inlet" outflow pressure; NaN
+  // where the particle needs no second node).
   // A node may lie in another rank's part: every rank's nodes are gathered, each is averaged
   // by the rank that holds it (its neighbours, owned or halo, are there), and one sum over the
   // ranks brings the averages back (in one process: the same averages, in the same order).
@@ -75,13 +77,13 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
     if (k == Kind::Inflow && avg_in) {
       Vec<D> node = P.pos[i], far = P.pos[i];
       node[0] = in_->x1 + 0.5 * dx_;
-      far[0] = in_->average_at > 0.0 ? in_->x1 + in_->average_at : node[0];
+      far[0] = in_->average_at > 0.0 ? in_->x1 + in_->average_at : std::numeric_limits<double>::quiet_NaN();
       who.push_back(i);
       push(node, far);
     } else if (k == Kind::Outflow && (ext_u || ext_p || inlet_p)) {
       Vec<D> node = P.pos[i], nin = P.pos[i];
       node[0] = out_->x0 - 0.5 * dx_;
-      if (inlet_p) nin[0] = in_->x1 + 0.5 * dx_;
+      nin[0] = inlet_p ? in_->x1 + 0.5 * dx_ : std::numeric_limits<double>::quiet_NaN();
       who.push_back(i);
       push(node, nin);
     }
@@ -98,7 +100,7 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
     for (std::size_t q = 0; q < nn; ++q) {
       Vec<D> x;
       for (int d = 0; d < D; ++d) x[d] = all[q * D + static_cast<std::size_t>(d)];
-      if (!S.owns(x)) continue;
+      if (!std::isfinite(x[0]) || !S.owns(x)) continue;  // (no such node, or another part's)
       // Shepard average over fluid particles (not the imposed ones)
       double sw = 0.0, sr = 0.0;
       Vec<D> su{};

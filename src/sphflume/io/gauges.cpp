@@ -78,6 +78,24 @@ std::vector<Vec<D>> line_points(const GaugeConfig& g) {
   return pts;
 }
 
+/// ∫ q·n ds over the wet part of a gauge line (fluid fraction ≥ 0.5): un(x, n) gives q·n at a
+/// wet point (n the line's normal); each point is read by the part of the domain that holds it.
+template <int D, class Un>
+double wet_line_flux(const System<D>& S, const GaugeConfig& g, Un&& un) {
+  double ds = 0.0;
+  const Vec<D> nrm = line_normal<D>(g, ds);
+  const auto fu = at_held_points(S, line_points<D>(g), 2, [&](const Vec<D>& x, double* out) {
+    out[0] = fluid_fraction(S, x);
+    out[1] = out[0] > 0.0 ? un(x, nrm) : 0.0;
+  });
+  std::vector<double> f(static_cast<std::size_t>(g.points)), q(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    f[i] = std::isfinite(fu[2 * i]) ? fu[2 * i] : 0.0;  // (a point outside every part: dry)
+    q[i] = std::isfinite(fu[2 * i + 1]) ? fu[2 * i + 1] : 0.0;
+  }
+  return wet_integral(f, q, ds);
+}
+
 }  // namespace
 
 template <int D>
@@ -260,27 +278,18 @@ std::vector<double> GaugeSet<D>::evaluate_scalar(const GaugeConfig& g, const Sys
   // scalar_flux: flux ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m in 2D], n the
   // line's normal (for a line going up, +x); D the scalar's molecular diffusivity (the turbulent
   // part is not included), ∇C the first-order consistent kernel gradient
-  double ds = 0.0;
-  const Vec<D> nrm = line_normal<D>(g, ds);
-  const auto fu = at_held_points(S, line_points<D>(g), 2, [&](const Vec<D>& x, double* out) {
-    out[0] = fluid_fraction(S, x);
-    out[1] = 0.0;
-    if (out[0] <= 0.0) return;
+  return {wet_line_flux(S, g, [&](const Vec<D>& x, const Vec<D>& nrm) {
+    double un = 0.0;
     for (int d = 0; d < D; ++d) {
       auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b] * P.vel[b][d]; });
-      out[1] += (v ? *v : 0.0) * nrm[d];
+      un += (v ? *v : 0.0) * nrm[d];
     }
     if constexpr (D == 2)
       if (diffusivity > 0.0)
         if (auto gr = interpolate_gradient(S, x, [&](std::uint32_t b) { return C[b]; }))
-          out[1] -= diffusivity * dot(*gr, nrm);
-  });
-  std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size());
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    f[i] = std::isfinite(fu[2 * i]) ? fu[2 * i] : 0.0;  // (a point outside every part: dry)
-    un[i] = std::isfinite(fu[2 * i + 1]) ? fu[2 * i + 1] : 0.0;
-  }
-  return {wet_integral(f, un, ds)};
+          un -= diffusivity * dot(*gr, nrm);
+    return un;
+  })};
 }
 
 template <int D>
@@ -394,23 +403,14 @@ std::vector<double> GaugeSet<D>::evaluate(const GaugeConfig& g, const System<D>&
     // media the superficial velocity φu (the intrinsic velocity carries water through the pores
     // only)
     const double* phi = porosity_field(S);
-    double ds = 0.0;
-    const Vec<D> nrm = line_normal<D>(g, ds);
-    const auto fu = at_held_points(S, line_points<D>(g), 2, [&](const Vec<D>& x, double* out) {
-      out[0] = fluid_fraction(S, x);
-      out[1] = 0.0;
-      if (out[0] <= 0.0) return;
+    return {wet_line_flux(S, g, [&](const Vec<D>& x, const Vec<D>& nrm) {
+      double un = 0.0;
       for (int d = 0; d < D; ++d) {
         auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d] * (phi ? phi[b] : 1.0); });
-        out[1] += (v ? *v : 0.0) * nrm[d];
+        un += (v ? *v : 0.0) * nrm[d];
       }
-    });
-    std::vector<double> f(static_cast<std::size_t>(g.points)), un(f.size());
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      f[i] = std::isfinite(fu[2 * i]) ? fu[2 * i] : 0.0;  // (a point outside every part: dry)
-      un[i] = std::isfinite(fu[2 * i + 1]) ? fu[2 * i + 1] : 0.0;
-    }
-    return {wet_integral(f, un, ds)};
+      return un;
+    })};
   }
   if (g.type == "water_level") {
     // scan down the vertical line in steps of dx/4 from the top of the particles (in blocks of
