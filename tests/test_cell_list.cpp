@@ -1,7 +1,11 @@
 // The cell list returns exactly the brute-force pair set, in 2D and 3D, with periodic images.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <set>
 
 #include "sphflume/boundaries/periodic.hpp"
@@ -129,3 +133,69 @@ void mark_near_brute_force(int n, double radius, unsigned seed) {
 
 TEST(CellList, MarkNearMatchesBruteForce2D) { mark_near_brute_force<2>(1200, 0.07, 4); }
 TEST(CellList, MarkNearMatchesBruteForce3D) { mark_near_brute_force<3>(2000, 0.12, 5); }
+
+// A store kept in cell order step after step: the update that re-places only the particles
+// that changed cell (build's in_order) and the run moves of the store give exactly the full
+// counting sort and the cycle permutation, for any thread count, while the bounds stay (two
+// particles pinned at the corners) and when they change (the update falls back).
+template <int D>
+void incremental_matches_full(int n, double radius, unsigned seed, int threads) {
+#ifdef _OPENMP
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(threads);
+#else
+  (void)threads;
+#endif
+  std::mt19937 rng(seed);
+  ParticleStore<D> A;
+  for (const auto& x : random_positions<D>(n, rng)) A.add(x, Vec<D>{}, 1.0, 1.0, Kind::Fluid);
+  Vec<D> lo{}, hi{};
+  for (int d = 0; d < D; ++d) hi[d] = d == 0 ? 2.0 : 1.0;
+  A.pos[0] = lo;
+  A.pos[1] = hi;
+  CellList<D> cl;
+  cl.build(A.pos, A.n_owned(), radius);
+  A.permute(cl.sorted());
+  cl.adopt_permutation();
+  std::normal_distribution<double> step(0.0, 0.15 * radius);
+  std::size_t moved = 0;
+  for (int it = 0; it < 12; ++it) {
+    const bool grow = it == 7;  // one step that widens the bounds: a full build
+    for (std::size_t i = 0; i < A.n_owned(); ++i) {
+      if (A.id[i] <= 1) continue;  // the corners
+      for (int d = 0; d < D; ++d) A.pos[i][d] = std::clamp(A.pos[i][d] + step(rng), 0.0, hi[d]);
+      if (grow && A.id[i] == 2) A.pos[i][0] = 2.5;
+    }
+    ParticleStore<D> B = A;
+    cl.build(A.pos, A.n_owned(), radius, true);
+    CellList<D> ref;
+    ref.build(B.pos, B.n_owned(), radius);
+    EXPECT_EQ(cl.updated(), !grow && it != 8) << it;  // (after the widening: bounds change back)
+    ASSERT_EQ(cl.sorted(), ref.sorted()) << it;
+    ASSERT_EQ(cl.cell_count(), ref.cell_count());
+    for (std::size_t c = 0; c < ref.cell_count(); ++c) ASSERT_EQ(cl.cell_begin(c), ref.cell_begin(c)) << it << " " << c;
+    EXPECT_EQ(cl.occupied(), ref.occupied()) << it;
+    EXPECT_EQ(cl.identity(), ref.identity());
+    moved += cl.moved();
+    if (cl.updated()) A.permute_runs(cl.moved(), cl.moved_from(), cl.moved_to());
+    else A.permute(cl.sorted());
+    B.permute(ref.sorted());
+    ASSERT_EQ(A.id, B.id) << it;
+    for (std::size_t i = 0; i < A.n_owned(); ++i)
+      for (int d = 0; d < D; ++d) ASSERT_EQ(A.pos[i][d], B.pos[i][d]);
+    cl.adopt_permutation();
+  }
+  EXPECT_GT(moved, static_cast<std::size_t>(n / 10));  // (not vacuous: many changed cell)
+#ifdef _OPENMP
+  omp_set_num_threads(saved);
+#endif
+}
+
+TEST(CellList, UpdateMatchesFullSort2D) {
+  incremental_matches_full<2>(600, 0.07, 7, 1);
+  incremental_matches_full<2>(9000, 0.05, 8, 2);  // (over 4096: the parallel merge)
+}
+TEST(CellList, UpdateMatchesFullSort3D) {
+  incremental_matches_full<3>(800, 0.12, 9, 1);
+  incremental_matches_full<3>(9000, 0.1, 10, 2);
+}

@@ -8,6 +8,9 @@
 #include <limits>
 #include <stdexcept>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "sphflume/core/vec.hpp"
 
@@ -25,9 +28,17 @@ class CellList {
   static constexpr int kReach = 1;
 
   /// Bin positions [0, n) for neighbour queries up to distance `radius` (the bounds and the
-  /// cells in parallel; the same result for any thread count).
-  void build(const std::vector<V>& pos, std::size_t n, double radius) {
+  /// cells in parallel; the same result for any thread count). `in_order`: the caller promises
+  /// that positions [0, n) are the particles of the last build, in the order adopt_permutation()
+  /// was told of (the store was permuted by sorted() and nothing was added, removed or moved
+  /// since); then, with the same bounds, only the particles that changed cell are re-placed
+  /// (update(): parallel, the same result as the full counting sort).
+  void build(const std::vector<V>& pos, std::size_t n, double radius, bool in_order = false) {
     const double cell = radius / kReach;
+    const bool same_cell = cell == cell_;
+    const V lo_before = lo_;
+    int dims_before[D];
+    for (int d = 0; d < D; ++d) dims_before[d] = dims_[d];
     cell_ = cell;
     inv_cell_ = 1.0 / cell;
     V hi;
@@ -52,6 +63,12 @@ class CellList {
       ncell *= static_cast<std::size_t>(dims_[d]);
     }
     if (ncell > (std::size_t(1) << 31)) throw std::runtime_error("cell list: too many cells (particles flew apart?)");
+    bool same_grid = in_order && adopted_ && same_cell && n == cell_of_.size() && n > 0;
+    for (int d = 0; d < D; ++d) same_grid = same_grid && lo_[d] == lo_before[d] && dims_[d] == dims_before[d];
+    adopted_ = false;
+    moved_ = 0;
+    updated_ = same_grid;
+    if (same_grid) { update(pos, n); return; }
     cell_of_.resize(n);
     cell_start_.assign(ncell + 1, 0);
     sorted_.resize(n);
@@ -84,7 +101,19 @@ class CellList {
 #pragma omp parallel for schedule(static) if (sorted_.size() > 4096)
     for (std::size_t k = 0; k < sorted_.size(); ++k) sorted_[k] = static_cast<std::uint32_t>(k);
     identity_ = true;
+    adopted_ = true;
   }
+
+  /// After a build that re-placed only the particles that changed cell (build's in_order), how
+  /// many did; 0 after a full build. sorted() then keeps every other particle in its order, so
+  /// the store can be re-sorted by moving runs (ParticleStore::permute_runs).
+  std::size_t moved() const { return moved_; }
+  /// Whether the last build was such an update (moved() may then be 0: nothing to re-sort).
+  bool updated() const { return updated_; }
+  /// Their old indices, ascending (moved() entries).
+  const std::uint32_t* moved_from() const { return left_.data(); }
+  /// Their old indices, then their new indices (2 moved() entries), in ascending new index.
+  const std::uint32_t* moved_to() const { return arrive_.data(); }
 
   /// True when sorted() is the identity: the store is in cell order and ranges() are index
   /// ranges into the particle arrays themselves (the fast, vectorised pair loops use this).
@@ -207,7 +236,11 @@ class CellList {
   /// Particle indices sorted by cell (cell-major order).
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
   std::size_t bytes() const {
-    return cell_of_.capacity() * 4 + sorted_.capacity() * 4 + cell_start_.capacity() * 4 + occupied_.capacity() * 4 + tmp_.capacity();
+    std::size_t b = cell_of_.capacity() * 4 + sorted_.capacity() * 4 + cell_start_.capacity() * 4 + occupied_.capacity() * 4 +
+                    tmp_.capacity() + moved_in_.capacity() * sizeof(Move) +
+                    (moved_out_.capacity() + left_.capacity() + arrive_.capacity()) * 4;
+    for (const auto& m : found_) b += m.capacity() * sizeof(Move);
+    return b;
   }
   double cell_size() const { return cell_; }
 
@@ -218,6 +251,159 @@ class CellList {
   int dims_[D]{};
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, occupied_;
   mutable std::vector<char> tmp_;  // mark_near's scratch (kept: no allocation per call)
+  bool adopted_ = false;  // the last build was followed by adopt_permutation()
+  struct Move {
+    std::uint32_t cell, index, from, to;  // new cell, index in the store, old cell, new index
+  };
+  std::vector<std::vector<Move>> found_;  // update(): each thread's movers, ascending index
+  std::vector<Move> moved_in_;            // every mover, by (new cell, index)
+  std::vector<std::uint32_t> moved_out_;  // their old cells, ascending (the store was in cell order)
+  std::vector<std::uint32_t> left_, arrive_;  // see moved_from()
+  std::size_t moved_ = 0;
+  bool updated_ = false;  // the last build was update()
+
+
+  /// build() for a store still in the order of the last build's cells (after
+  /// adopt_permutation): cell_of_ holds each particle's old cell, cell_start_ the old starts.
+  /// The stable counting sort's order is, cell by cell, the particles that stayed (ascending,
+  /// as they are) merged by index with those that came in; each thread merges a range of cells
+  /// at its offset (old start + movers in before it − movers out before it). Few particles
+  /// change cell in a step, so this is a parallel pass over the store plus a sort of the movers.
+  void update(const std::vector<V>& pos, std::size_t n) {
+    const std::size_t ncell = cell_start_.size() - 1;
+    int nt = 1;
+#ifdef _OPENMP
+    if (n > 4096) nt = omp_get_max_threads();
+#endif
+    if (found_.size() < static_cast<std::size_t>(nt)) found_.resize(static_cast<std::size_t>(nt));
+    // (a violent step may have moved many: do not keep the large lists of the last one)
+    if (moved_in_.capacity() > n / 16 + 64) {
+      std::vector<Move>().swap(moved_in_);
+      std::vector<std::uint32_t>().swap(moved_out_);
+      std::vector<std::uint32_t>().swap(left_);
+      std::vector<std::uint32_t>().swap(arrive_);
+      for (auto& f : found_) std::vector<Move>().swap(f);
+    }
+#pragma omp parallel num_threads(nt)
+    {
+      int t = 0;
+#ifdef _OPENMP
+      t = omp_get_thread_num();
+#endif
+      auto& f = found_[static_cast<std::size_t>(t)];
+      f.clear();
+      // the new cells into sorted_ (the identity since the adoption: scratch here), a vector
+      // loop; then the few that differ (the same static partition: each thread reads its own)
+      std::uint32_t* __restrict key = sorted_.data();
+#pragma omp for schedule(static) nowait
+      for (std::size_t i = 0; i < n; ++i) key[i] = cell_index(pos[i]);
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t c = key[i];
+        if (c != cell_of_[i]) {
+          f.push_back(Move{c, static_cast<std::uint32_t>(i), cell_of_[i], 0});
+          cell_of_[i] = c;
+        }
+        key[i] = static_cast<std::uint32_t>(i);
+      }
+    }
+    moved_in_.clear();
+    for (int t = 0; t < nt; ++t) moved_in_.insert(moved_in_.end(), found_[t].begin(), found_[t].end());
+    const std::size_t m = moved_in_.size();
+    moved_ = 0;
+    if (m == 0) { identity_ = true; return; }  // (sorted_ is the identity since the adoption)
+    moved_out_.resize(m);
+    left_.resize(m);
+    bool occupancy = false;  // a cell became empty or occupied: occupied_ is rebuilt
+    for (std::size_t j = 0; j < m; ++j) {
+      moved_out_[j] = moved_in_[j].from;
+      left_[j] = moved_in_[j].index;
+      occupancy |= cell_start_[moved_in_[j].cell + 1] == cell_start_[moved_in_[j].cell];
+    }
+    std::sort(moved_in_.begin(), moved_in_.end(),
+              [](const Move& a, const Move& b) { return a.cell != b.cell ? a.cell < b.cell : a.index < b.index; });
+    // each thread's cells: from the cell holding particle t n / nt of the old order
+    bounds_.resize(static_cast<std::size_t>(nt) + 1);
+    for (int t = 0; t <= nt; ++t) {
+      const std::size_t k = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(nt);
+      bounds_[t] = t == 0 ? 0 : t == nt ? static_cast<std::uint32_t>(ncell)
+                           : static_cast<std::uint32_t>(std::upper_bound(cell_start_.begin(), cell_start_.end() - 1,
+                                                                         static_cast<std::uint32_t>(k)) -
+                                                        cell_start_.begin() - 1);
+    }
+    Move* in = moved_in_.data();
+    const std::uint32_t* out = moved_out_.data();
+#pragma omp parallel num_threads(nt)
+    {
+      int t = 0;
+#ifdef _OPENMP
+      t = omp_get_thread_num();
+#endif
+      const std::uint32_t ca = bounds_[t], cb = bounds_[t + 1];
+      const std::uint32_t last_end = cell_start_[cb];  // (old: the next thread rewrites it)
+      std::size_t ip = static_cast<std::size_t>(
+          std::lower_bound(in, in + m, ca, [](const Move& a, std::uint32_t c) { return a.cell < c; }) - in);
+      const std::size_t op = static_cast<std::size_t>(std::lower_bound(out, out + m, ca) - out);
+      std::size_t oq = op;
+      std::uint32_t* __restrict start = cell_start_.data();
+      std::uint32_t* __restrict perm = sorted_.data();
+#pragma omp barrier
+      // old start of cell c (c <= cb): cells before cb are rewritten only once passed
+      auto old_start = [&](std::uint32_t c) { return c == cb ? last_end : start[c]; };
+      std::size_t o = static_cast<std::size_t>(start[ca]) + ip - op;  // the new start of cell ca
+      for (std::uint32_t c = ca; c < cb;) {
+        // cells up to the next one a mover leaves or enters: one shift for their starts and
+        // their particles (vector loops; nothing to write where the shift is 0)
+        std::uint32_t e = cb;
+        if (ip < m) e = std::min(e, in[ip].cell);
+        if (oq < m) e = std::min(e, out[oq]);
+        if (e > c) {
+          const std::uint32_t k0 = start[c], k1 = old_start(e);
+          const std::int64_t shift = static_cast<std::int64_t>(o) - k0;
+          if (shift != 0) {
+            const std::uint32_t sh = static_cast<std::uint32_t>(shift);  // (modular: adds back)
+            for (std::uint32_t q = c; q < e; ++q) start[q] += sh;
+            std::uint32_t* __restrict dst = perm + o;
+            for (std::uint32_t k = k0; k < k1; ++k) dst[k - k0] = k;
+          }
+          o += k1 - k0;
+          c = e;
+          if (c == cb) break;
+        }
+        // cell c gains or loses particles: those that stayed merged by index with those that came
+        const std::uint32_t ob = start[c], oe = old_start(c + 1);
+        start[c] = static_cast<std::uint32_t>(o);
+        std::uint32_t i = ob;
+        for (;;) {
+          while (i < oe && cell_of_[i] != c) ++i;  // (those that left)
+          const bool stay = i < oe, come = ip < m && in[ip].cell == c;
+          if (!stay && !come) break;
+          if (come && (!stay || in[ip].index < i)) { in[ip].to = static_cast<std::uint32_t>(o); perm[o++] = in[ip++].index; }
+          else perm[o++] = i++;
+        }
+        while (oq < m && out[oq] == c) ++oq;
+        ++c;
+      }
+    }
+    for (std::size_t j = 0; j < m && !occupancy; ++j) occupancy = cell_start_[out[j] + 1] == cell_start_[out[j]];
+    if (occupancy) {
+      occupied_.clear();
+      for (std::size_t c = 0; c < ncell; ++c)
+        if (cell_start_[c + 1] > cell_start_[c]) occupied_.push_back(static_cast<std::uint32_t>(c));
+    }
+    // for the store: the movers' old indices ascending, their (old, new) index by new index
+    arrive_.resize(2 * m);
+    for (std::size_t j = 0; j < m; ++j) {
+      arrive_[j] = in[j].index;
+      arrive_[m + j] = in[j].to;
+    }
+    moved_ = m;
+    bool ident = true;
+#pragma omp parallel for schedule(static) reduction(&& : ident) num_threads(nt)
+    for (std::size_t k = 0; k < n; ++k) ident = ident && sorted_[k] == k;
+    identity_ = ident;
+  }
+  std::vector<std::uint32_t> bounds_;
 
   int coord(const V& x, int d) const {
     int c = static_cast<int>((x[d] - lo_[d]) * inv_cell_);

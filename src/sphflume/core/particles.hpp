@@ -7,6 +7,9 @@
 // (kRemote: a copy of another rank's particle). Images are rebuilt before every neighbour pass
 // and never integrated.
 #pragma once
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -57,6 +60,12 @@ class ParticleStore {
 
   std::size_t size() const { return pos.size(); }
   std::size_t n_owned() const { return n_owned_; }
+  /// A stamp of the owned particles' order, new (unique in the process) whenever particles are
+  /// added, removed or reordered through this class: a cell list binned for one stamp may
+  /// re-place only the particles that moved (CellList::build's in_order). Code that reorders
+  /// the fields directly must call touch().
+  std::uint64_t layout() const { return layout_; }
+  void touch() { layout_ = next_stamp(); }
 
   /// Append one owned particle (only valid while there are no images).
   void add(const V& x, const V& v, double density, double m, Kind k) {
@@ -72,6 +81,7 @@ class ParticleStore {
     for (auto& [name, f] : scalar_fields_) f.push_back(0.0);
     for (auto& [name, f] : vector_fields_) f.push_back(V{});
     n_owned_ = pos.size();
+    touch();
   }
 
   /// Extra per-particle scalar field (e.g. a concentration, porosity). Created on first use;
@@ -148,6 +158,7 @@ class ParticleStore {
     resize_all(n_owned_ + 1);
     unpack(n_owned_, in);
     ++n_owned_;
+    touch();
   }
   /// Append a packed particle of another rank as an image (image_source kRemote).
   void add_remote_image(const std::byte* in) {
@@ -164,34 +175,59 @@ class ParticleStore {
   void permute(const std::vector<std::uint32_t>& perm) {
     if (perm.size() != n_owned_ || size() != n_owned_)
       throw std::logic_error("ParticleStore::permute: needs a full permutation of the owned particles and no images");
+    touch();
     find_cycles(perm);
     if (cycles_.empty()) return;
     // the fields are independent: one per thread at a time (the same result for any count)
-    sf_.clear();
-    vf_.clear();
-    for (auto& [n, f] : scalar_fields_) sf_.push_back(&f);
-    for (auto& [n, f] : vector_fields_) vf_.push_back(&f);
-    const std::size_t nf = 9 + sf_.size() + vf_.size();
+    const std::size_t nf = list_fields();
 #pragma omp parallel for schedule(dynamic, 1) if (cycles_.size() > 2048)
-    for (std::size_t f = 0; f < nf; ++f) {
-      switch (f) {
-        case 0: cycle(pos); break;
-        case 1: cycle(vel); break;
-        case 2: cycle(rho); break;
-        case 3: cycle(p); break;
-        case 4: cycle(mass); break;
-        case 5: cycle(kind); break;
-        case 6: cycle(id); break;
-        case 7: cycle(acc); break;
-        case 8: cycle(drho); break;
-        default:
-          if (f - 9 < sf_.size()) cycle(*sf_[f - 9]);
-          else cycle(*vf_[f - 9 - sf_.size()]);
-      }
-    }
+    for (std::size_t f = 0; f < nf; ++f) field_at(f, [&](auto& v) { cycle(v); });
     // the first sort moves nearly every particle, later ones fewer: do not keep a big list
     // between steps (`cycles_ = {}` would keep the capacity: it assigns an empty initializer list)
     if (cycles_.capacity() > n_owned_ / 16) std::vector<std::uint32_t>().swap(cycles_);
+  }
+
+  /// The same as permute(perm) for a perm that keeps all but m particles in their order (a cell
+  /// list's update: CellList::moved()): `left` the movers' old indices ascending, `arrive` their
+  /// old indices then their new ones, in ascending new index. The movers are kept aside, each
+  /// run of the others is moved once (those moving to the front first, in ascending order, then
+  /// those moving back, descending: since the others keep their order, no run overwrites one
+  /// that is still to move), and the movers are put in their places: block copies instead of
+  /// cycles through most of the store.
+  void permute_runs(std::size_t m, const std::uint32_t* left, const std::uint32_t* arrive) {
+    if (size() != n_owned_) throw std::logic_error("ParticleStore::permute_runs: images exist");
+    touch();
+    if (m == 0) return;
+    const std::uint32_t* from = arrive;
+    const std::uint32_t* to = arrive + m;
+    const std::size_t n = n_owned_;
+    runs_.clear();  // (new index, old index, length) of each run of the others
+    for (std::size_t k = 0, i = 0, a = 0, l = 0; k < n;) {
+      if (a < m && to[a] == k) { ++k; ++a; continue; }     // a mover's new place
+      if (l < m && left[l] == i) { ++i; ++l; continue; }   // a mover's old place
+      std::size_t len = n - k;
+      if (a < m) len = std::min<std::size_t>(len, to[a] - k);
+      if (l < m) len = std::min<std::size_t>(len, left[l] - i);
+      runs_.push_back({static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(len)});
+      k += len;
+      i += len;
+    }
+    const std::size_t nf = list_fields();
+    const std::size_t nr = runs_.size();
+#pragma omp parallel for schedule(dynamic, 1) if (n > 4096)
+    for (std::size_t f = 0; f < nf; ++f)
+      field_at(f, [&](auto& v) {
+        using T = typename std::decay_t<decltype(v)>::value_type;
+        std::vector<T> aside(m);
+        for (std::size_t j = 0; j < m; ++j) aside[j] = v[from[j]];
+        T* d = v.data();
+        for (std::size_t r = 0; r < nr; ++r)
+          if (runs_[r][0] < runs_[r][1]) std::copy(d + runs_[r][1], d + runs_[r][1] + runs_[r][2], d + runs_[r][0]);
+        for (std::size_t r = nr; r-- > 0;)
+          if (runs_[r][0] > runs_[r][1]) std::copy_backward(d + runs_[r][1], d + runs_[r][1] + runs_[r][2], d + runs_[r][0] + runs_[r][2]);
+        for (std::size_t j = 0; j < m; ++j) v[to[j]] = aside[j];
+      });
+    if (runs_.capacity() > n / 16 + 64) std::vector<std::array<std::uint32_t, 3>>().swap(runs_);
   }
 
   /// Release spare capacity (after the particles are created one by one).
@@ -217,7 +253,7 @@ class ParticleStore {
   std::size_t bytes() const {
     std::size_t b = cap_bytes(pos) + cap_bytes(vel) + cap_bytes(rho) + cap_bytes(p) + cap_bytes(mass) +
                     cap_bytes(kind) + cap_bytes(id) + cap_bytes(acc) + cap_bytes(drho) + cap_bytes(image_source) +
-                    cap_bytes(image_shift_) + scratch_.capacity() / 8 + cap_bytes(cycles_);
+                    cap_bytes(image_shift_) + scratch_.capacity() / 8 + cap_bytes(cycles_) + cap_bytes(runs_);
     for (auto& [n, f] : scalar_fields_) b += cap_bytes(f);
     for (auto& [n, f] : vector_fields_) b += cap_bytes(f);
     return b;
@@ -231,6 +267,7 @@ class ParticleStore {
 
  private:
   std::size_t n_owned_ = 0;
+  std::uint64_t layout_ = next_stamp();
   std::map<std::string, std::vector<double>> scalar_fields_;
   std::map<std::string, std::vector<V>> vector_fields_;
   std::vector<V> image_shift_;
@@ -239,8 +276,37 @@ class ParticleStore {
   std::vector<std::vector<double>*> sf_;  // permute's list of the named fields (kept: no allocation per sort)
   std::vector<std::vector<V>*> vf_;
 
+  std::vector<std::array<std::uint32_t, 3>> runs_;  // permute_runs' runs (kept: no allocation per sort)
+
   template <class T>
   static std::size_t cap_bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
+
+  /// The named fields listed for field_at; returns the number of fields (9 core + named).
+  std::size_t list_fields() {
+    sf_.clear();
+    vf_.clear();
+    for (auto& [n, f] : scalar_fields_) sf_.push_back(&f);
+    for (auto& [n, f] : vector_fields_) vf_.push_back(&f);
+    return 9 + sf_.size() + vf_.size();
+  }
+  /// fn(field f) for f < list_fields(): the core fields, then the named ones.
+  template <class Fn>
+  void field_at(std::size_t f, Fn&& fn) {
+    switch (f) {
+      case 0: fn(pos); break;
+      case 1: fn(vel); break;
+      case 2: fn(rho); break;
+      case 3: fn(p); break;
+      case 4: fn(mass); break;
+      case 5: fn(kind); break;
+      case 6: fn(id); break;
+      case 7: fn(acc); break;
+      case 8: fn(drho); break;
+      default:
+        if (f - 9 < sf_.size()) fn(*sf_[f - 9]);
+        else fn(*vf_[f - 9 - sf_.size()]);
+    }
+  }
 
   void resize_all(std::size_t n) {
     pos.resize(n); vel.resize(n); rho.resize(n); p.resize(n); mass.resize(n); kind.resize(n); id.resize(n);
@@ -306,6 +372,11 @@ class ParticleStore {
   void permute_partial(const std::vector<std::uint32_t>& keep) {
     compact_fields(keep);
     n_owned_ = keep.size();
+    touch();
+  }
+  static std::uint64_t next_stamp() {
+    static std::atomic<std::uint64_t> counter{0};
+    return ++counter;
   }
 };
 

@@ -95,12 +95,22 @@ struct System {
     Halo<D>* layer[2];
     const int nl = halo_layers(layer);
     for (int l = 0; l < nl; ++l) layer[l]->migrate(particles);  // (what left this part since the last build)
-    cells.build(particles.pos, particles.n_owned(), support);
-    particles.permute(cells.sorted());
+    // (the store still in the order of the last re-sort: only the particles that changed cell
+    // are re-placed)
+    cells.build(particles.pos, particles.n_owned(), support, cells_layout_ == particles.layout());
+    if (cells.updated())
+      particles.permute_runs(cells.moved(), cells.moved_from(), cells.moved_to());
+    else
+      particles.permute(cells.sorted());
     cells.adopt_permutation();
+    cells_layout_ = particles.layout();
     for (int l = 0; l < nl; ++l) layer[l]->build(particles, support * 1.1 + dx);
-    if (particles.size() > particles.n_owned()) cells.build(particles.pos, particles.size(), support);
+    if (particles.size() > particles.n_owned()) {
+      cells.build(particles.pos, particles.size(), support);
+      cells_layout_ = 0;  // (the list now holds the images too)
+    }
   }
+  std::uint64_t cells_layout_ = 0;  // the store's layout() the cell list was last sorted for
   /// Copy the fields of every image from its source again (after a pass changed fields that
   /// later pair loops read from neighbours).
   void refresh_halos() {
