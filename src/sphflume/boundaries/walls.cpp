@@ -80,13 +80,54 @@ class DummyWalls final : public WallModel<D> {
             F32* __restrict cr = B[RHO];
             F32* __restrict cf = B[FLUID];
             // only fluid entries are read: other threads are writing wall pressures meanwhile
-            st.for_each([&](std::size_t m, std::uint32_t j) {
-              const bool fl = fluid_like(kind[j]);
-              for (int d = 0; d < D; ++d) { cx[d][m] = F32(pos[j][d] - origin[d]); cv[d][m] = fl ? F32(vel[j][d]) : F32(0); }
-              cp[m] = fl ? F32(prs[j]) : F32(0);
-              cr[m] = fl ? F32(rho[j]) : F32(0);
-              cf[m] = fl ? F32(1) : F32(0);
-            });
+            if (st.identity) {  // contiguous ranges of the cell-ordered store: vector loops
+              std::size_t m = 0;
+              for (int r = 0; r < st.nr; ++r) {
+                const std::uint32_t k0 = st.rg[r][0];
+                const std::size_t len = st.rg[r][1] - k0;
+                // (the positions as a flat array of doubles: through Vec's operator[] GCC 12
+                // left such loops scalar)
+                const double* __restrict pr = pos[k0].c.data();
+                const double* __restrict vr = vel[k0].c.data();
+                const Kind* __restrict kr = kind + k0;
+                const double* __restrict ppr = prs + k0;
+                const double* __restrict rr = rho + k0;
+                for (int d = 0; d < D; ++d) {
+                  F32* __restrict x = cx[d] + m;
+                  const double o = origin[d];
+                  for (std::size_t q = 0; q < len; ++q) x[q] = F32(pr[D * q + d] - o);
+                }
+                F32* __restrict op = cp + m;
+                F32* __restrict orr = cr + m;
+                F32* __restrict of = cf + m;
+                for (std::size_t q = 0; q < len; ++q) {
+                  const bool fl = fluid_like(kr[q]);
+                  op[q] = fl ? F32(ppr[q]) : F32(0);
+                  orr[q] = fl ? F32(rr[q]) : F32(0);
+                  of[q] = fl ? F32(1) : F32(0);
+                }
+                if (gv) {  // (velocities: no-slip walls only; a wall's weight is 0, so its
+                           // velocity, finite and not written by this pass, is copied as it is)
+                  F32* __restrict v0 = cv[0] + m;
+                  F32* __restrict v1 = cv[1] + m;
+                  F32* __restrict v2 = cv[D - 1] + m;
+                  for (std::size_t q = 0; q < len; ++q) {
+                    v0[q] = F32(vr[D * q]);
+                    v1[q] = F32(vr[D * q + 1]);
+                    if constexpr (D == 3) v2[q] = F32(vr[D * q + 2]);
+                  }
+                }
+                m += len;
+              }
+            } else {
+              st.for_each([&](std::size_t m, std::uint32_t j) {
+                const bool fl = fluid_like(kind[j]);
+                for (int d = 0; d < D; ++d) { cx[d][m] = F32(pos[j][d] - origin[d]); cv[d][m] = fl ? F32(vel[j][d]) : F32(0); }
+                cp[m] = fl ? F32(prs[j]) : F32(0);
+                cr[m] = fl ? F32(rho[j]) : F32(0);
+                cf[m] = fl ? F32(1) : F32(0);
+              });
+            }
             for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, no fluid
               for (int d = 0; d < D; ++d) { cx[d][m] = F32(1.0e3); cv[d][m] = 0; }
               cp[m] = 0; cr[m] = 0; cf[m] = 0;
