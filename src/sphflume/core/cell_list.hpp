@@ -277,7 +277,7 @@ class CellList {
 #endif
     if (found_.size() < static_cast<std::size_t>(nt)) found_.resize(static_cast<std::size_t>(nt));
     // (a violent step may have moved many: do not keep the large lists of the last one)
-    if (moved_in_.capacity() > n / 16 + 64) {
+    if (moved_in_.capacity() > n / 256 + 256) {  // (typical steps move far fewer: memory target)
       std::vector<Move>().swap(moved_in_);
       std::vector<std::uint32_t>().swap(moved_out_);
       std::vector<std::uint32_t>().swap(left_);

@@ -227,7 +227,7 @@ class ParticleStore {
           if (runs_[r][0] > runs_[r][1]) std::copy_backward(d + runs_[r][1], d + runs_[r][1] + runs_[r][2], d + runs_[r][0] + runs_[r][2]);
         for (std::size_t j = 0; j < m; ++j) v[to[j]] = aside[j];
       });
-    if (runs_.capacity() > n / 16 + 64) std::vector<std::array<std::uint32_t, 3>>().swap(runs_);
+    if (runs_.capacity() > n / 256 + 512) std::vector<std::array<std::uint32_t, 3>>().swap(runs_);
   }
 
   /// Release spare capacity (after the particles are created one by one).
