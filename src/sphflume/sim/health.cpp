@@ -23,8 +23,28 @@ std::optional<std::string> check_health(const System<D>& S, const HealthLimits& 
   const std::size_t n = P.n_owned();
   // (with several phases, each particle's band is about its own phase's rho0)
   std::size_t first = std::numeric_limits<std::size_t>::max();
-#pragma omp parallel for schedule(static) reduction(min : first)
-  for (std::size_t i = 0; i < n; ++i) {
+  // one phase: a branch-free vector pass first (every step; most find nothing), the search
+  // for the first bad particle below only when it found one
+  bool suspect = true;
+  if (S.phase_eos.empty() && n > 0) {
+    const double lo = lim.density_min_ratio * S.eos.rho0, hi = lim.density_max_ratio * S.eos.rho0;
+    const double* __restrict rho = P.rho.data();
+    const double* __restrict prs = P.p.data();
+    const double* __restrict x = P.pos[0].c.data();
+    const double* __restrict v = P.vel[0].c.data();
+    const Kind* __restrict kind = P.kind.data();
+    int bad = 0;
+#pragma omp parallel for schedule(static) reduction(| : bad)
+    for (std::size_t i = 0; i < n; ++i) {
+      int ok = std::isfinite(rho[i]) & std::isfinite(prs[i]);
+      for (int d = 0; d < D; ++d) ok &= std::isfinite(x[D * i + d]) & std::isfinite(v[D * i + d]);
+      ok &= (kind[i] != Kind::Fluid) | ((rho[i] >= lo) & (rho[i] <= hi));
+      bad |= ok ^ 1;
+    }
+    suspect = bad != 0;
+  }
+#pragma omp parallel for schedule(static) reduction(min : first) if (suspect)
+  for (std::size_t i = 0; i < (suspect ? n : 0); ++i) {
     bool ok = std::isfinite(P.rho[i]) && std::isfinite(P.p[i]);
     for (int d = 0; d < D; ++d) ok = ok && std::isfinite(P.pos[i][d]) && std::isfinite(P.vel[i][d]);
     const double r0 = S.eos_of(i).rho0;
