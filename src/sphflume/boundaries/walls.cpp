@@ -133,6 +133,18 @@ class DummyWalls final : public WallModel<D> {
               cp[m] = 0; cr[m] = 0; cf[m] = 0;
             }
           }
+          // the blocks of L candidates that hold fluid: a block of walls and padding adds only
+          // zeros (its weights are 0), so the wall particles below skip it (next to a floor, half
+          // the stencil is wall cells)
+          thread_local std::vector<std::uint32_t> blocks;
+          blocks.clear();
+          for (std::size_t k0 = 0; k0 < npad; k0 += L) {
+            const F32* __restrict bf = B[FLUID] + k0;
+            F32 any = 0;
+#pragma omp simd reduction(max : any)
+            for (std::size_t l = 0; l < L; ++l) any = std::max(any, bf[l]);
+            if (any > F32(0)) blocks.push_back(static_cast<std::uint32_t>(k0));
+          }
           auto walls = [&](auto noslip) {
             constexpr bool NoSlip = decltype(noslip)::value;
             const F32 l_support2 = fsupport2;  // (a local: read through the closure, AVX2 loops stay scalar)
@@ -143,7 +155,7 @@ class DummyWalls final : public WallModel<D> {
               alignas(64) F32 vw[L] = {}, vp[L] = {}, vr0[L] = {}, vr1[L] = {}, vr2[L] = {}, vv0[L] = {}, vv1[L] = {}, vv2[L] = {};
               const F32 xi0 = F32(pos[i][0] - origin[0]), xi1 = F32(pos[i][1] - origin[1]);
               const F32 xi2 = F32(pos[i][D - 1] - origin[D - 1]);
-              for (std::size_t k0 = 0; k0 < npad; k0 += L) {
+              for (const std::uint32_t k0 : blocks) {
                 const F32* __restrict bx0 = B[X0] + k0;
                 const F32* __restrict bx1 = B[X1] + k0;
                 const F32* __restrict bx2 = B[X0 + D - 1] + k0;
