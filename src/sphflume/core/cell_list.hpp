@@ -284,6 +284,7 @@ class CellList {
       std::vector<std::uint32_t>().swap(arrive_);
       for (auto& f : found_) std::vector<Move>().swap(f);
     }
+    for (auto& f : found_) f.clear();  // (a smaller team leaves some unused)
 #pragma omp parallel num_threads(nt)
     {
       int t = 0;
@@ -291,7 +292,6 @@ class CellList {
       t = omp_get_thread_num();
 #endif
       auto& f = found_[static_cast<std::size_t>(t)];
-      f.clear();
       // the new cells into sorted_ (the identity since the adoption: scratch here), a vector
       // loop; then the few that differ (the same static partition: each thread reads its own)
       std::uint32_t* __restrict key = sorted_.data();
@@ -308,7 +308,7 @@ class CellList {
       }
     }
     moved_in_.clear();
-    for (int t = 0; t < nt; ++t) moved_in_.insert(moved_in_.end(), found_[t].begin(), found_[t].end());
+    for (const auto& f : found_) moved_in_.insert(moved_in_.end(), f.begin(), f.end());  // (ascending index)
     const std::size_t m = moved_in_.size();
     moved_ = 0;
     if (m == 0) { identity_ = true; return; }  // (sorted_ is the identity since the adoption)
@@ -331,23 +331,22 @@ class CellList {
                                                                          static_cast<std::uint32_t>(k)) -
                                                         cell_start_.begin() - 1);
     }
+    // the old start of each range's end (the next range rewrites it)
+    ends_.resize(static_cast<std::size_t>(nt));
+    for (int t = 0; t < nt; ++t) ends_[t] = cell_start_[bounds_[t + 1]];
     Move* in = moved_in_.data();
     const std::uint32_t* out = moved_out_.data();
-#pragma omp parallel num_threads(nt)
-    {
-      int t = 0;
-#ifdef _OPENMP
-      t = omp_get_thread_num();
-#endif
+    // (a loop over the ranges, not one range per thread: any team size covers them all)
+#pragma omp parallel for schedule(static, 1) num_threads(nt)
+    for (int t = 0; t < nt; ++t) {
       const std::uint32_t ca = bounds_[t], cb = bounds_[t + 1];
-      const std::uint32_t last_end = cell_start_[cb];  // (old: the next thread rewrites it)
+      const std::uint32_t last_end = ends_[t];
       std::size_t ip = static_cast<std::size_t>(
           std::lower_bound(in, in + m, ca, [](const Move& a, std::uint32_t c) { return a.cell < c; }) - in);
       const std::size_t op = static_cast<std::size_t>(std::lower_bound(out, out + m, ca) - out);
       std::size_t oq = op;
       std::uint32_t* __restrict start = cell_start_.data();
       std::uint32_t* __restrict perm = sorted_.data();
-#pragma omp barrier
       // old start of cell c (c <= cb): cells before cb are rewritten only once passed
       auto old_start = [&](std::uint32_t c) { return c == cb ? last_end : start[c]; };
       std::size_t o = static_cast<std::size_t>(start[ca]) + ip - op;  // the new start of cell ca
@@ -403,7 +402,7 @@ class CellList {
     for (std::size_t k = 0; k < n; ++k) ident = ident && sorted_[k] == k;
     identity_ = ident;
   }
-  std::vector<std::uint32_t> bounds_;
+  std::vector<std::uint32_t> bounds_, ends_;
 
   int coord(const V& x, int d) const {
     int c = static_cast<int>((x[d] - lo_[d]) * inv_cell_);
