@@ -85,6 +85,7 @@ class DummyWalls final : public WallModel<D> {
               for (int r = 0; r < st.nr; ++r) {
                 const std::uint32_t k0 = st.rg[r][0];
                 const std::size_t len = st.rg[r][1] - k0;
+                if (len == 0) continue;  // (k0 may then be the end of the store)
                 // (the positions as a flat array of doubles: through Vec's operator[] GCC 12
                 // left such loops scalar)
                 const double* __restrict pr = pos[k0].c.data();

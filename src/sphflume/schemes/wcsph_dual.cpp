@@ -154,8 +154,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
         for (int r = 0; r < st.nr; ++r) {
           const std::uint32_t k0 = st.rg[r][0];
           const std::size_t len = st.rg[r][1] - k0;
-          // one fused loop per range (separate column copies became memcpy calls, slower for
-          // ranges of ~30 entries)
+          if (len == 0) continue;  // (k0 may then be the end of the store)
           // (the positions as a flat array of doubles: through Vec's operator[] GCC 12 left
           // these loops scalar, "no vectype")
           const double* __restrict pr = pos[k0].c.data();
