@@ -86,18 +86,11 @@ class DummyWalls final : public WallModel<D> {
                 const std::uint32_t k0 = st.rg[r][0];
                 const std::size_t len = st.rg[r][1] - k0;
                 if (len == 0) continue;  // (k0 may then be the end of the store)
-                // (the positions as a flat array of doubles: through Vec's operator[] GCC 12
-                // left such loops scalar)
-                const double* __restrict pr = pos[k0].c.data();
-                const double* __restrict vr = vel[k0].c.data();
+                copy_positions<D>(pos, k0, len, origin, cx, m);
+                const double* __restrict vr = vel[k0].c.data();  // (flat, as in copy_positions)
                 const Kind* __restrict kr = kind + k0;
                 const double* __restrict ppr = prs + k0;
                 const double* __restrict rr = rho + k0;
-                for (int d = 0; d < D; ++d) {
-                  F32* __restrict x = cx[d] + m;
-                  const double o = origin[d];
-                  for (std::size_t q = 0; q < len; ++q) x[q] = F32(pr[D * q + d] - o);
-                }
                 F32* __restrict op = cp + m;
                 F32* __restrict orr = cr + m;
                 F32* __restrict of = cf + m;

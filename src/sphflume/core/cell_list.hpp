@@ -454,6 +454,25 @@ struct CellStencil {
 /// The sum of L lane-wise partial sums (a pair loop's accumulators, L apart), pairwise in a fixed
 /// order: the order of the additions does not depend on the vector width, so AVX2 and AVX-512
 /// builds give bitwise the same sums. Overwrites v.
+/// The positions of store entries [k0, k0 + len) relative to `origin`, into the float columns
+/// x[0..D) at offset m: the stencil copies of the vectorised pair loops. The positions are read
+/// as a flat array of doubles (through Vec's operator[] GCC 12 left such loops scalar, "no
+/// vectype"); len > 0 (k0 may otherwise be the end of the store).
+template <int D>
+inline void copy_positions(const Vec<D>* pos, std::uint32_t k0, std::size_t len, const Vec<D>& origin,
+                           float* __restrict const* x, std::size_t m) {
+  const double* __restrict pr = pos[k0].c.data();
+  const double o0 = origin[0], o1 = origin[1], o2 = origin[D - 1];
+  float* __restrict x0 = x[0] + m;
+  float* __restrict x1 = x[1] + m;
+  float* __restrict x2 = x[D - 1] + m;
+  for (std::size_t i = 0; i < len; ++i) {
+    x0[i] = float(pr[D * i + 0] - o0);
+    x1[i] = float(pr[D * i + 1] - o1);
+    if constexpr (D == 3) x2[i] = float(pr[D * i + D - 1] - o2);
+  }
+}
+
 template <std::size_t L, class T>
 inline T lane_sum(T* v) {
   for (std::size_t w = L / 2; w >= 1; w /= 2)

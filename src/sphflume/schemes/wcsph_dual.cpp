@@ -155,19 +155,8 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
           const std::uint32_t k0 = st.rg[r][0];
           const std::size_t len = st.rg[r][1] - k0;
           if (len == 0) continue;  // (k0 may then be the end of the store)
-          // (the positions as a flat array of doubles: through Vec's operator[] GCC 12 left
-          // these loops scalar, "no vectype")
-          const double* __restrict pr = pos[k0].c.data();
+          copy_positions<D>(pos, k0, len, origin, cx, m);
           const F32* __restrict in = pk + k0;
-          const double o0 = origin[0], o1 = origin[1], o2 = origin[D - 1];
-          F32* __restrict x0 = cx[0] + m;
-          F32* __restrict x1 = cx[1] + m;
-          F32* __restrict x2 = cx[D - 1] + m;
-          for (std::size_t i = 0; i < len; ++i) {
-            x0[i] = F32(pr[D * i + 0] - o0);
-            x1[i] = F32(pr[D * i + 1] - o1);
-            if constexpr (D == 3) x2[i] = F32(pr[D * i + D - 1] - o2);
-          }
           // the packed values in a loop of their own (fused with the positions GCC 12 left the
           // loop scalar; `omp simd` keeps the copies from becoming memcpy calls, slower for
           // ranges of ~30 entries)
