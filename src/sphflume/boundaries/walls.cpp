@@ -81,11 +81,7 @@ class DummyWalls final : public WallModel<D> {
             F32* __restrict cf = B[FLUID];
             // only fluid entries are read: other threads are writing wall pressures meanwhile
             if (st.identity) {  // contiguous ranges of the cell-ordered store: vector loops
-              std::size_t m = 0;
-              for (int r = 0; r < st.nr; ++r) {
-                const std::uint32_t k0 = st.rg[r][0];
-                const std::size_t len = st.rg[r][1] - k0;
-                if (len == 0) continue;  // (k0 may then be the end of the store)
+              st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) {
                 copy_positions<D>(pos, k0, len, origin, cx, m);
                 const double* __restrict vr = vel[k0].c.data();  // (flat, as in copy_positions)
                 const Kind* __restrict kr = kind + k0;
@@ -111,8 +107,7 @@ class DummyWalls final : public WallModel<D> {
                     if constexpr (D == 3) v2[q] = F32(vr[D * q + 2]);
                   }
                 }
-                m += len;
-              }
+              });
             } else {
               st.for_each([&](std::size_t m, std::uint32_t j) {
                 const bool fl = fluid_like(kind[j]);

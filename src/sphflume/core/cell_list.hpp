@@ -449,6 +449,19 @@ struct CellStencil {
         for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) fn(m++, sorted[k]);
     }
   }
+  /// For a cell-ordered store (identity): fn(k0, len, m) for each non-empty contiguous range
+  /// [k0, k0 + len) of the candidates, m its first column entry, so that a pass copies its
+  /// columns in vector loops (k0 of an empty range may be the end of the store: skipped).
+  template <class Fn>
+  void for_ranges(Fn&& fn) const {
+    std::size_t m = 0;
+    for (int r = 0; r < nr; ++r) {
+      const std::uint32_t k0 = rg[r][0];
+      const std::size_t len = rg[r][1] - k0;
+      if (len > 0) fn(k0, len, m);
+      m += len;
+    }
+  }
 };
 
 /// The sum of L lane-wise partial sums (a pair loop's accumulators, L apart), pairwise in a fixed

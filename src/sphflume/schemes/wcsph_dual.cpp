@@ -150,11 +150,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
       } else if (st.identity) {
         // the stencil's columns (positions relative to the cell's first particle, the packed
         // values) from contiguous ranges of the cell-ordered store: plain strided loops
-        std::size_t m = 0;
-        for (int r = 0; r < st.nr; ++r) {
-          const std::uint32_t k0 = st.rg[r][0];
-          const std::size_t len = st.rg[r][1] - k0;
-          if (len == 0) continue;  // (k0 may then be the end of the store)
+        st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) {
           copy_positions<D>(pos, k0, len, origin, cx, m);
           const F32* __restrict in = pk + k0;
           // the packed values in a loop of their own (fused with the positions GCC 12 left the
@@ -181,8 +177,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
               ov[i] = in[D * np + i];
             }
           }
-          m += len;
-        }
+        });
       } else {
         st.for_each([&](std::size_t m, std::uint32_t b) {
           for (int d = 0; d < D; ++d) cx[d][m] = F32(pos[b][d] - origin[d]);
