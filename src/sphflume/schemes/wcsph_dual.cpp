@@ -109,12 +109,11 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
         const F32* __restrict flag = pk + (2 * D + 1) * np;
         if (st.identity) {  // (a vector loop over each range: the candidate-wise callback was 6 % of the pass)
           int w = 0;
-          for (int r = 0; r < st.nr; ++r) {
-            const F32* __restrict fr = flag + st.rg[r][0];
-            const std::size_t len = st.rg[r][1] - st.rg[r][0];
+          st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t) {
+            const F32* __restrict fr = flag + k0;
 #pragma omp simd reduction(| : w)
             for (std::size_t i = 0; i < len; ++i) w |= fr[i] < F32(1) ? 1 : 0;
-          }
+          });
           walls_near = w != 0;
         } else {
           st.for_each([&](std::size_t, std::uint32_t b) { walls_near |= flag[b] < F32(1); });
