@@ -199,3 +199,51 @@ TEST(CellList, UpdateMatchesFullSort3D) {
   incremental_matches_full<3>(800, 0.12, 9, 1);
   incremental_matches_full<3>(9000, 0.1, 10, 2);
 }
+
+// sweep_cells hands each thread a contiguous run of cells, balanced by the cells' work and by
+// the rates the threads ran at in earlier calls. Whatever the partition (1, 2 or 3 threads, and
+// after calls in which one part of the tank was made 20x slower, which moves the runs), every
+// cell that needs the pass is run exactly once, no other cell is run, the stencil is the cell's
+// own, and the returned total is the sum of the bodies' returns.
+TEST(CellList, SweepRunsEveryNeededCellOnce) {
+  std::mt19937 rng(7);
+  std::vector<Vec<2>> pos = random_positions<2>(4000, rng);
+  CellList<2> cells;
+  cells.build(pos, pos.size(), 0.05);
+  const auto& occ = cells.occupied();
+  auto need = [&](std::size_t cell) -> std::size_t {  // every third cell needs nothing
+    return cell % 3 == 1 ? 0 : cells.cell_end(cell) - cells.cell_begin(cell);
+  };
+  std::uint64_t expected = 0;
+  for (const auto c : occ) expected += need(c) > 0 ? c + 1 : 0;
+#ifdef _OPENMP
+  const int saved = omp_get_max_threads();
+#endif
+  for (int threads = 1; threads <= 3; ++threads) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    for (int call = 0; call < 6; ++call) {
+      std::vector<int> runs(cells.cell_count(), 0);
+      const std::uint64_t total = sweep_cells<float>(cells, 2, 16, need, [&](std::size_t cell, const CellStencil<2>& st, ScratchColumns<float>&) {
+        std::uint32_t rg[CellList<2>::kMaxRanges][2];
+        const int nr = cells.cell_ranges(cell, rg);
+        EXPECT_EQ(nr, st.nr);
+        for (int r = 0; r < nr && r < st.nr; ++r) EXPECT_EQ(rg[r][0], st.rg[r][0]);
+        // (the first calls: the low cells slow, so that the rates, and the runs, shift)
+        if (call < 3 && cell < cells.cell_count() / 3) {
+          volatile double x = 0;
+          for (int i = 0; i < 2000; ++i) x = x + 1.0;
+        }
+#pragma omp atomic
+        ++runs[cell];
+        return std::uint64_t(cell + 1);
+      });
+      EXPECT_EQ(total, expected) << threads << " threads, call " << call;
+      for (const auto c : occ) ASSERT_EQ(runs[c], need(c) > 0 ? 1 : 0) << "cell " << c << ", " << threads << " threads, call " << call;
+    }
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(saved);
+#endif
+}

@@ -46,7 +46,7 @@ class DummyWalls final : public WallModel<D> {
       // cells with wall particles; those with no fluid within reach keep the background state
       auto needs = [&](std::size_t cell) {
         const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-        bool walls_here = false;
+        std::size_t walls_here = 0;  // the wall particles with fluid within reach
         for (std::uint32_t k = c0k; k < c1k; ++k) {
           const std::uint32_t i = sorted[k];
           if (i >= n || kind[i] != Kind::Wall) continue;
@@ -57,7 +57,7 @@ class DummyWalls final : public WallModel<D> {
               for (int d = 0; d < D; ++d) gv[i * D + d] = 0.0f;
             continue;
           }
-          walls_here = true;
+          ++walls_here;
         }
         return walls_here;
       };
@@ -363,11 +363,11 @@ void WallModel<D>::add_backup(System<D>& S) const {
   const float fabs_tol = float(dx) * slack;
   sweep_cells<float>(
       cells, D + 1, L,
-      [&](std::size_t cell) {
-        if (!near_[cell]) return false;
-        for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
-          if (first_layer(sorted[k])) return true;
-        return false;
+      [&](std::size_t cell) {  // the first-layer walls of a cell with fluid within reach
+        std::size_t m = 0;
+        if (near_[cell])
+          for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) m += first_layer(sorted[k]) ? 1 : 0;
+        return m;
       },
       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<float>& B) {
         const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);

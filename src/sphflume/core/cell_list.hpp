@@ -506,28 +506,101 @@ struct ScratchColumns {
 };
 
 /// The skeleton every vectorised pair loop shares (the WCSPH sweep, the dual integrator's passes,
-/// the dummy walls' extrapolation): the occupied cells are handed to the threads a few at a
-/// time; for each cell that needs(cell), the stencil of its 3^D cells is set with `lanes`
-/// padding and the scratch columns are reserved, then body(cell, st, B) gathers its columns and
-/// runs the cell's particles. Returns the sum of what body returns (pair counts). Must not be
-/// called inside a parallel region.
+/// the dummy walls' extrapolation, the walls' backup): needs(cell), evaluated once per occupied
+/// cell, returns how many of its particles the pass runs (0: the cell is skipped); for each
+/// other cell the stencil of its 3^D cells is set with `lanes` padding and the scratch columns
+/// are reserved, then body(cell, st, B) gathers its columns and runs the cell's particles.
+/// Returns the sum of what body returns (pair counts). Must not be called inside a parallel
+/// region.
+///
+/// Each thread runs one contiguous run of cells. The store is in cell order, so a thread then
+/// reads mostly the particles that it wrote itself in the static particle loops between the
+/// passes. Handing out cells a few at a time (dynamic) interleaved the threads' cells: every
+/// core fetched half of what it read from the other's cache, and on 2 threads each cell of the
+/// 2D passes took 1.27x as long as on 1 (bench/README.md). The runs are balanced by a cell's
+/// work, (particles + 1) x candidates, each thread's share scaled by the rate (work per
+/// second) it ran at in the last calls of the same pass (the passes' costs per candidate vary
+/// across the tank, with the walls among them). The results do not depend on the partition:
+/// a cell's sums are its own, and the pair counts are integers.
 template <class T, int D, class Need, class Body>
 std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes, Need&& needs, Body&& body) {
   const auto& occupied = cells.occupied();
   const std::size_t nocc = occupied.size();
+  int maxt = 1;
+#ifdef _OPENMP
+  maxt = omp_get_max_threads();
+#endif
+  // each thread's rate in the last calls of this pass (each body is its own instantiation)
+  static std::vector<double> rate;
+  thread_local std::vector<std::uint64_t> work;  // the cells' work, then its running sums
+  work.resize(nocc + 1);
+  std::uint64_t* __restrict wk = work.data();
+  std::vector<std::size_t> first(static_cast<std::size_t>(maxt) + 1, nocc);  // each thread's first cell
+  std::vector<double> took(static_cast<std::size_t>(maxt), 0.0);
+  int team = 1;
   std::uint64_t total = 0;
 #pragma omp parallel reduction(+ : total)
   {
-    ScratchColumns<T> B(ncol);
+    int t = 0, nt = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
     CellStencil<D> st;
-#pragma omp for schedule(dynamic, 4)
+#pragma omp for schedule(static)
     for (std::size_t oc = 0; oc < nocc; ++oc) {
       const std::size_t cell = occupied[oc];
-      if (!needs(cell)) continue;
+      const std::size_t m = needs(cell);
+      wk[oc + 1] = 0;
+      if (m > 0) {
+        st.set(cells, cell, lanes);
+        wk[oc + 1] = (m + 1) * st.padded;  // (the + 1: the stencil's copy)
+      }
+    }
+#pragma omp single
+    {
+      team = nt;
+      wk[0] = 0;
+      for (std::size_t oc = 0; oc < nocc; ++oc) wk[oc + 1] += wk[oc];
+      if (rate.size() != static_cast<std::size_t>(nt)) rate.assign(static_cast<std::size_t>(nt), 0.0);
+      bool measured = true;
+      double rsum = 0.0;
+      for (const double r : rate) {
+        measured = measured && r > 0.0;
+        rsum += r;
+      }
+      first[0] = 0;
+      double before = 0.0;  // the rates of the threads before q
+      for (int q = 1; q < nt; ++q) {
+        before += rate[static_cast<std::size_t>(q - 1)];
+        const double share = measured ? before / rsum : static_cast<double>(q) / nt;
+        const auto goal = static_cast<std::uint64_t>(share * static_cast<double>(wk[nocc]));
+        first[static_cast<std::size_t>(q)] = static_cast<std::size_t>(std::lower_bound(wk, wk + nocc + 1, goal) - wk);
+      }
+    }
+#ifdef _OPENMP
+    const double t0 = omp_get_wtime();
+#endif
+    ScratchColumns<T> B(ncol);
+    for (std::size_t oc = first[static_cast<std::size_t>(t)]; oc < first[static_cast<std::size_t>(t) + 1]; ++oc) {
+      if (wk[oc + 1] == wk[oc]) continue;  // (nothing to run)
+      const std::size_t cell = occupied[oc];
       st.set(cells, cell, lanes);
       B.reserve(st.padded);
       total += body(cell, st, B);
     }
+#ifdef _OPENMP
+    took[static_cast<std::size_t>(t)] = omp_get_wtime() - t0;
+#endif
+  }
+  // the rates for the next call (smoothed: one call's timing is noisy; a thread that had no work
+  // or a run too short to time keeps its rate)
+  for (int q = 0; q < team && team > 1; ++q) {
+    const std::size_t u = static_cast<std::size_t>(q);
+    const double w = static_cast<double>(wk[first[u + 1]] - wk[first[u]]);
+    if (w <= 0.0 || took[u] <= 1.0e-6) continue;
+    const double r = w / took[u];
+    rate[u] = rate[u] > 0.0 ? 0.75 * rate[u] + 0.25 * r : r;
   }
   return total;
 }

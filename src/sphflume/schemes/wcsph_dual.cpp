@@ -87,11 +87,12 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
       pk[(2 * D + 1) * np + i] = fl ? F32(1) : F32(0);
     }
   }
-  // cells with an owned fluid particle
+  // the cell's owned fluid particles (the pass runs those)
   auto needs = [&](std::size_t cell) {
+    std::size_t m = 0;
     for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
-      if (sorted[k] < n_owned && kind[sorted[k]] == Kind::Fluid) return true;
-    return false;
+      m += sorted[k] < n_owned && kind[sorted[k]] == Kind::Fluid ? 1 : 0;
+    return m;
   };
   S.pairs_last_pass = sweep_cells<F32>(cells, NCOL, 16, needs,
                                        [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {

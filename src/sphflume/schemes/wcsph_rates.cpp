@@ -123,7 +123,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   // when dynamic); the others get zero rates here
   auto needs = [&](std::size_t cell) {
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-    bool any = false;
+    std::size_t m = 0;  // the particles the pass runs
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t a = sorted[k];
       if (a >= n_owned) continue;
@@ -135,9 +135,9 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
         drho_out[a] = 0.0;
         continue;
       }
-      any = true;
+      ++m;
     }
-    return any;
+    return m;
   };
   S.pairs_last_pass = sweep_cells<F32>(cells, NCOL, 16, needs,
                                        [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
