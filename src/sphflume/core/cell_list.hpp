@@ -547,51 +547,57 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
     nt = omp_get_num_threads();
 #endif
     CellStencil<D> st;
-#pragma omp for schedule(static)
-    for (std::size_t oc = 0; oc < nocc; ++oc) {
-      const std::size_t cell = occupied[oc];
-      const std::size_t m = needs(cell);
-      wk[oc + 1] = 0;
-      if (m > 0) {
-        st.set(cells, cell, lanes);
-        wk[oc + 1] = (m + 1) * st.padded;  // (the + 1: the stencil's copy)
-      }
-    }
-#pragma omp single
-    {
-      team = nt;
-      wk[0] = 0;
-      for (std::size_t oc = 0; oc < nocc; ++oc) wk[oc + 1] += wk[oc];
-      if (rate.size() != static_cast<std::size_t>(nt)) rate.assign(static_cast<std::size_t>(nt), 0.0);
-      bool measured = true;
-      double rsum = 0.0;
-      for (const double r : rate) {
-        measured = measured && r > 0.0;
-        rsum += r;
-      }
-      first[0] = 0;
-      double before = 0.0;  // the rates of the threads before q
-      for (int q = 1; q < nt; ++q) {
-        before += rate[static_cast<std::size_t>(q - 1)];
-        const double share = measured ? before / rsum : static_cast<double>(q) / nt;
-        const auto goal = static_cast<std::uint64_t>(share * static_cast<double>(wk[nocc]));
-        first[static_cast<std::size_t>(q)] = static_cast<std::size_t>(std::lower_bound(wk, wk + nocc + 1, goal) - wk);
-      }
-    }
-#ifdef _OPENMP
-    const double t0 = omp_get_wtime();
-#endif
     ScratchColumns<T> B(ncol);
-    for (std::size_t oc = first[static_cast<std::size_t>(t)]; oc < first[static_cast<std::size_t>(t) + 1]; ++oc) {
-      if (wk[oc + 1] == wk[oc]) continue;  // (nothing to run)
-      const std::size_t cell = occupied[oc];
+    auto run = [&](std::size_t cell) {
       st.set(cells, cell, lanes);
       B.reserve(st.padded);
       total += body(cell, st, B);
-    }
+    };
+    if (nt == 1) {  // (one thread: no partition to weigh)
+      for (std::size_t oc = 0; oc < nocc; ++oc)
+        if (needs(occupied[oc]) > 0) run(occupied[oc]);
+    } else {  // (the same branch for the whole team: nt is the team's size)
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        const std::size_t cell = occupied[oc];
+        const std::size_t m = needs(cell);
+        wk[oc + 1] = 0;
+        if (m > 0) {
+          st.set(cells, cell, lanes);
+          wk[oc + 1] = (m + 1) * st.padded;  // (the + 1: the stencil's copy)
+        }
+      }
+#pragma omp single
+      {
+        team = nt;
+        wk[0] = 0;
+        for (std::size_t oc = 0; oc < nocc; ++oc) wk[oc + 1] += wk[oc];
+        if (rate.size() != static_cast<std::size_t>(nt)) rate.assign(static_cast<std::size_t>(nt), 0.0);
+        bool measured = true;
+        double rsum = 0.0;
+        for (const double r : rate) {
+          measured = measured && r > 0.0;
+          rsum += r;
+        }
+        first[0] = 0;
+        double before = 0.0;  // the rates of the threads before q
+        for (int q = 1; q < nt; ++q) {
+          before += rate[static_cast<std::size_t>(q - 1)];
+          const double share = measured ? before / rsum : static_cast<double>(q) / nt;
+          const auto goal = static_cast<std::uint64_t>(share * static_cast<double>(wk[nocc]));
+          first[static_cast<std::size_t>(q)] = static_cast<std::size_t>(std::lower_bound(wk, wk + nocc + 1, goal) - wk);
+        }
+      }
 #ifdef _OPENMP
-    took[static_cast<std::size_t>(t)] = omp_get_wtime() - t0;
+      const double t0 = omp_get_wtime();
 #endif
+      const std::size_t u = static_cast<std::size_t>(t);
+      for (std::size_t oc = first[u]; oc < first[u + 1]; ++oc)
+        if (wk[oc + 1] > wk[oc]) run(occupied[oc]);
+#ifdef _OPENMP
+      took[u] = omp_get_wtime() - t0;
+#endif
+    }
   }
   // the rates for the next call (smoothed: one call's timing is noisy; a thread that had no work
   // or a run too short to time keeps its rate)

@@ -106,20 +106,64 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
       F32* __restrict cp = B[PRS];
       F32* __restrict cv = B[VOL];
       bool walls_near = false;  // any wall among the candidates (most cells have none)
+      std::size_t nwall = 0;    // (how many, in a cell-ordered store)
       if constexpr (Pass == 1) {
         const F32* __restrict flag = pk + (2 * D + 1) * np;
         if (st.identity) {  // (a vector loop over each range: the candidate-wise callback was 6 % of the pass)
-          int w = 0;
+          std::size_t w = 0;
           st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t) {
             const F32* __restrict fr = flag + k0;
-#pragma omp simd reduction(| : w)
-            for (std::size_t i = 0; i < len; ++i) w |= fr[i] < F32(1) ? 1 : 0;
+#pragma omp simd reduction(+ : w)
+            for (std::size_t i = 0; i < len; ++i) w += fr[i] < F32(1) ? 1 : 0;
           });
+          nwall = w;
           walls_near = w != 0;
         } else {
           st.for_each([&](std::size_t, std::uint32_t b) { walls_near |= flag[b] < F32(1); });
         }
       }
+      // the columns of store entries [k0, k0 + len) (a cell-ordered store) at entry m: positions
+      // relative to the cell's first particle and the packed values, plain strided loops; the
+      // packed values in loops of their own (fused with the positions GCC 12 left the loop
+      // scalar; `omp simd` keeps the copies from becoming memcpy calls, slower for ranges of
+      // ~30 entries); pass B's wall normals only where asked (fluid blocks do not read them)
+      auto copy_run = [&](std::uint32_t k0, std::size_t len, std::size_t m, bool normals) {
+        copy_positions<D>(pos, k0, len, origin, cx, m);
+        const F32* __restrict in = pk + k0;
+        if constexpr (Pass == 0) {
+          F32* __restrict op = cp + m;
+          F32* __restrict ov = cv + m;
+#pragma omp simd
+          for (std::size_t i = 0; i < len; ++i) {
+            op[i] = in[i];
+            ov[i] = in[np + i];
+          }
+        } else if constexpr (Pass == 1) {
+          F32* __restrict u0 = cu[0] + m;
+          F32* __restrict u1 = cu[1] + m;
+          F32* __restrict u2 = cu[D - 1] + m;
+          F32* __restrict ov = cv + m;
+#pragma omp simd
+          for (std::size_t i = 0; i < len; ++i) {
+            u0[i] = in[i];
+            u1[i] = in[np + i];
+            if constexpr (D == 3) u2[i] = in[2 * np + i];
+            ov[i] = in[D * np + i];
+          }
+          if (normals) {
+            const F32* __restrict nin = pk + (D + 1) * np + k0;
+            F32* __restrict n0 = cn[0] + m;
+            F32* __restrict n1 = cn[1] + m;
+            F32* __restrict n2 = cn[D - 1] + m;
+#pragma omp simd
+            for (std::size_t i = 0; i < len; ++i) {
+              n0[i] = nin[i];
+              n1[i] = nin[np + i];
+              if constexpr (D == 3) n2[i] = nin[2 * np + i];
+            }
+          }
+        }
+      };
       // pass B with walls among the candidates: the fluid candidates first, then the walls,
       // each part padded to whole blocks, so that only the wall blocks pay for the normals
       std::size_t fluid_end = npad, npad_all = npad;
@@ -139,45 +183,39 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
             cv[m] = 0;
           }
         };
-        std::size_t m = 0;
-        st.for_each([&](std::size_t, std::uint32_t b) { if (flag[b] == F32(1)) put(m++, b); });
-        fluid_end = (m + kLanes - 1) / kLanes * kLanes;
-        pad(m, fluid_end);
-        m = fluid_end;
-        st.for_each([&](std::size_t, std::uint32_t b) { if (flag[b] != F32(1)) put(m++, b); });
-        npad_all = (m + kLanes - 1) / kLanes * kLanes;
-        pad(m, npad_all);
-      } else if (st.identity) {
-        // the stencil's columns (positions relative to the cell's first particle, the packed
-        // values) from contiguous ranges of the cell-ordered store: plain strided loops
-        st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) {
-          copy_positions<D>(pos, k0, len, origin, cx, m);
-          const F32* __restrict in = pk + k0;
-          // the packed values in a loop of their own (fused with the positions GCC 12 left the
-          // loop scalar; `omp simd` keeps the copies from becoming memcpy calls, slower for
-          // ranges of ~30 entries)
-          if constexpr (Pass == 0) {
-            F32* __restrict op = cp + m;
-            F32* __restrict ov = cv + m;
-#pragma omp simd
-            for (std::size_t i = 0; i < len; ++i) {
-              op[i] = in[i];
-              ov[i] = in[np + i];
+        if (st.identity) {
+          // the same order from the runs of one kind in each range (a cell's particles keep their
+          // order, so fluid and walls come in a few runs): vector copies of each run. A branch
+          // per candidate was a quarter of pass B in 3D, where nearly every cell has walls near.
+          fluid_end = (st.count - nwall + kLanes - 1) / kLanes * kLanes;
+          std::size_t mf = 0, mw = fluid_end;
+          st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t) {
+            const F32* __restrict fr = flag + k0;
+            for (std::size_t q = 0; q < len;) {
+              const bool fl = fr[q] == F32(1);
+              std::size_t e = q + 1;
+              while (e < len && (fr[e] == F32(1)) == fl) ++e;
+              std::size_t& m = fl ? mf : mw;
+              copy_run(k0 + static_cast<std::uint32_t>(q), e - q, m, !fl);
+              m += e - q;
+              q = e;
             }
-          } else if constexpr (Pass == 1) {
-            F32* __restrict u0 = cu[0] + m;
-            F32* __restrict u1 = cu[1] + m;
-            F32* __restrict u2 = cu[D - 1] + m;
-            F32* __restrict ov = cv + m;
-#pragma omp simd
-            for (std::size_t i = 0; i < len; ++i) {
-              u0[i] = in[i];
-              u1[i] = in[np + i];
-              if constexpr (D == 3) u2[i] = in[2 * np + i];
-              ov[i] = in[D * np + i];
-            }
-          }
-        });
+          });
+          pad(mf, fluid_end);
+          npad_all = (mw + kLanes - 1) / kLanes * kLanes;
+          pad(mw, npad_all);
+        } else {
+          std::size_t m = 0;
+          st.for_each([&](std::size_t, std::uint32_t b) { if (flag[b] == F32(1)) put(m++, b); });
+          fluid_end = (m + kLanes - 1) / kLanes * kLanes;
+          pad(m, fluid_end);
+          m = fluid_end;
+          st.for_each([&](std::size_t, std::uint32_t b) { if (flag[b] != F32(1)) put(m++, b); });
+          npad_all = (m + kLanes - 1) / kLanes * kLanes;
+          pad(m, npad_all);
+        }
+      } else if (st.identity) {  // the stencil's contiguous ranges
+        st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) { copy_run(k0, len, m, false); });
       } else {
         st.for_each([&](std::size_t m, std::uint32_t b) {
           for (int d = 0; d < D; ++d) cx[d][m] = F32(pos[b][d] - origin[d]);
