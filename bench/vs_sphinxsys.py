@@ -207,6 +207,37 @@ def run_sphflume(a, dim, dp, run_dir, reuse):
                 energy=(e["time"], e["total"] / e["total"][0]), front=(fr["time"], fr["front"]))
 
 
+def observer_series(run_dir, dim, dp, h_over_dp=1.3):
+    """SPHinXsys's observer applied to SPHFlume's snapshots: the kernel (Shepard) average of the
+    fluid pressure at the probe, sum p W V / sum W V with V = m / rho, Wendland C2 at SPHinXsys's
+    smoothing length h = 1.3 dp, so that both codes' pressures are read by one gauge. None when
+    the run wrote no snapshots or h5py is missing."""
+    try:
+        import h5py
+    except ImportError:
+        return None
+    files = sorted(glob.glob(os.path.join(run_dir, "snapshots", "snap_*.h5")))
+    if not files:
+        return None
+    probe = np.array([5.366, 0.2]) if dim == "2d" else np.array([5.366, 0.25, 0.2])  # (SPHFlume's axes)
+    cols = [0, 2] if dim == "2d" else [0, 1, 2]  # (2D snapshots hold (x, 0, z))
+    h = h_over_dp * dp
+    ts, ps = [], []
+    for fn in files:
+        with h5py.File(fn, "r") as f:
+            fl = f["kind"][:] == 0
+            x = f["position"][:][:, cols][fl]
+            p = f["pressure"][:][fl]
+            v = (f["mass"][:] / f["density"][:])[fl]
+            t = float(f.attrs["time"])
+        q = np.linalg.norm(x - probe, axis=1) / h
+        w = np.clip(1.0 - 0.5 * q, 0.0, None) ** 4 * (2.0 * q + 1.0) * v  # (the constant cancels)
+        ts.append(t)
+        ps.append(float((w * p).sum() / w.sum()) if w.sum() > 0 else 0.0)
+    order = np.argsort(ts)
+    return np.array(ts)[order], np.array(ps)[order]
+
+
 def metrics(r, H=1.0, g=1.0, sensor=False):
     """Impact time (first p > 0.1 rho g H), peak, post-impact mean over t sqrt(g/H) in [2.8, 7]."""
     t, p = r["sensor"][:2] if sensor else r["p"]
@@ -297,6 +328,9 @@ def main():
                 row["sphflume_sensor"] = metrics(sf, sensor=True)
                 win = (sf["sensor"][0] >= 2.8) & (sf["sensor"][0] <= 7.0)
                 row["sphflume_sensor"]["band_std_mean"] = float(sf["sensor"][2][win].mean())
+            obs = observer_series(os.path.join(a.out, f"sphflume_{tag}"), dim, dp)
+            if obs is not None:  # (SPHinXsys's gauge on SPHFlume's fields)
+                row["sphflume_observer"] = metrics(dict(sf, p=obs))
             if sx:
                 row.update(sphinxsys_wall=sx["wall"], sphinxsys_process=sx["process"],
                            sphinxsys_advection_steps=sx["advection_steps"], sphinxsys=metrics(sx),

@@ -237,12 +237,15 @@ class CellList {
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
   std::size_t bytes() const {
     std::size_t b = cell_of_.capacity() * 4 + sorted_.capacity() * 4 + cell_start_.capacity() * 4 + occupied_.capacity() * 4 +
-                    tmp_.capacity() + moved_in_.capacity() * sizeof(Move) +
+                    tmp_.capacity() + sweep_work_.capacity() * 8 + moved_in_.capacity() * sizeof(Move) +
                     (moved_out_.capacity() + left_.capacity() + arrive_.capacity()) * 4;
     for (const auto& m : found_) b += m.capacity() * sizeof(Move);
     return b;
   }
   double cell_size() const { return cell_; }
+  /// sweep_cells' scratch: the occupied cells' work and its running sums (kept with the list,
+  /// so that bytes() counts it and no pass allocates it anew)
+  std::vector<std::uint64_t>& sweep_work() const { return sweep_work_; }
 
  private:
   double cell_ = 1, inv_cell_ = 1;
@@ -251,6 +254,7 @@ class CellList {
   int dims_[D]{};
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, occupied_;
   mutable std::vector<char> tmp_;  // mark_near's scratch (kept: no allocation per call)
+  mutable std::vector<std::uint64_t> sweep_work_;
   bool adopted_ = false;  // the last build was followed by adopt_permutation()
   struct Move {
     std::uint32_t cell, index, from, to;  // new cell, index in the store, old cell, new index
@@ -532,8 +536,8 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
 #endif
   // each thread's rate in the last calls of this pass (each body is its own instantiation)
   static std::vector<double> rate;
-  thread_local std::vector<std::uint64_t> work;  // the cells' work, then its running sums
-  work.resize(nocc + 1);
+  auto& work = cells.sweep_work();  // the cells' work, then its running sums
+  if (maxt > 1) work.resize(nocc + 1);
   std::uint64_t* __restrict wk = work.data();
   std::vector<std::size_t> first(static_cast<std::size_t>(maxt) + 1, nocc);  // each thread's first cell
   std::vector<double> took(static_cast<std::size_t>(maxt), 0.0);
