@@ -202,7 +202,7 @@ TEST(CellList, UpdateMatchesFullSort3D) {
 
 // sweep_cells hands each thread a contiguous run of cells, balanced by the cells' work and by
 // the rates the threads ran at in earlier calls. Whatever the partition (1, 2 or 3 threads, and
-// after calls in which one part of the tank was made 20x slower, which moves the runs), every
+// after calls in which the low third of the cells was made slower, which moves the runs), every
 // cell that needs the pass is run exactly once, no other cell is run, the stencil is the cell's
 // own, and the returned total is the sum of the bodies' returns.
 TEST(CellList, SweepRunsEveryNeededCellOnce) {
