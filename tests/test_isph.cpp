@@ -97,6 +97,48 @@ TEST(ISPH, HypreSolverSolvesPoisson1D) {
   EXPECT_LE(r.iterations, 10);
 }
 
+// With rows numbered by particle (SparseRows::stable_rows) the hypre solver reuses the BoomerAMG
+// hierarchy it built for an earlier system of the same size: the next, slightly different system
+// (every coefficient 2 % larger, another right-hand side) is solved to the same tolerance without a
+// new set-up, and its solution agrees with a fresh solver's within what the tolerance allows; a
+// system of another size gets a hierarchy of its own.
+TEST(ISPH, HypreSolverReusesItsHierarchyForTheNextSystem) {
+  if (!have_hypre()) GTEST_SKIP() << "built without hypre";
+  const int n = 400;
+  const double tol = 1e-10;
+  SparseRows sys = poisson_1d(n);
+  sys.stable_rows = true;
+  auto solver = make_hypre_solver(tol, 1000);
+  std::vector<double> x;
+  const SolveReport first = solver->solve(sys, x);
+  ASSERT_TRUE(first.converged);
+  EXPECT_TRUE(first.setup);
+  SparseRows next = sys;
+  for (auto& v : next.val) v *= 1.02;
+  for (std::size_t r = 0; r < next.rhs.size(); ++r) next.rhs[r] = -2.0 - 0.5 * std::sin(0.05 * double(r));
+  const SolveReport again = solver->solve(next, x);  // warm start: the last solution
+  ASSERT_TRUE(again.converged);
+  EXPECT_FALSE(again.setup);
+  EXPECT_LE(again.residual, 10.0 * tol);
+  auto fresh = make_hypre_solver(tol, 1000);
+  std::vector<double> y;
+  ASSERT_TRUE(fresh->solve(next, y).converged);
+  double worst = 0.0, top = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    worst = std::max(worst, std::abs(x[i] - y[i]));
+    top = std::max(top, std::abs(y[i]));
+  }
+  // both within cond(A) ~ n² times their residuals (10 tol each) of the exact solution
+  EXPECT_LT(worst / top, 2.0 * 10.0 * tol * n * n);
+  // another size: a new hierarchy
+  SparseRows other = poisson_1d(n - 1);
+  other.stable_rows = true;
+  std::vector<double> z;
+  const SolveReport third = solver->solve(other, z);
+  EXPECT_TRUE(third.converged);
+  EXPECT_TRUE(third.setup);
+}
+
 // A particle inside the block has a full kernel support on the lattice: its summation density is
 // the reference density (the lattice sum of m W, which the scheme normalises to ρ0), and still water without gravity has no
 // pressure: the PPE's right-hand side vanishes (no divergence, no density error) and the outer
@@ -261,6 +303,11 @@ TEST(ISPH, OptionsAreReadAndWcsphKeysReported) {
   EXPECT_DOUBLE_EQ(c.isph.tolerance, 1e-8);
   EXPECT_EQ(c.isph.max_iterations, 50);
   EXPECT_TRUE(c.isph.gradient_lattice);
+  // the artificial viscosity beside the laminar term: on by default (α = 0.02), off with alpha: 0
+  EXPECT_DOUBLE_EQ(c.isph.alpha, 0.02);
+  EXPECT_TRUE(c.isph.laminar);
+  EXPECT_DOUBLE_EQ(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, alpha: 0}"}).isph.alpha, 0.0);
+  EXPECT_FALSE(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, viscosity: artificial}"}).isph.laminar);
   ASSERT_EQ(c.warnings.size(), 1u);
   EXPECT_NE(c.warnings[0].find("scheme.delta"), std::string::npos);
   EXPECT_NE(c.warnings[0].find("ignored under scheme.type: isph"), std::string::npos);

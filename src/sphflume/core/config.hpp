@@ -48,6 +48,7 @@ struct SchemeConfig {
   double delta = 0.1;
   ViscosityModel viscosity = ViscosityModel::Laminar;
   double alpha = 0.01;  // Monaghan artificial viscosity
+  double alpha_on_laminar = 0.0;  // not a case key: Monaghan's term beside the laminar one (ISPH's force pass)
   PressureGradient pressure_gradient = PressureGradient::Sum;
   int shepard_every = 0;  // 0 = never
   double xsph = 0.0;      // epsilon of XSPH; 0 = off
@@ -70,7 +71,10 @@ struct IsphConfig {
   double viscous_coefficient = 0.125;// dt <= coef h^2 / (nu + nu_t)
   double dt_max = 0.0;               // 0: no cap beyond the limits above
   double eta2 = 0.01;                // η²/h² in 1/(r² + η²) (Laplacian and viscous term)
-  bool viscosity = true;             // the laminar (Lo & Shao) viscous term; false = inviscid
+  bool viscosity = true;             // a viscous term (laminar and/or artificial); false = inviscid
+  bool laminar = true;               // the laminar (Lo & Shao) term (viscosity: laminar)
+  double alpha = 0.02;               // Monaghan's artificial viscosity beside the laminar term, with the
+                                     // reference sound speed c0 (PySPH's SISPH: 0.05); 0 = none
   PpeSource source = PpeSource::Hybrid;
   double gamma = 0.97;               // hybrid source: γ div-free + (1 − γ) density-invariant
   bool density_deficit = true;       // the density-invariant part acts on deficits too (the thesis)

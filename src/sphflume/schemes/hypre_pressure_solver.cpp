@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -100,23 +101,34 @@ class HypreAmg final : public PressureSolver {
     HYPRE_ParVector pb = vec(rhs_.data(), B), px = vec(x.data(), X);  // x: the warm start
     HYPRE_ParVector pr = vec(rhs_.data(), R);
 
-    HYPRE_Solver amg, krylov;
-    HYPRE_BoomerAMGCreate(&amg);
-    HYPRE_BoomerAMGSetPrintLevel(amg, 0);
-    HYPRE_BoomerAMGSetCoarsenType(amg, 10);     // HMIS
-    HYPRE_BoomerAMGSetInterpType(amg, 6);       // extended+i
-    HYPRE_BoomerAMGSetPMaxElmts(amg, 4);
-    HYPRE_BoomerAMGSetStrongThreshold(amg, 0.25);
-    HYPRE_BoomerAMGSetRelaxType(amg, 8);        // l1 symmetric Gauss-Seidel
-    HYPRE_BoomerAMGSetNumSweeps(amg, 1);
-    HYPRE_BoomerAMGSetMaxIter(amg, 1);          // one V-cycle as the preconditioner
-    HYPRE_BoomerAMGSetTol(amg, 0.0);
+    // the hierarchy: rebuilt for this matrix, or the last one reused (rows numbered by particle,
+    // same size, not too old, and the last solve not much slower than the one after the build).
+    // The reused V-cycle smooths with this matrix on the finest level and the old Galerkin
+    // products below it: a preconditioner for a nearby matrix, which the Krylov method corrects
+    const bool reuse = s.stable_rows && amg_ && sizes[0] == setup_rows_ && age_ < kMaxAge &&
+                       last_its_ <= std::max(2 * setup_its_, setup_its_ + 3);
+    if (!reuse) release_hierarchy();
+    if (!amg_) {
+      HYPRE_BoomerAMGCreate(&amg_);
+      HYPRE_BoomerAMGSetPrintLevel(amg_, 0);
+      HYPRE_BoomerAMGSetCoarsenType(amg_, 10);     // HMIS
+      HYPRE_BoomerAMGSetInterpType(amg_, 6);       // extended+i
+      HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);
+      HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);
+      HYPRE_BoomerAMGSetRelaxType(amg_, 8);        // l1 symmetric Gauss-Seidel
+      HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
+      HYPRE_BoomerAMGSetMaxIter(amg_, 1);          // one V-cycle as the preconditioner
+      HYPRE_BoomerAMGSetTol(amg_, 0.0);
+    }
+    HYPRE_Solver krylov;
     HYPRE_ParCSRBiCGSTABCreate(comm_, &krylov);
     HYPRE_ParCSRBiCGSTABSetTol(krylov, tol_);
     HYPRE_ParCSRBiCGSTABSetMaxIter(krylov, maxit_);
     HYPRE_ParCSRBiCGSTABSetPrintLevel(krylov, 0);
     HYPRE_ParCSRBiCGSTABSetPrecond(krylov, reinterpret_cast<HYPRE_PtrToParSolverFcn>(HYPRE_BoomerAMGSolve),
-                                   reinterpret_cast<HYPRE_PtrToParSolverFcn>(HYPRE_BoomerAMGSetup), amg);
+                                   reuse ? reinterpret_cast<HYPRE_PtrToParSolverFcn>(keep_hierarchy)
+                                         : reinterpret_cast<HYPRE_PtrToParSolverFcn>(HYPRE_BoomerAMGSetup),
+                                   amg_);
     HYPRE_ParCSRBiCGSTABSetup(krylov, pA, pb, px);
     HYPRE_ParCSRBiCGSTABSolve(krylov, pA, pb, px);
     HYPRE_Int its = 0;
@@ -129,11 +141,23 @@ class HypreAmg final : public PressureSolver {
     HYPRE_ParVectorInnerProd(pb, pb, &bn);
     HYPRE_IJVectorGetValues(X, n, rows_.data(), x.data());
     HYPRE_ParCSRBiCGSTABDestroy(krylov);
-    HYPRE_BoomerAMGDestroy(amg);
     HYPRE_IJVectorDestroy(B);
     HYPRE_IJVectorDestroy(X);
     HYPRE_IJVectorDestroy(R);
-    HYPRE_IJMatrixDestroy(A);
+    if (reuse) {
+      HYPRE_IJMatrixDestroy(A);  // (the hierarchy keeps the matrix it was built from)
+      ++age_;
+    } else if (s.stable_rows) {
+      setup_A_ = A;  // kept alive with its hierarchy
+      setup_rows_ = sizes[0];
+      setup_its_ = static_cast<int>(its);
+      age_ = 0;
+    } else {
+      release_hierarchy();
+      HYPRE_IJMatrixDestroy(A);
+    }
+    last_its_ = static_cast<int>(its);
+    rep.setup = !reuse;
 
     rep.iterations = static_cast<int>(its);
     rep.residual = bn > 0.0 ? std::sqrt(rn / bn) : std::sqrt(rn);
@@ -143,8 +167,21 @@ class HypreAmg final : public PressureSolver {
     return rep;
   }
   std::size_t bytes() const override { return bytes_; }
+  ~HypreAmg() override { release_hierarchy(); }
 
  private:
+  static constexpr int kMaxAge = 25;  // solves a hierarchy serves at most
+  static HYPRE_Int keep_hierarchy(HYPRE_Solver, HYPRE_ParCSRMatrix, HYPRE_ParVector, HYPRE_ParVector) { return 0; }
+  void release_hierarchy() {
+    if (amg_) HYPRE_BoomerAMGDestroy(amg_);
+    if (setup_A_) HYPRE_IJMatrixDestroy(setup_A_);
+    amg_ = nullptr;
+    setup_A_ = nullptr;
+  }
+  HYPRE_Solver amg_ = nullptr;
+  HYPRE_IJMatrix setup_A_ = nullptr;
+  std::uint64_t setup_rows_ = 0;
+  int setup_its_ = 0, last_its_ = 0, age_ = 0;
   double tol_;
   int maxit_;
   MPI_Comm comm_;

@@ -22,7 +22,10 @@ SchemeConfig force_config(const Case& c) {
   f.xsph = 0.0;
   f.shifting = ShiftingConfig{};
   f.frozen = false;
-  f.viscosity = c.isph.viscosity ? ViscosityModel::Laminar : ViscosityModel::None;
+  f.viscosity = !c.isph.viscosity ? ViscosityModel::None
+                : c.isph.laminar ? ViscosityModel::Laminar : ViscosityModel::Artificial;
+  f.alpha = c.isph.viscosity ? c.isph.alpha : 0.0;
+  f.alpha_on_laminar = c.isph.viscosity && c.isph.laminar ? c.isph.alpha : 0.0;
   f.eta2 = c.isph.eta2;
   return f;
 }
@@ -218,6 +221,8 @@ void ISPH<D>::classify(System<D>& S) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double beta_rho = o_.fs_threshold * S.eos.rho0;  // densities normalised by ρ_ref/ρ0
+  // a first-layer wall particle is dry (P = 0) by its density whatever the fluid's criterion
+  const double beta_wall = (o_.fs_divergence ? 0.99 : o_.fs_threshold) * S.eos.rho0;
   const double beta_div = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
   // at the free surface: the density (Tsurudome eq 4.2.3) or the position divergence (in drho)
   auto free = [&](std::size_t i) { return o_.fs_divergence ? P.drho[i] < beta_div : P.rho[i] < beta_rho; };
@@ -234,7 +239,7 @@ void ISPH<D>::classify(System<D>& S) {
       fs += cls_[i];
     } else if (k == Kind::Wall) {
       const double depth = norm((*to)[i]);
-      if (depth < S.dx) cls_[i] = P.rho[i] < beta_rho ? 1 : 0;  // first layer: wet, or dry (P = 0) by its density
+      if (depth < S.dx) cls_[i] = P.rho[i] < beta_wall ? 1 : 0;  // first layer: wet, or dry (P = 0) by its density
       else cls_[i] = 2;
     }
   }
@@ -262,8 +267,24 @@ void ISPH<D>::classify(System<D>& S) {
     map_[i] = pick;
   }
   int k = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (cls_[i] == 0) unknown_[i] = k++;
+  stable_rows_ = S.comm->size() == 1 && std::string(solver_->name()) == "hypre_boomeramg";
+  if (stable_rows_) {
+    // one process with hypre: a row for every fluid and first-layer wall particle, numbered by
+    // particle id, P = 0 ones as identity rows, so that row r is the same particle from step to
+    // step and the solver may reuse its multigrid hierarchy (pressure_solver.hpp)
+    std::uint32_t top = 0;
+    for (std::size_t i = 0; i < n; ++i) top = std::max(top, P.id[i]);
+    row_of_id_.assign(std::size_t(top) + 1, -1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (cls_[i] != 2 && (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)) row_of_id_[P.id[i]] = 0;
+    for (auto& r : row_of_id_)
+      if (r == 0 || r > 0) r = k++;
+    for (std::size_t i = 0; i < n; ++i)
+      if (cls_[i] != 2 && (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)) unknown_[i] = row_of_id_[P.id[i]];
+  } else {
+    for (std::size_t i = 0; i < n; ++i)
+      if (cls_[i] == 0) unknown_[i] = k++;
+  }
   // the unknowns' global numbers: this rank's after those of the ranks before it (one process: 0..)
   std::uint64_t total = 0;
   first_row_ = static_cast<std::size_t>(S.comm->exscan(static_cast<std::uint64_t>(k), total));
@@ -350,6 +371,13 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
       }
     });
   }
+  if (o_.solver_auto && !solver_chosen_) {
+    // solver.type auto: hypre's BoomerAMG whenever the build has it (its hierarchy reused over
+    // steps: faster than Eigen's Jacobi BiCGSTAB from 1 k unknowns on, whose iterations grow as
+    // N^(1/2): docs/numerics.md §13); Eigen's solver otherwise
+    solver_chosen_ = true;
+    if (have_hypre()) solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations);
+  }
   classify(S);
   // the walls' density in the pressure terms: the reference (a wall is no fluid to compress)
   for (std::size_t i = 0; i < n; ++i) {
@@ -361,18 +389,11 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   // warm start: the pressures the unknowns had
   x_.assign(sys_.rows(), 0.0);
   for (std::size_t i = 0; i < n; ++i)
-    if (unknown_[i] >= 0) x_[static_cast<std::size_t>(unknown_[i])] = P.p[i];
+    if (unknown_[i] >= 0) x_[static_cast<std::size_t>(unknown_[i])] = cls_[i] == 0 ? P.p[i] : 0.0;
   stats_.assemble_s += seconds_since(t0);
   if (S.comm->size() > 1 && !solver_all_ranks_) {  // a distributed run: hypre over every rank's rows
     solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, true);
     solver_all_ranks_ = solver_chosen_ = true;
-  }
-  if (o_.solver_auto && !solver_chosen_) {
-    // solver.type auto: Eigen's Jacobi BiCGSTAB for small systems (no hierarchy to build each step),
-    // hypre's BoomerAMG from kAutoAmgUnknowns on (BiCGSTAB's iterations grow as N^(1/2) and far worse
-    // in a long flume: 15 times slower than AMG on the 7 m solitary-wave flume, 17 k unknowns)
-    solver_chosen_ = true;
-    if (have_hypre() && sys_.rows() >= kAutoAmgUnknowns) solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations);
   }
   const auto t1 = std::chrono::steady_clock::now();
   const SolveReport rep = solver_->solve(sys_, x_);
@@ -391,7 +412,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
         S.step, S.time, rep.unknowns, rep.iterations, rep.residual, o_.tolerance));
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
-    P.p[i] = unknown_[i] >= 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
+    P.p[i] = unknown_[i] >= 0 && cls_[i] == 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
   }
   S.refresh_halos();  // (the feet's pressures, also where a foot is another part's)
   for (std::size_t i = 0; i < n; ++i)
@@ -446,6 +467,11 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       diag -= c;
       if (col >= 0) e.emplace_back(col, c);
     });
+    if (cls_[i] != 0) {  // a P = 0 particle's identity row (stable row numbering)
+      e.assign(1, {me, diag < 0.0 ? diag : -1.0});
+      rhs[static_cast<std::size_t>(unknown_[i])] = 0.0;
+      continue;
+    }
     std::sort(e.begin(), e.end());
     std::vector<std::pair<int, double>> merged;
     merged.reserve(e.size() + 1);
@@ -464,6 +490,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     rhs[static_cast<std::size_t>(unknown_[i])] = gamma * b_hs + (1.0 - gamma) * b_std + known;
   }
   sys_.first_row = first_row_;
+  sys_.stable_rows = stable_rows_;
   sys_.start.assign(1, 0);
   sys_.col.clear();
   sys_.val.clear();

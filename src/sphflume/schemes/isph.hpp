@@ -85,7 +85,6 @@ class ISPH final : public Scheme<D> {
   std::unique_ptr<PressureSolver> solver_;
   bool solver_chosen_ = false;  // solver.type auto: decided at the first solve by its size
   bool solver_all_ranks_ = false;  // distributed: hypre over every rank's rows
-  static constexpr std::size_t kAutoAmgUnknowns = 10000;
   double rho_ref_ = 0.0;
   // porous media: the reference density of a lattice of spacing dx/φ^(1/D) (the fluid inside a
   // medium of porosity φ), tabulated over φ ∈ [phi_lo_, 1] (Tsurudome eq 4.2.4, digest §8)
@@ -100,6 +99,8 @@ class ISPH final : public Scheme<D> {
   // 2 dummy (P of map_[i]); unknown numbers; the system
   std::vector<char> cls_;
   std::vector<int> unknown_, map_;
+  bool stable_rows_ = false;        // rows numbered by particle id (classify)
+  std::vector<int> row_of_id_;
   std::vector<double> dummy_off_;  // dummy_pressure body_force: P_dummy − P_foot
   std::size_t first_row_ = 0;      // the global number of this rank's first unknown
   std::vector<double> col_, off_;  // per particle, images included: PPE column (-1 none), dummy offset

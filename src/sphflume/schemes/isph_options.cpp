@@ -7,7 +7,7 @@ namespace sph {
 
 void read_isph_options(Reader& r, IsphConfig& o) {
   // keys of the weakly-compressible scheme: meaningless here, reported, not refused
-  for (const char* k : {"integrator", "verlet_steps", "density_diffusion", "delta", "alpha", "pressure_gradient",
+  for (const char* k : {"integrator", "verlet_steps", "density_diffusion", "delta", "pressure_gradient",
                         "shepard_every", "xsph", "frozen"})
     if (r.has(k)) {
       const Node& n = r.get(k);
@@ -20,10 +20,12 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   o.dt_max = r.in_range("dt_max", 0.0, 0.0, 1e3);
   o.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);
   const std::string vm = r.choice("viscosity", "laminar", {"none", "laminar", "artificial"});
-  if (vm == "artificial")  // the projection scheme has no sound speed to scale Monaghan's term
-    o.ignored.push_back(fmt::format("{}: scheme.viscosity: artificial (the laminar term is used)",
-                                    Reader::where(r.get("viscosity"))));
   o.viscosity = vm != "none";
+  // Monaghan's term (c0 the case's reference sound speed) beside the laminar one: it damps the
+  // particle-scale velocity noise of the projection (docs/numerics.md §13); `viscosity: artificial`
+  // is the same with the laminar term off
+  o.alpha = r.in_range("alpha", 0.02, 0.0, 1.0);
+  o.laminar = vm == "laminar";
   if (r.has("shifting")) {  // the same keys as under wcsph (physics/shifting.hpp)
     Reader q(r.get("shifting"), r.file(), "scheme.shifting");
     o.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);

@@ -20,12 +20,17 @@ struct SparseRows {
   std::vector<int> col;
   std::vector<double> val;
   std::vector<double> rhs;
+  /// True when row r is the same particle from one system to the next (rows numbered by particle
+  /// identity, P = 0 particles kept as identity rows): a solver may then precondition a system with
+  /// what it built for an earlier one of the same size (hypre: the BoomerAMG hierarchy).
+  bool stable_rows = false;
   std::size_t rows() const { return start.size() - 1; }
   std::size_t nonzeros() const { return col.size(); }
 };
 
 struct SolveReport {
   int iterations = 0;
+  bool setup = true;  // the preconditioner was built for this system (false: an earlier one reused)
   double residual = 0.0;  // |b − A x| / |b| at the end
   bool converged = false;
   std::size_t unknowns = 0, nonzeros = 0;

@@ -57,7 +57,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   // every optional term is on the same code path, scaled by a 0/1 (or coefficient) factor:
   // the inner loop has no branches and vectorises
   const double lam = (cfg_.viscosity == ViscosityModel::Laminar) ? 4.0 * S.nu : 0.0;
-  const double alpha = (cfg_.viscosity == ViscosityModel::Artificial) ? cfg_.alpha : 0.0;
+  const double alpha = (cfg_.viscosity == ViscosityModel::Artificial) ? cfg_.alpha : cfg_.alpha_on_laminar;
   const double fdiff = (cfg_.density_diffusion != DensityDiffusion::None && cfg_.delta > 0.0) ? 1.0 : 0.0;
   const double four = cfg_.density_diffusion == DensityDiffusion::Fourtakas ? 1.0 : 0.0;
   const double sym = cfg_.pressure_gradient == PressureGradient::Symmetric ? 1.0 : 0.0;
