@@ -63,7 +63,7 @@ struct SchemeConfig {
 
 /// The projection scheme's options (`scheme.type: isph`, schemes/isph.hpp; read by
 /// schemes/isph_options.cpp).
-enum class PpeSource { Hybrid, Standard, DivergenceFree };
+enum class PpeSource { Hybrid, Standard, DivergenceFree, Split };
 
 struct IsphConfig {
   double cfl = 0.2;                  // dt <= cfl dx / |u|max (Tsurudome §6: the particle spacing, not h)
@@ -75,8 +75,12 @@ struct IsphConfig {
   bool laminar = true;               // the laminar (Lo & Shao) term (viscosity: laminar)
   double alpha = 0.02;               // Monaghan's artificial viscosity beside the laminar term, with the
                                      // reference sound speed c0 (PySPH's SISPH: 0.05); 0 = none
-  PpeSource source = PpeSource::Hybrid;
+  // split (default): the pressure from the divergence-free source alone, the density error corrected
+  // by a second solve that moves the particles (δr = −Δt² ∇ψ/ρ, a fraction `relaxation` of the error
+  // per step); hybrid: Tsurudome's γ div-free + (1 − γ) density-invariant source in one pressure
+  PpeSource source = PpeSource::Split;
   double gamma = 0.97;               // hybrid source: γ div-free + (1 − γ) density-invariant
+  double relaxation = 0.1;           // split source: the fraction of the density error corrected per step
   bool density_deficit = true;       // the density-invariant part acts on deficits too (the thesis)
   bool fs_divergence = false;        // free surface by ∇·r < threshold (Lee et al. 2008) instead of the density
   bool gradient_lattice = false;     // the pressure gradient divided by its lattice moment κ (not in the thesis)

@@ -201,6 +201,7 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   double amax2 = 0.0;
   const auto& x0s = P.vector("x0");
   const auto& v0s = P.vector("v0");
+  const auto* drs = o_.source == PpeSource::Split ? &P.vector("_density_shift") : nullptr;
   const std::size_t m = P.n_owned();
 #pragma omp parallel for schedule(static) reduction(max : amax2)
   for (std::size_t i = 0; i < m; ++i) {
@@ -208,6 +209,7 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
     const Vec<D> dv = P.vel[i] - v0s[i];
     amax2 = std::max(amax2, dot(dv, dv));
     P.pos[i] = x0s[i] + (0.5 * dt) * (v0s[i] + P.vel[i]);  // trapezoidal (Tsurudome eq 3.2.6)
+    if (drs) P.pos[i] += (*drs)[i];  // source.type split: the density error's displacement
   }
   amax_ = std::sqrt(amax2) / dt;
   if (shift_.on()) shift_.apply(S);
@@ -418,6 +420,40 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   for (std::size_t i = 0; i < n; ++i)
     if (cls_[i] == 2) P.p[i] = map_[i] >= 0 ? P.p[static_cast<std::size_t>(map_[i])] + dummy_off_[i] : 0.0;
   S.refresh_halos();
+  if (o_.source == PpeSource::Split) solve_density(S);
+}
+
+template <int D>
+void ISPH<D>::solve_density(System<D>& S) {
+  // source.type split: the density error's own solve, with the same matrix (and multigrid
+  // hierarchy), A ψ = (ρ0 − ρ*)/(ρ0 Δt²); ψ moves the particles (correct(): δr = −Δt² ∇ψ/ρ) but is
+  // neither a pressure nor a velocity (Bender & Koschier 2017 split the two solves the same way)
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  auto& psi = P.scalar("_psi");
+  x_.assign(sys_.rows(), 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (unknown_[i] >= 0 && cls_[i] == 0) x_[static_cast<std::size_t>(unknown_[i])] = psi[i];
+  sys_.rhs.swap(rhs_density_);
+  const auto t1 = std::chrono::steady_clock::now();
+  const SolveReport rep = solver_->solve(sys_, x_);
+  stats_.solve_s += seconds_since(t1);
+  sys_.rhs.swap(rhs_density_);
+  ++stats_.solves;
+  stats_.iterations += rep.iterations;
+  stats_.max_iterations = std::max(stats_.max_iterations, rep.iterations);
+  stats_.max_residual = std::max(stats_.max_residual, rep.residual);
+  if (!rep.converged)
+    throw SimulationError(fmt::format("at step {}, t = {:.6g} s: the density-error equation (scheme.source.type: split) did "
+                                      "not converge ({} unknowns, {} iterations, relative residual {:.3g}); likely cause: a "
+                                      "time step too large for the flow (lower scheme.cfl)",
+                                      S.step, S.time, rep.unknowns, rep.iterations, rep.residual));
+  for (std::size_t i = 0; i < n; ++i)
+    psi[i] = unknown_[i] >= 0 && cls_[i] == 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
+  S.refresh_halos(psi.data());
+  for (std::size_t i = 0; i < n; ++i)
+    if (cls_[i] == 2) psi[i] = map_[i] >= 0 ? psi[static_cast<std::size_t>(map_[i])] : 0.0;
+  S.refresh_halos(psi.data());
 }
 
 template <int D>
@@ -426,7 +462,8 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double eta2 = o_.eta2 * S.h * S.h;
-  const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : o_.source == PpeSource::DivergenceFree ? 1.0 : 0.0;
+  const bool split = o_.source == PpeSource::Split;
+  const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : (o_.source == PpeSource::DivergenceFree || split) ? 1.0 : 0.0;
   const double rr = S.eos.rho0;  // the densities are normalised (solve_pressure)
   const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
   const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
@@ -434,6 +471,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   // each row into its own slot (parallel), then concatenated in row order (deterministic)
   std::vector<std::vector<std::pair<int, double>>> row(rows);
   std::vector<double> rhs(rows, 0.0);
+  rhs_density_.assign(split ? rows : 0, 0.0);
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
     if (unknown_[i] < 0) continue;
@@ -488,6 +526,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     // particle the flow has just left room around) is not sucked back unless asked for
     const double b_std = (o_.density_deficit ? rr - ri : std::min(rr - ri, 0.0)) / (rr * dt * dt);
     rhs[static_cast<std::size_t>(unknown_[i])] = gamma * b_hs + (1.0 - gamma) * b_std + known;
+    if (split) rhs_density_[static_cast<std::size_t>(unknown_[i])] = o_.relaxation * b_std;  // (a dummy's offset: not a density error)
   }
   sys_.first_row = first_row_;
   sys_.stable_rows = stable_rows_;
@@ -511,10 +550,12 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   const double inv_kappa = o_.gradient_lattice && kappa_ > 0.0 ? 1.0 / kappa_ : 1.0;
   const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
   const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
+  const double* psi = o_.source == PpeSource::Split ? P.scalar("_psi").data() : nullptr;
+  auto* dr = psi ? &P.vector("_density_shift") : nullptr;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
-    Vec<D> grad{};
+    Vec<D> grad{}, gpsi{};
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
       if (!(r2 > 0.0)) return;
       const Kind kj = P.kind[j];
@@ -522,8 +563,11 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
       const double F = ker.F(std::sqrt(r2));
       const double mj = phi && kj == Kind::Fluid ? P.mass[j] / phi[j] : P.mass[j];  // porous: volume m/(φρ)
       grad += gradient_weight(mj, P.p[i], P.rho[i], P.p[j], P.rho[j], F) * rij;
+      if (psi) gpsi += gradient_weight(mj, psi[i], P.rho[i], psi[j], P.rho[j], F) * rij;
     });
-    P.vel[i] -= (dt * inv_kappa * (mob ? mob[i] : 1.0)) * grad;
+    const double scale = inv_kappa * (mob ? mob[i] : 1.0);
+    P.vel[i] -= (dt * scale) * grad;
+    if (psi) (*dr)[i] = (-dt * dt * scale) * gpsi;
   }
 }
 

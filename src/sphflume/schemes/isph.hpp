@@ -77,6 +77,7 @@ class ISPH final : public Scheme<D> {
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
   template <class K> void correct(System<D>& S, const K& ker, double dt);
   void classify(System<D>& S);
+  void solve_density(System<D>& S);
   void set_reference(const System<D>& S);
 
   IsphConfig o_;
@@ -106,6 +107,7 @@ class ISPH final : public Scheme<D> {
   std::vector<double> col_, off_;  // per particle, images included: PPE column (-1 none), dummy offset
   SparseRows sys_;
   std::vector<double> x_;
+  std::vector<double> rhs_density_;  // source.type split: the density error's right-hand side
 };
 
 }  // namespace sph

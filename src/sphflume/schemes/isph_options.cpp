@@ -36,9 +36,16 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   o.gradient_lattice = r.choice("gradient_normalisation", "none", {"none", "lattice"}) == "lattice";
   if (r.has("source")) {
     Reader q(r.get("source"), r.file(), "scheme.source");
-    const std::string t = q.choice("type", "hybrid", {"hybrid", "standard", "divergence_free"});
-    o.source = t == "hybrid" ? PpeSource::Hybrid : t == "standard" ? PpeSource::Standard : PpeSource::DivergenceFree;
+    const std::string t = q.choice("type", "split", {"split", "hybrid", "standard", "divergence_free"});
+    o.source = t == "hybrid" ? PpeSource::Hybrid : t == "standard" ? PpeSource::Standard
+               : t == "split" ? PpeSource::Split : PpeSource::DivergenceFree;
     o.gamma = q.in_range("gamma", 0.97, 0.0, 1.0);
+    o.relaxation = q.in_range("relaxation", 0.1, 1e-6, 1.0);
+    const bool hyb = o.source == PpeSource::Hybrid, spl = o.source == PpeSource::Split;
+    if (q.has("gamma") && !hyb)
+      q.fail_at(q.get("gamma"), "scheme.source.gamma", "type: hybrid (gamma weighs the hybrid source; drop it, or set type: hybrid)");
+    if (q.has("relaxation") && !spl)
+      q.fail_at(q.get("relaxation"), "scheme.source.relaxation", "type: split (relaxation belongs to the split source)");
     o.density_deficit = q.choice("density_error", "both", {"both", "compression"}) == "both";
     q.finish();
   }
