@@ -138,8 +138,10 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   auto& P = S.particles;
   if (!(rho_ref_ > 0.0)) set_reference(S);  // a run restarted from a snapshot (no initialise)
   // 1. prediction at r_t
+  const auto t_pred = std::chrono::steady_clock::now();
   S.update_neighbours();
   forces_.rates(S);
+  stats_.predict_s += seconds_since(t_pred);
   auto& x0 = P.vector("x0");
   auto& v0 = P.vector("v0");
   const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
@@ -189,7 +191,9 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
     S.update_neighbours();
     if (S.porous) S.porous->update(S);
     solve_pressure(S, dt);
+    const auto t_corr = std::chrono::steady_clock::now();
     S.with_kernel([&](const auto& K) { this->correct(S, K, dt); });
+    stats_.correct_s += seconds_since(t_corr);
     if (const double allowed = courant_step(); slack * allowed < dt && attempt < 4) {  // the correction's check
       dt = allowed;
       ++stats_.redone;
@@ -197,7 +201,9 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
     }
     break;
   }
+  const auto t_shift = std::chrono::steady_clock::now();
   if (shift_.on()) shift_.compute(S, dt);  // from r* and u_{t+1} (the lists of r*)
+  stats_.correct_s += seconds_since(t_shift);
   double amax2 = 0.0;
   const auto& x0s = P.vector("x0");
   const auto& v0s = P.vector("v0");
@@ -607,10 +613,13 @@ std::string ISPH<D>::summary_json() const {
   return fmt::format(
       "  \"pressure_solver\": {{\"name\": \"{}\", \"solves\": {}, \"mean_iterations\": {:.2f}, \"max_iterations\": {}, "
       "\"max_residual\": {:.3e}, \"tolerance\": {:.3e}, \"unknowns\": {}, \"nonzeros\": {}, \"free_surface\": {}, "
-      "\"assemble_seconds\": {:.3f}, \"solve_seconds\": {:.3f}, \"reference_density\": {:.6g}, \"gradient_moment\": {:.6g}, "
-      "\"redone_steps\": {}}}",
+      "\"assemble_seconds\": {:.3f}, \"solve_seconds\": {:.3f}, \"predict_seconds\": {:.3f}, \"correct_seconds\": {:.3f}, "
+      "\"reference_density\": {:.6g}, \"gradient_moment\": {:.6g}, \"redone_steps\": {}, \"source\": \"{}\"}}",
       solver_->name(), stats_.solves, mean, stats_.max_iterations, stats_.max_residual, o_.tolerance, stats_.unknowns,
-      stats_.nonzeros, stats_.free_surface, stats_.assemble_s, stats_.solve_s, rho_ref_, kappa_, stats_.redone);
+      stats_.nonzeros, stats_.free_surface, stats_.assemble_s, stats_.solve_s, stats_.predict_s, stats_.correct_s, rho_ref_,
+      kappa_, stats_.redone,
+      o_.source == PpeSource::Split ? "split" : o_.source == PpeSource::Hybrid ? "hybrid"
+      : o_.source == PpeSource::Standard ? "standard" : "divergence_free");
 }
 
 template class ISPH<2>;

@@ -34,6 +34,7 @@ struct PpeStats {
   double max_residual = 0.0;
   std::size_t unknowns = 0, nonzeros = 0, free_surface = 0;  // last solve
   double assemble_s = 0.0, solve_s = 0.0;
+  double predict_s = 0.0, correct_s = 0.0;  // the force pass and prediction; the correction (+ shifting)
   long redone = 0;  // steps redone with a shorter Δt (the Courant check after prediction or correction)
 };
 
