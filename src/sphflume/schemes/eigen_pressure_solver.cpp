@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
@@ -24,7 +26,7 @@ class EigenBicgstab final : public PressureSolver {
         n, n, static_cast<Eigen::Index>(s.nonzeros()), outer_.data(), s.col.data(), s.val.data());
     Eigen::Map<const Eigen::VectorXd> b(s.rhs.data(), n);
     Eigen::Map<Eigen::VectorXd> xv(x.data(), n);
-    solver_.setTolerance(tol_);
+    solver_.setTolerance(std::max(tol_, s.tolerance));
     solver_.setMaxIterations(maxit_);
     solver_.compute(A);
     const Eigen::VectorXd guess = xv;

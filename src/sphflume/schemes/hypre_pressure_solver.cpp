@@ -122,7 +122,8 @@ class HypreAmg final : public PressureSolver {
     }
     HYPRE_Solver krylov;
     HYPRE_ParCSRBiCGSTABCreate(comm_, &krylov);
-    HYPRE_ParCSRBiCGSTABSetTol(krylov, tol_);
+    const double tol = std::max(tol_, s.tolerance);
+    HYPRE_ParCSRBiCGSTABSetTol(krylov, tol);
     HYPRE_ParCSRBiCGSTABSetMaxIter(krylov, maxit_);
     HYPRE_ParCSRBiCGSTABSetPrintLevel(krylov, 0);
     HYPRE_ParCSRBiCGSTABSetPrecond(krylov, reinterpret_cast<HYPRE_PtrToParSolverFcn>(HYPRE_BoomerAMGSolve),
@@ -162,7 +163,7 @@ class HypreAmg final : public PressureSolver {
     rep.iterations = static_cast<int>(its);
     rep.residual = bn > 0.0 ? std::sqrt(rn / bn) : std::sqrt(rn);
     // hypre's BiCGSTAB stops on its own (preconditioned) norm: allow a factor 10 on the plain one
-    rep.converged = std::isfinite(rep.residual) && rep.residual <= 10.0 * tol_;
+    rep.converged = std::isfinite(rep.residual) && rep.residual <= 10.0 * tol;
     bytes_ = s.nonzeros() * (3 * sizeof(double) + 2 * sizeof(HYPRE_Int)) + s.rows() * 16 * sizeof(double);
     return rep;
   }

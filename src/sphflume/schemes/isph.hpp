@@ -109,6 +109,7 @@ class ISPH final : public Scheme<D> {
   SparseRows sys_;
   std::vector<double> x_;
   std::vector<double> rhs_density_;  // source.type split: the density error's right-hand side
+  static constexpr double kDensityTolerance = 1e-3;  // its solve's relative residual
 };
 
 }  // namespace sph

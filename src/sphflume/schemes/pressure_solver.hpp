@@ -24,6 +24,8 @@ struct SparseRows {
   /// identity, P = 0 particles kept as identity rows): a solver may then precondition a system with
   /// what it built for an earlier one of the same size (hypre: the BoomerAMG hierarchy).
   bool stable_rows = false;
+  /// The relative residual this system needs, when looser than the solver's own (0: the solver's).
+  double tolerance = 0.0;
   std::size_t rows() const { return start.size() - 1; }
   std::size_t nonzeros() const { return col.size(); }
 };
