@@ -412,3 +412,29 @@ time: {end: 1.0}
   EXPECT_NEAR(quad - centre, trapezoid, 1e-3 * trapezoid);  // (the moment varies ~1e-4 between lattice sites)
   EXPECT_NEAR(quad - centre, exact, 0.13 * exact);
 }
+
+namespace sph {
+// Issue 40 ("Also"): a case with moving walls whose kernel reaches less than 4 dx (h = 1.5 dx with
+// Wendland C2: 3 dx) gets a warning naming the line and the h_over_dx to set (2 for Wendland C2);
+// at h = 2 dx there is none, and a case without moving walls at 1.5 dx has none either.
+TEST(Motion, ShortSupportWithMovingWallsWarns) {
+  auto text = [](const char* hdx, bool paddle) {
+    return std::string("dimension: 2\ngravity: [0.0, -9.81]\nparticles: {dx: 0.01, kernel: wendland_c2, h_over_dx: ") + hdx +
+           "}\nfluid: {density: 1000.0, viscosity: 1.0e-6}\nwalls: {type: dummy}\ngeometry:\n"
+           "  - {type: tank, fill: wall, min: [-0.2, 0.0], max: [1.0, 0.4]}\n" +
+           (paddle ? "  - {type: box, fill: wall, min: [-0.04, 0.0], max: [0.0, 0.4], motion: paddle}\n" : "") +
+           "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.0, 0.2]}\n" +
+           (paddle ? "motions:\n  - {name: paddle, law: solitary, height: 0.04, depth: 0.2}\n" : "") + "time: {end: 1.0}\n";
+  };
+  auto warned = [](const Case& c) {
+    for (const auto& w : c.warnings)
+      if (w.find("moving walls") != std::string::npos) return w;
+    return std::string();
+  };
+  const std::string w = warned(parse_case(text("1.5", true), "w.yaml"));
+  EXPECT_NE(w.find("line 3: particles.h_over_dx: 1.5"), std::string::npos) << w;
+  EXPECT_NE(w.find("set particles.h_over_dx: 2"), std::string::npos) << w;
+  EXPECT_EQ(warned(parse_case(text("2.0", true), "w.yaml")), "");
+  EXPECT_EQ(warned(parse_case(text("1.5", false), "w.yaml")), "");
+}
+}  // namespace sph

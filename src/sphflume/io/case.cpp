@@ -497,6 +497,7 @@ Case build_case(const Node& root, const std::string& file) {
     }
   }
   caseio::read_motions(top, file, c);
+  caseio::warn_short_support_with_motions(top, file, c);
   caseio::check_slopes(c);
   if (top.has("turbulence")) caseio::read_turbulence(top.get("turbulence"), file, c);
   if (top.has("porous")) caseio::read_porous(top.get("porous"), file, c);

@@ -55,5 +55,8 @@ void check_slopes(const Case& c);
 /// The `motions:` section (prescribed wall motions, io/case_motion.cpp), and the check that every
 /// shape's `motion:` names one; after the shapes and walls are read.
 void read_motions(Reader& top, const std::string& file, Case& c);
+/// A case with moving walls whose kernel reaches less than 4 dx (h < 2 dx for Wendland C2): a warning
+/// (stderr, summary.json) that the waves it makes lose their crest there, naming the h_over_dx to set.
+void warn_short_support_with_motions(Reader& top, const std::string& file, Case& c);
 
 }  // namespace sph::caseio

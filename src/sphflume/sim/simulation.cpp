@@ -361,7 +361,8 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
                       R.scheme->passes_per_step());
   std::string ignored;
   for (const auto& w : c.warnings) ignored += fmt::format("{}\"{}\"", ignored.empty() ? "" : ", ", json_escape(w));
-  json += fmt::format("  \"ignored_keys\": [{}],\n", ignored);
+  json += fmt::format("  \"ignored_keys\": [{}],\n", ignored);  // (every warning, the name kept for old readers)
+  json += fmt::format("  \"warnings\": [{}],\n", ignored);
   if (const std::string block = R.scheme->summary_json(); !block.empty()) json += block + ",\n";
   json += fmt::format("  \"dx\": {:.9g},\n  \"h\": {:.9g},\n  \"sound_speed\": {:.9g},\n", S.dx, S.h, S.eos.c0);
   json += fmt::format("  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"inflow\": {}, \"outflow\": {}, \"total\": {}, \"initial_fluid\": {}}},\n",
