@@ -145,7 +145,9 @@ def diffs(a, b):
     return de, df, dp, du, dm
 
 
-def compare(name, a, b, dx, scale_p, label):
+def compare(name, a, b, dx, scale_p, label, ulp=None):
+    """ulp: a one-process run of the same case with gravity one float ulp larger; where given, each gate is at least
+    5 times what that round-off-sized perturbation changes (the projection scheme's impact pressure is chaotic)."""
     sa, sb = (json.load(open(os.path.join(d, "summary.json"))) for d in (a, b))
     for k in ("fluid", "wall", "total"):
         check(sa["particles"][k] == sb["particles"][k], f"{name} {label}: {k} particles {sa['particles'][k]} / {sb['particles'][k]}")
@@ -156,15 +158,21 @@ def compare(name, a, b, dx, scale_p, label):
     n = min(len(ea["time"]), len(eb["time"]))
     check(n >= 3 and len(ea["time"]) == len(eb["time"]), f"{name} {label}: {n} gauge rows in both")
     de, df, dp, du, dm = diffs(a, b)
-    check(de <= 3e-4, f"{name} {label}: energy differs by {de:.2e} relative (gate 3e-4)")
+    ge, gf, gp, gm = 3e-4, 0.02 * dx, 0.1 * scale_p, 0.01 * scale_p
+    if ulp:
+        ue, uf, up, _, um = diffs(a, ulp)
+        ge, gf, gp, gm = max(ge, 5 * ue), max(gf, 5 * uf), max(gp, 5 * up), max(gm, 5 * um)
+        print(f"  ({name}: one ulp of gravity changes the energy by {ue:.2e}, the front by {uf / dx:.2e} dx, the wall "
+              f"pressure by {up / scale_p:.2e} rho g H, its mean by {um / scale_p:.2e})")
+    check(de <= ge, f"{name} {label}: energy differs by {de:.2e} relative (gate {ge:.2e})")
     if os.path.exists(os.path.join(a, "gauges", "u_mid.csv")):
         check(du <= 1e-4, f"{name} {label}: mid-channel velocity differs by {du:.2e} of its largest value (gate 1e-4)")
     if os.path.exists(os.path.join(a, "gauges", "front.csv")):
-        check(df <= 0.02 * dx, f"{name} {label}: front differs by {df / dx:.2e} dx (gate 0.02 dx)")
+        check(df <= gf, f"{name} {label}: front differs by {df / dx:.2e} dx (gate {gf / dx:.2e} dx)")
     if os.path.exists(os.path.join(a, "gauges", "p_wall.csv")):
-        check(dp <= 0.1 * scale_p and dm <= 0.01 * scale_p,
-              f"{name} {label}: wall pressure differs by {dp / scale_p:.2e} rho g H at most (gate 0.1), its mean over "
-              f"the second half by {dm / scale_p:.2e} (gate 0.01)")
+        check(dp <= gp and dm <= gm,
+              f"{name} {label}: wall pressure differs by {dp / scale_p:.2e} rho g H at most (gate {gp / scale_p:.2e}), its "
+              f"mean over the second half by {dm / scale_p:.2e} (gate {gm / scale_p:.2e})")
     return sb
 
 
@@ -186,7 +194,8 @@ cases = [
      [{"name": "energy", "type": "energy"}, {"name": "u_mid", "type": "velocity", "point": [0.0002, 0.0005]}], 2.5e-5, 1.0),
     # ISPH (its pressure equation solved by hypre over every rank's rows) with a tight solver tolerance: at the
     # default 1e-6 the partitions' different iterates dominate (energy 8e-5, wall pressure up to 0.8 of its peak
-    # in the impact; docs/parallel.md), at 1e-11 what is left is round-off (1e-9)
+    # in the impact; docs/parallel.md); at 1e-11 what is left is round-off, which the split source amplifies
+    # (gated against a one-ulp run, below)
     ("isph_dambreak", "dambreak_2d.yaml",
      {"particles.dx": 0.0073, "time.end": 0.3, "time.output_interval": 0.02, "scheme.type": "isph",
       "scheme.shifting": {"coefficient": 2.0}, "scheme.solver.type": "boomeramg", "scheme.solver.tolerance": 1e-11},
@@ -198,6 +207,14 @@ cases = [
       "turbulence": {"model": "mixing_length", "profile": "nezu_rodi", "bed": 0.0, "kappa": 0.41}},
      GAUGES_DB, 0.0073, 1.0),
     ("porous_dambreak", "porous_dambreak_liu.yaml", {"particles.dx": 0.01, "time.end": 0.3, "time.output_interval": 0.02},
+     GAUGES_DB + [{"name": "volume", "type": "water_volume"},
+                  {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
+     0.01, 1000 * 9.81 * 0.3534),
+    # the same porous dam break under ISPH (issue 39, point 6): the porosity field, the split source's second
+    # solve and the dummies' feet across the cut, hypre over both ranks' rows at a tight tolerance
+    ("isph_porous_dambreak", "porous_dambreak_liu.yaml",
+     {"particles.dx": 0.01, "time.end": 0.3, "time.output_interval": 0.02, "scheme.type": "isph",
+      "scheme.shifting": {"coefficient": 2.0}, "scheme.solver.type": "boomeramg", "scheme.solver.tolerance": 1e-11},
      GAUGES_DB + [{"name": "volume", "type": "water_volume"},
                   {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
      0.01, 1000 * 9.81 * 0.3534),
@@ -222,8 +239,16 @@ def one_and_ranks(name, case):
 
 for name, src, sets, gauges, dx, scale_p in cases:
     one, ran = one_and_ranks(name, variant(src, name, sets, gauges))
+    ulp = None
+    if name.startswith("isph") and ran:
+        # the projection scheme's split source moves particles by the density error, which a round-off-sized change
+        # amplifies to the impact pressure's own scale by t = 0.3 (one ulp of gravity: 2.0 rho g H at the wall point,
+        # 1e-3 of the energy; 2026-11-26): its gates are calibrated in the same run, as the paddle's below
+        ulp = os.path.join(args.work, name + "_ulp")
+        p = run(1, variant(src, name + "_ulp", sets, gauges, ulp=True), ulp)
+        check(p.returncode == 0, f"{name}: the one-ulp run ran ({p.returncode}) {p.stderr.strip()[-300:]}")
     for n, out in ran:
-        s = compare(name, one, out, dx, scale_p, f"{n} ranks")
+        s = compare(name, one, out, dx, scale_p, f"{n} ranks", ulp)
         check(s["ranks"]["count"] == n and s["ranks"]["halo_bytes_per_step"] > 0 and s["ranks"]["fluid_imbalance"] < 1.2,
               f"{name}: summary.json reports {s['ranks']} (fluid imbalance gate 1.2: rebalanced above 1.1)")
 
