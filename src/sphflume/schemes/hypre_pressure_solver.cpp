@@ -65,18 +65,7 @@ class HypreAmg final : public PressureSolver {
     rep.unknowns = sizes[0];
     rep.nonzeros = sizes[1];
     if (sizes[0] == 0) { rep.converged = true; return rep; }  // (the same answer on every rank)
-    // the scheme's Laplacian has a negative diagonal: hypre's smoothers want −A (an M-matrix)
-    ncols_.resize(s.rows());
-    rows_.resize(s.rows());
-    cols_.assign(s.col.begin(), s.col.end());
-    vals_.resize(s.nonzeros());
-    for (std::size_t r = 0; r < s.rows(); ++r) {
-      rows_[r] = lo + static_cast<HYPRE_Int>(r);
-      ncols_[r] = static_cast<HYPRE_Int>(s.start[r + 1] - s.start[r]);
-    }
-    for (std::size_t k = 0; k < s.nonzeros(); ++k) vals_[k] = -s.val[k];
-    rhs_.resize(s.rows());
-    for (std::size_t r = 0; r < s.rows(); ++r) rhs_[r] = -s.rhs[r];
+    load(s, lo);
 
     HYPRE_IJMatrix A;
     HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &A);
@@ -108,18 +97,7 @@ class HypreAmg final : public PressureSolver {
     const bool reuse = s.stable_rows && amg_ && sizes[0] == setup_rows_ && age_ < kMaxAge &&
                        last_its_ <= std::max(2 * setup_its_, setup_its_ + 3);
     if (!reuse) release_hierarchy();
-    if (!amg_) {
-      HYPRE_BoomerAMGCreate(&amg_);
-      HYPRE_BoomerAMGSetPrintLevel(amg_, 0);
-      HYPRE_BoomerAMGSetCoarsenType(amg_, 10);     // HMIS
-      HYPRE_BoomerAMGSetInterpType(amg_, 6);       // extended+i
-      HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);
-      HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);
-      HYPRE_BoomerAMGSetRelaxType(amg_, 8);        // l1 symmetric Gauss-Seidel
-      HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
-      HYPRE_BoomerAMGSetMaxIter(amg_, 1);          // one V-cycle as the preconditioner
-      HYPRE_BoomerAMGSetTol(amg_, 0.0);
-    }
+    if (!amg_) make_amg();
     HYPRE_Solver krylov;
     HYPRE_ParCSRBiCGSTABCreate(comm_, &krylov);
     const double tol = std::max(tol_, s.tolerance);
@@ -173,6 +151,33 @@ class HypreAmg final : public PressureSolver {
  private:
   static constexpr int kMaxAge = 25;  // solves a hierarchy serves at most
   static HYPRE_Int keep_hierarchy(HYPRE_Solver, HYPRE_ParCSRMatrix, HYPRE_ParVector, HYPRE_ParVector) { return 0; }
+  /// The system as hypre's IJ arrays, negated: the scheme's Laplacian has a negative diagonal, and
+  /// hypre's smoothers want −A (an M-matrix).
+  void load(const SparseRows& s, HYPRE_Int lo) {
+    ncols_.resize(s.rows());
+    rows_.resize(s.rows());
+    cols_.assign(s.col.begin(), s.col.end());
+    vals_.resize(s.nonzeros());
+    for (std::size_t r = 0; r < s.rows(); ++r) {
+      rows_[r] = lo + static_cast<HYPRE_Int>(r);
+      ncols_[r] = static_cast<HYPRE_Int>(s.start[r + 1] - s.start[r]);
+    }
+    for (std::size_t k = 0; k < s.nonzeros(); ++k) vals_[k] = -s.val[k];
+    rhs_.resize(s.rows());
+    for (std::size_t r = 0; r < s.rows(); ++r) rhs_[r] = -s.rhs[r];
+  }
+  void make_amg() {
+    HYPRE_BoomerAMGCreate(&amg_);
+    HYPRE_BoomerAMGSetPrintLevel(amg_, 0);
+    HYPRE_BoomerAMGSetCoarsenType(amg_, 10);     // HMIS
+    HYPRE_BoomerAMGSetInterpType(amg_, 6);       // extended+i
+    HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);
+    HYPRE_BoomerAMGSetStrongThreshold(amg_, 0.25);
+    HYPRE_BoomerAMGSetRelaxType(amg_, 8);        // l1 symmetric Gauss-Seidel
+    HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
+    HYPRE_BoomerAMGSetMaxIter(amg_, 1);          // one V-cycle as the preconditioner
+    HYPRE_BoomerAMGSetTol(amg_, 0.0);
+  }
   void release_hierarchy() {
     if (amg_) HYPRE_BoomerAMGDestroy(amg_);
     if (setup_A_) HYPRE_IJMatrixDestroy(setup_A_);

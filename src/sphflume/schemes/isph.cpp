@@ -394,15 +394,35 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   }
   S.refresh_halos();
   S.with_kernel([&](const auto& K) { this->assemble(S, K, dt); });
-  // warm start: the pressures the unknowns had
-  x_.assign(sys_.rows(), 0.0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (unknown_[i] >= 0) x_[static_cast<std::size_t>(unknown_[i])] = cls_[i] == 0 ? P.p[i] : 0.0;
   stats_.assemble_s += seconds_since(t0);
   if (S.comm->size() > 1 && !solver_all_ranks_) {  // a distributed run: hypre over every rank's rows
     solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, true);
     solver_all_ranks_ = solver_chosen_ = true;
   }
+  solve_into(S, P.p, true);
+  if (o_.source == PpeSource::Split) {
+    // source.type split: the density error's own solve, with the same matrix (and multigrid
+    // hierarchy), A ψ = ω (ρ0 − ρ*)/(ρ0 Δt²); ψ moves the particles (correct(): δr = −Δt² ∇ψ/ρ) but is
+    // neither a pressure nor a velocity (Bender & Koschier 2017 split the two solves the same way).
+    // A relaxation needs no tight solve: 1e-3 of its own right-hand side; a solver.tolerance tighter
+    // than the default 1e-6 (runs that must agree across partitions, tests/mpi/check_ranks.py) applies too
+    sys_.rhs.swap(rhs_density_);
+    sys_.tolerance = o_.tolerance < 1e-6 ? o_.tolerance : kDensityTolerance;
+    solve_into(S, P.scalar("_psi"), false);
+    sys_.tolerance = 0.0;
+    sys_.rhs.swap(rhs_density_);
+  }
+}
+
+template <int D>
+void ISPH<D>::solve_into(System<D>& S, std::vector<double>& field, bool pressure) {
+  // warm start from the field's last values, the solve, and the solution back into the field: P = 0
+  // particles 0, each dummy its foot's value (the pressure plus its known offset)
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  x_.assign(sys_.rows(), 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (unknown_[i] >= 0 && cls_[i] == 0) x_[static_cast<std::size_t>(unknown_[i])] = field[i];
   const auto t1 = std::chrono::steady_clock::now();
   const SolveReport rep = solver_->solve(sys_, x_);
   stats_.solve_s += seconds_since(t1);
@@ -414,57 +434,19 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   stats_.nonzeros = rep.nonzeros;
   if (!rep.converged)
     throw SimulationError(fmt::format(
-        "at step {}, t = {:.6g} s: the pressure Poisson equation did not converge ({} unknowns, {} iterations, "
-        "relative residual {:.3g} > scheme.solver.tolerance {:.3g}); likely causes: a time step too large for the "
-        "flow (lower scheme.cfl), or particles packed into a wall (check the walls)",
-        S.step, S.time, rep.unknowns, rep.iterations, rep.residual, o_.tolerance));
+        "at step {}, t = {:.6g} s: the {} did not converge ({} unknowns, {} iterations, relative residual {:.3g} > "
+        "scheme.solver.tolerance {:.3g}); likely causes: a time step too large for the flow (lower scheme.cfl), or "
+        "particles packed into a wall (check the walls)",
+        S.step, S.time, pressure ? "pressure Poisson equation" : "density-error equation (scheme.source.type: split)",
+        rep.unknowns, rep.iterations, rep.residual, std::max(o_.tolerance, sys_.tolerance)));
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
-    P.p[i] = unknown_[i] >= 0 && cls_[i] == 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
+    field[i] = unknown_[i] >= 0 && cls_[i] == 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
   }
-  S.refresh_halos();  // (the feet's pressures, also where a foot is another part's)
+  S.refresh_halos(field.data());  // (the feet's values, also where a foot is another part's)
   for (std::size_t i = 0; i < n; ++i)
-    if (cls_[i] == 2) P.p[i] = map_[i] >= 0 ? P.p[static_cast<std::size_t>(map_[i])] + dummy_off_[i] : 0.0;
-  S.refresh_halos();
-  if (o_.source == PpeSource::Split) solve_density(S);
-}
-
-template <int D>
-void ISPH<D>::solve_density(System<D>& S) {
-  // source.type split: the density error's own solve, with the same matrix (and multigrid
-  // hierarchy), A ψ = (ρ0 − ρ*)/(ρ0 Δt²); ψ moves the particles (correct(): δr = −Δt² ∇ψ/ρ) but is
-  // neither a pressure nor a velocity (Bender & Koschier 2017 split the two solves the same way)
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  auto& psi = P.scalar("_psi");
-  x_.assign(sys_.rows(), 0.0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (unknown_[i] >= 0 && cls_[i] == 0) x_[static_cast<std::size_t>(unknown_[i])] = psi[i];
-  sys_.rhs.swap(rhs_density_);
-  // a relaxation of the density error needs no tight solve: 1e-3 of its own right-hand side; a
-  // solver.tolerance tighter than the default 1e-6 (asked for runs that must agree across partitions,
-  // tests/mpi/check_ranks.py) applies to it too
-  sys_.tolerance = o_.tolerance < 1e-6 ? o_.tolerance : kDensityTolerance;
-  const auto t1 = std::chrono::steady_clock::now();
-  const SolveReport rep = solver_->solve(sys_, x_);
-  stats_.solve_s += seconds_since(t1);
-  sys_.tolerance = 0.0;
-  sys_.rhs.swap(rhs_density_);
-  ++stats_.solves;
-  stats_.iterations += rep.iterations;
-  stats_.max_iterations = std::max(stats_.max_iterations, rep.iterations);
-  stats_.max_residual = std::max(stats_.max_residual, rep.residual);
-  if (!rep.converged)
-    throw SimulationError(fmt::format("at step {}, t = {:.6g} s: the density-error equation (scheme.source.type: split) did "
-                                      "not converge ({} unknowns, {} iterations, relative residual {:.3g}); likely cause: a "
-                                      "time step too large for the flow (lower scheme.cfl)",
-                                      S.step, S.time, rep.unknowns, rep.iterations, rep.residual));
-  for (std::size_t i = 0; i < n; ++i)
-    psi[i] = unknown_[i] >= 0 && cls_[i] == 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
-  S.refresh_halos(psi.data());
-  for (std::size_t i = 0; i < n; ++i)
-    if (cls_[i] == 2) psi[i] = map_[i] >= 0 ? psi[static_cast<std::size_t>(map_[i])] : 0.0;
-  S.refresh_halos(psi.data());
+    if (cls_[i] == 2) field[i] = map_[i] >= 0 ? field[static_cast<std::size_t>(map_[i])] + (pressure ? dummy_off_[i] : 0.0) : 0.0;
+  S.refresh_halos(field.data());
 }
 
 template <int D>

@@ -78,7 +78,9 @@ class ISPH final : public Scheme<D> {
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
   template <class K> void correct(System<D>& S, const K& ker, double dt);
   void classify(System<D>& S);
-  void solve_density(System<D>& S);
+  /// Solves sys_ into a per-particle field (warm start, statistics, the dummies' values); pressure: the
+  /// pressure (its dummies carry their known offsets), else the split source's ψ.
+  void solve_into(System<D>& S, std::vector<double>& field, bool pressure);
   void set_reference(const System<D>& S);
 
   IsphConfig o_;
