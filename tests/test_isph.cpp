@@ -314,6 +314,16 @@ TEST(ISPH, OptionsAreReadAndWcsphKeysReported) {
   // a key no scheme knows stays an error, and so does a value out of range
   EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, cfll: 0.1}"}), InputError);
   EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, source: {gamma: 1.5}}"}), InputError);
+  // an option of the projection scheme under type: wcsph names the scheme it belongs to; gamma only with the
+  // hybrid source, relaxation only with the split one
+  try {
+    parse_case(kLattice2D, "t.yaml", {"scheme={type: wcsph, source: {type: split}}"});
+    ADD_FAILURE() << "an ISPH key under type: wcsph was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scheme.type: isph"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, source: {type: split, gamma: 0.9}}"}), InputError);
+  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, source: {type: hybrid, relaxation: 0.2}}"}), InputError);
 }
 
 TEST(ISPH, UnsupportedModelsAreRefused) {

@@ -129,6 +129,11 @@ void read_scheme(const Node& n, const std::string& file, Case& c) {
     for (const auto& k : c.isph.ignored) c.warnings.push_back(fmt::format("{}: {}: ignored under scheme.type: isph", file, k));
     return;
   }
+  // the projection scheme's own keys under type: wcsph are a mistake, not a typo: say whose they are
+  for (const char* k : {"source", "free_surface", "solver", "dummy_pressure", "gradient_normalisation", "dt_max"})
+    if (r.has(k))
+      r.fail_at(r.get(k), fmt::format("scheme.{}", k),
+                "scheme.type: isph (it is an option of the incompressible scheme), or drop the key");
   // the weakly-compressible scheme's keys
   const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "verlet", "dual"});
   c.scheme.integrator = integ == "symplectic" ? Integrator::Symplectic
