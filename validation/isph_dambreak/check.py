@@ -64,13 +64,14 @@ def main():
     m = MODES[a.mode]
     os.makedirs(a.out, exist_ok=True)
     base = {"particles.dx": m["dx"], "time.end": m["end"], "time.output_interval": 0.002, **parse_sets(a.set)}
+    dx = float(base["particles.dx"])  # (the mode's, or a --set particles.dx=..., e.g. a/80)
     runs = {}
     for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.shifting": "{coefficient: 2}"})):
-        out = os.path.join(a.out, f"{scheme}_dx{m['dx']:g}")
+        out = os.path.join(a.out, f"{scheme}_dx{dx:g}")
         s, wall, rc = run_case(a.sphflume, CASE, out, {**base, **extra}, a.threads, a.reuse)
         runs[scheme] = (out, s, wall, rc)
     rep = Report()
-    print(f"\n== {NAME} ({a.mode}: dx = {m['dx']:.5g} m = a/{A / m['dx']:.0f}, t_end = {m['end']} s)")
+    print(f"\n== {NAME} ({a.mode}: dx = {dx:.5g} m = a/{A / dx:.0f}, t_end = {m['end']} s)")
     for scheme, (out, s, wall, rc) in runs.items():
         ok = s is not None and s["simulated_time"] >= m["end"] * (1 - 1e-6)
         rep.metric(f"{scheme} run reached t_end", f"exit {rc}", ok, "exit 0", "issue 21")
@@ -122,7 +123,7 @@ def main():
     ax[0].plot(ti, xi / A, "--", label="ISPH")
     ax[0].set_xlabel("t (s)")
     ax[0].set_ylabel("front x / a")
-    ax[0].set_title(f"surge front, a/{A / m['dx']:.0f}: max diff {100 * worst:.1f} %")
+    ax[0].set_title(f"surge front, a/{A / dx:.0f}: max diff {100 * worst:.1f} %")
     ax[0].legend()
     for k, st in (("wcsph", "-"), ("isph", "-")):
         t, p = g[k]["p_wall_right"]["time"], np.nan_to_num(g[k]["p_wall_right"]["pressure"])
