@@ -64,7 +64,7 @@ def main():
     m = MODES[a.mode]
     os.makedirs(a.out, exist_ok=True)
     base = {"particles.dx": m["dx"], "time.end": m["end"], "time.output_interval": 0.002, **parse_sets(a.set)}
-    dx = float(base["particles.dx"])  # (the mode's, or a --set particles.dx=..., e.g. a/80)
+    dx = base["particles.dx"] = float(base["particles.dx"])  # (the mode's, or a --set particles.dx=..., e.g. a/80)
     runs = {}
     for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.shifting": "{coefficient: 2}"})):
         out = os.path.join(a.out, f"{scheme}_dx{dx:g}")
