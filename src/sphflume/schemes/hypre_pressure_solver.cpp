@@ -94,7 +94,7 @@ class HypreAmg final : public PressureSolver {
     // same size, not too old, and the last solve not much slower than the one after the build).
     // The reused V-cycle smooths with this matrix on the finest level and the old Galerkin
     // products below it: a preconditioner for a nearby matrix, which the Krylov method corrects
-    const bool reuse = s.stable_rows && amg_ && sizes[0] == setup_rows_ && age_ < kMaxAge &&
+    const bool reuse = s.stable_rows && !s.fresh && amg_ && sizes[0] == setup_rows_ && age_ < kMaxAge &&
                        last_its_ <= std::max(2 * setup_its_, setup_its_ + 3);
     if (!reuse) release_hierarchy();
     if (!amg_) make_amg();
@@ -146,6 +146,7 @@ class HypreAmg final : public PressureSolver {
     return rep;
   }
   std::size_t bytes() const override { return bytes_; }
+  bool reuses_preconditioner() const override { return comm_ == MPI_COMM_SELF; }
   ~HypreAmg() override { release_hierarchy(); }
 
  private:

@@ -275,7 +275,7 @@ void ISPH<D>::classify(System<D>& S) {
     map_[i] = pick;
   }
   int k = 0;
-  stable_rows_ = S.comm->size() == 1 && std::string(solver_->name()) == "hypre_boomeramg";
+  stable_rows_ = S.comm->size() == 1 && solver_->reuses_preconditioner();
   if (stable_rows_) {
     // one process with hypre: a row for every fluid and first-layer wall particle, numbered by
     // particle id, P = 0 ones as identity rows, so that row r is the same particle from step to
@@ -286,7 +286,7 @@ void ISPH<D>::classify(System<D>& S) {
     for (std::size_t i = 0; i < n; ++i)
       if (cls_[i] != 2 && (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)) row_of_id_[P.id[i]] = 0;
     for (auto& r : row_of_id_)
-      if (r == 0 || r > 0) r = k++;
+      if (r >= 0) r = k++;
     for (std::size_t i = 0; i < n; ++i)
       if (cls_[i] != 2 && (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)) unknown_[i] = row_of_id_[P.id[i]];
   } else {
@@ -399,7 +399,10 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
     solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, true);
     solver_all_ranks_ = solver_chosen_ = true;
   }
+  sys_.fresh = fresh_hierarchy_;  // (the first solve after a restart point builds its own)
+  fresh_hierarchy_ = false;
   solve_into(S, P.p, true);
+  sys_.fresh = false;
   if (o_.source == PpeSource::Split) {
     // source.type split: the density error's own solve, with the same matrix (and multigrid
     // hierarchy), A ψ = ω (ρ0 − ρ*)/(ρ0 Δt²); ψ moves the particles (correct(): δr = −Δt² ∇ψ/ρ) but is
@@ -575,6 +578,7 @@ std::size_t ISPH<D>::bytes() const {
 
 template <int D>
 std::map<std::string, double> ISPH<D>::state() const {
+  fresh_hierarchy_ = true;  // a restart point: a run restarted here starts without the solver's hierarchy
   return {{"amax", amax_},
           {"ppe_solves", double(stats_.solves)},
           {"ppe_iterations", double(stats_.iterations)},

@@ -104,6 +104,7 @@ class ISPH final : public Scheme<D> {
   std::vector<char> cls_;
   std::vector<int> unknown_, map_;
   bool stable_rows_ = false;        // rows numbered by particle id (classify)
+  mutable bool fresh_hierarchy_ = true;  // state() wrote a restart point: the next solve builds afresh
   std::vector<int> row_of_id_;
   std::vector<double> dummy_off_;  // dummy_pressure body_force: P_dummy − P_foot
   std::size_t first_row_ = 0;      // the global number of this rank's first unknown

@@ -24,6 +24,9 @@ struct SparseRows {
   /// identity, P = 0 particles kept as identity rows): a solver may then precondition a system with
   /// what it built for an earlier one of the same size (hypre: the BoomerAMG hierarchy).
   bool stable_rows = false;
+  /// Build the preconditioner for this system even where an earlier one could serve: the scheme has just
+  /// written a restart point, and a run restarted there starts with none (restarts stay bitwise).
+  bool fresh = false;
   /// The relative residual this system needs, when looser than the solver's own (0: the solver's).
   double tolerance = 0.0;
   std::size_t rows() const { return start.size() - 1; }
@@ -46,6 +49,8 @@ class PressureSolver {
   virtual SolveReport solve(const SparseRows& sys, std::vector<double>& x) = 0;
   /// Bytes the solver holds (matrix copies, preconditioner, Krylov vectors).
   virtual std::size_t bytes() const = 0;
+  /// True when the solver keeps its preconditioner for the next system of SparseRows::stable_rows.
+  virtual bool reuses_preconditioner() const { return false; }
 };
 
 /// Eigen's BiCGSTAB with a Jacobi (diagonal) preconditioner: the matrix is not symmetric once
