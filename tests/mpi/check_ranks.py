@@ -210,11 +210,12 @@ cases = [
      GAUGES_DB + [{"name": "volume", "type": "water_volume"},
                   {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
      0.01, 1000 * 9.81 * 0.3534),
-    # the same porous dam break under ISPH (issue 39, point 6): the porosity field, the split source's second
-    # solve and the dummies' feet across the cut, hypre over both ranks' rows at a tight tolerance
+    # the same porous dam break under ISPH with the split source, which runs it (issue 39, point 6): the porosity
+    # field, the split source's second solve and the dummies' feet across the cut, hypre over both ranks' rows
     ("isph_porous_dambreak", "porous_dambreak_liu.yaml",
      {"particles.dx": 0.01, "time.end": 0.3, "time.output_interval": 0.02, "scheme.type": "isph",
-      "scheme.shifting": {"coefficient": 2.0}, "scheme.solver.type": "boomeramg", "scheme.solver.tolerance": 1e-11},
+      "scheme.shifting": {"coefficient": 2.0}, "scheme.solver": {"type": "boomeramg", "tolerance": 1e-11},
+      "scheme.source": {"type": "split"}},
      GAUGES_DB + [{"name": "volume", "type": "water_volume"},
                   {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
      0.01, 1000 * 9.81 * 0.3534),
@@ -241,9 +242,9 @@ for name, src, sets, gauges, dx, scale_p in cases:
     one, ran = one_and_ranks(name, variant(src, name, sets, gauges))
     ulp = None
     if name.startswith("isph") and ran:
-        # the projection scheme's split source moves particles by the density error, which a round-off-sized change
-        # amplifies to the impact pressure's own scale by t = 0.3 (one ulp of gravity: 2.0 rho g H at the wall point,
-        # 1e-3 of the energy; 2026-11-26): its gates are calibrated in the same run, as the paddle's below
+        # the projection scheme amplifies round-off to the impact pressure's own scale by t = 0.3 (the split source:
+        # one ulp of gravity moves the wall point by 2.0 rho g H, 1e-3 of the energy; 2026-11-26): its gates are
+        # calibrated in the same run, as the paddle's below
         ulp = os.path.join(args.work, name + "_ulp")
         p = run(1, variant(src, name + "_ulp", sets, gauges, ulp=True), ulp)
         check(p.returncode == 0, f"{name}: the one-ulp run ran ({p.returncode}) {p.stderr.strip()[-300:]}")

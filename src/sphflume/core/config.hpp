@@ -75,10 +75,10 @@ struct IsphConfig {
   bool laminar = true;               // the laminar (Lo & Shao) term (viscosity: laminar)
   double alpha = 0.02;               // Monaghan's artificial viscosity beside the laminar term, with the
                                      // reference sound speed c0 (PySPH's SISPH: 0.05); 0 = none
-  // split (default): the pressure from the divergence-free source alone, the density error corrected
-  // by a second solve that moves the particles (δr = −Δt² ∇ψ/ρ, a fraction `relaxation` of the error
-  // per step); hybrid: Tsurudome's γ div-free + (1 − γ) density-invariant source in one pressure
-  PpeSource source = PpeSource::Split;
+  // hybrid (default): Tsurudome's γ div-free + (1 − γ) density-invariant source in one pressure; split:
+  // the pressure from the divergence-free source alone, the density error corrected by a second solve
+  // that moves the particles (δr = −Δt² ∇ψ/ρ, a fraction `relaxation` of the error per step)
+  PpeSource source = PpeSource::Hybrid;
   double gamma = 0.97;               // hybrid source: γ div-free + (1 − γ) density-invariant
   double relaxation = 0.1;           // split source: the fraction of the density error corrected per step
   bool density_deficit = true;       // the density-invariant part acts on deficits too (the thesis)

@@ -36,7 +36,7 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   o.gradient_lattice = r.choice("gradient_normalisation", "none", {"none", "lattice"}) == "lattice";
   if (r.has("source")) {
     Reader q(r.get("source"), r.file(), "scheme.source");
-    const std::string t = q.choice("type", "split", {"split", "hybrid", "standard", "divergence_free"});
+    const std::string t = q.choice("type", "hybrid", {"hybrid", "split", "standard", "divergence_free"});
     o.source = t == "hybrid" ? PpeSource::Hybrid : t == "standard" ? PpeSource::Standard
                : t == "split" ? PpeSource::Split : PpeSource::DivergenceFree;
     o.gamma = q.in_range("gamma", 0.97, 0.0, 1.0);
