@@ -340,20 +340,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
       mob[i] = kr && im && P.kind[i] == Kind::Fluid ? (*im)[i] / (1.0 + dt * (*kr)[i]) : 1.0;
   }
   // summation density of every owned particle (fluid and walls) at r*
-  S.with_kernel([&](const auto& K) {
-    const double w0 = K.W(0.0);
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
-      // porous: Σ (m_j/φ_j) W_ij, each fluid particle by its volume m/(φρ) (walls φ = 1), so that
-      // the sum reads the intrinsic density at any porosity and across the medium's outline
-      double s = (phi ? P.mass[i] / phi[i] : P.mass[i]) * w0;
-      S.cells.for_neighbours(P.pos, P.pos[i], K.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
-        if (r2 > 0.0) s += (phi ? P.mass[j] / phi[j] : P.mass[j]) * K.W(std::sqrt(r2));
-      });
-      P.drho[i] = s;  // scratch (the sums read masses only)
-    }
-  });
+  S.with_kernel([&](const auto& K) { this->kernel_density(S, K); });  // into drho (schemes/isph_passes.cpp)
   // normalised by the lattice's own sum: a full support reads ρ0 exactly (the particle's volume is
   // dx^D there), so the 1/ρ factors and volumes carry no lattice bias (+0.5 % at h/dx 1.5)
   // porous media: by the reference of the local porosity's lattice (Σ m W there, over φ), so that ρ
@@ -450,121 +437,6 @@ void ISPH<D>::solve_into(System<D>& S, std::vector<double>& field, bool pressure
   for (std::size_t i = 0; i < n; ++i)
     if (cls_[i] == 2) field[i] = map_[i] >= 0 ? field[static_cast<std::size_t>(map_[i])] + (pressure ? dummy_off_[i] : 0.0) : 0.0;
   S.refresh_halos(field.data());
-}
-
-template <int D>
-template <class K>
-void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  const double eta2 = o_.eta2 * S.h * S.h;
-  const bool split = o_.source == PpeSource::Split;
-  const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : (o_.source == PpeSource::DivergenceFree || split) ? 1.0 : 0.0;
-  const double rr = S.eos.rho0;  // the densities are normalised (solve_pressure)
-  const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
-  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
-  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
-  // each row into its own slot (parallel), then concatenated in row order (deterministic)
-  std::vector<std::vector<std::pair<int, double>>> row(rows);
-  std::vector<double> rhs(rows, 0.0);
-  rhs_density_.assign(split ? rows : 0, 0.0);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (unknown_[i] < 0) continue;
-    auto& e = row[static_cast<std::size_t>(unknown_[i])];
-    const int me = static_cast<int>(first_row_) + unknown_[i];  // (columns are global unknown numbers)
-    double diag = 0.0, div = 0.0, known = 0.0;
-    const double ri = P.rho[i];
-    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
-      if (!(r2 > 0.0)) return;
-      const Kind kj = P.kind[j];
-      if (kj != Kind::Fluid && kj != Kind::Wall) return;
-      const double F = ker.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
-      double c;
-      if (phi) {
-        // porous (SPHAM): (1/φ_i) ∇·(φ ∇P/ρ) = (1/φ_i) ∇·(φ u*)/Δt + ...; a fluid neighbour's volume
-        // m/(φ ρ), a wall's its own (dx^D); a wall continues the medium of the fluid it faces
-        const bool fi = P.kind[i] == Kind::Fluid, fj = kj == Kind::Fluid;
-        const double pa = fi ? phi[i] : (fj ? phi[j] : 1.0), pb = fj ? phi[j] : pa;
-        const double mj = fj ? P.mass[j] / pb : P.mass[j];
-        // the conductivity φ m_d: the correction meets the drag as the prediction does (below)
-        const double ka = pa * (fi ? mob[i] : (fj ? mob[j] : 1.0)), kb = pb * (fj ? mob[j] : ka / pa);
-        c = laplacian_weight(mj, ri, P.rho[j], F, r2, eta2) * (2.0 * ka * kb / ((ka + kb) * pa));
-        div += mj * F * dot(pb * P.vel[j] - pa * P.vel[i], rij) / pa;
-      } else {
-        c = laplacian_weight(P.mass[j], ri, P.rho[j], F, r2, eta2);
-        div += P.mass[j] * F * dot(P.vel[j] - P.vel[i], rij);
-      }
-      const int col = static_cast<int>(col_[j]);
-      if (off_[j] != 0.0) known -= c * off_[j];  // a dummy's P_foot + offset: the offset is known
-      if (col == me) return;  // the particle itself (a dummy under it, or its own image): cancels
-      diag -= c;
-      if (col >= 0) e.emplace_back(col, c);
-    });
-    if (cls_[i] != 0) {  // a P = 0 particle's identity row (stable row numbering)
-      e.assign(1, {me, diag < 0.0 ? diag : -1.0});
-      rhs[static_cast<std::size_t>(unknown_[i])] = 0.0;
-      continue;
-    }
-    std::sort(e.begin(), e.end());
-    std::vector<std::pair<int, double>> merged;
-    merged.reserve(e.size() + 1);
-    bool placed = false;
-    for (const auto& [col, v] : e) {
-      if (!placed && col > me) { merged.emplace_back(me, diag); placed = true; }
-      if (!merged.empty() && merged.back().first == col) merged.back().second += v;
-      else merged.emplace_back(col, v);
-    }
-    if (!placed) merged.emplace_back(me, diag);
-    e.swap(merged);
-    const double b_hs = div / (rr * dt);
-    // the density-invariant part: a deficit (a truncated support at the free surface, or a
-    // particle the flow has just left room around) is not sucked back unless asked for
-    const double b_std = (o_.density_deficit ? rr - ri : std::min(rr - ri, 0.0)) / (rr * dt * dt);
-    rhs[static_cast<std::size_t>(unknown_[i])] = gamma * b_hs + (1.0 - gamma) * b_std + known;
-    if (split) rhs_density_[static_cast<std::size_t>(unknown_[i])] = o_.relaxation * b_std;  // (a dummy's offset: not a density error)
-  }
-  sys_.first_row = first_row_;
-  sys_.stable_rows = stable_rows_;
-  sys_.start.assign(1, 0);
-  sys_.col.clear();
-  sys_.val.clear();
-  for (const auto& e : row) {
-    for (const auto& [col, v] : e) { sys_.col.push_back(col); sys_.val.push_back(v); }
-    sys_.start.push_back(sys_.col.size());
-  }
-  sys_.rhs.swap(rhs);
-}
-
-template <int D>
-template <class K>
-void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  // the gradient normalised by its lattice moment (gradient_normalisation: lattice): exact for a
-  // linear pressure on a full lattice (κ = 0.99 for Wendland C2 at h/dx 1.5)
-  const double inv_kappa = o_.gradient_lattice && kappa_ > 0.0 ? 1.0 / kappa_ : 1.0;
-  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
-  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
-  const double* psi = o_.source == PpeSource::Split ? P.scalar("_psi").data() : nullptr;
-  auto* dr = psi ? &P.vector("_density_shift") : nullptr;
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (P.kind[i] != Kind::Fluid) continue;
-    Vec<D> grad{}, gpsi{};
-    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& rij, double r2) {
-      if (!(r2 > 0.0)) return;
-      const Kind kj = P.kind[j];
-      if (kj != Kind::Fluid && kj != Kind::Wall) return;
-      const double F = ker.F(std::sqrt(r2));
-      const double mj = phi && kj == Kind::Fluid ? P.mass[j] / phi[j] : P.mass[j];  // porous: volume m/(φρ)
-      grad += gradient_weight(mj, P.p[i], P.rho[i], P.p[j], P.rho[j], F) * rij;
-      if (psi) gpsi += gradient_weight(mj, psi[i], P.rho[i], psi[j], P.rho[j], F) * rij;
-    });
-    const double scale = inv_kappa * (mob ? mob[i] : 1.0);
-    P.vel[i] -= (dt * scale) * grad;
-    if (psi) (*dr)[i] = (-dt * dt * scale) * gpsi;
-  }
 }
 
 template <int D>

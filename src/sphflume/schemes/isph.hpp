@@ -75,6 +75,8 @@ class ISPH final : public Scheme<D> {
   void solve_pressure(System<D>& S, double dt);
 
  private:
+  // the pair passes (schemes/isph_passes.cpp): Σ (m/φ) W into drho; the PPE's rows; u -= Δt ∇P/ρ
+  template <class K> void kernel_density(System<D>& S, const K& ker);
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
   template <class K> void correct(System<D>& S, const K& ker, double dt);
   void classify(System<D>& S);
@@ -110,6 +112,7 @@ class ISPH final : public Scheme<D> {
   std::size_t first_row_ = 0;      // the global number of this rank's first unknown
   std::vector<double> col_, off_;  // per particle, images included: PPE column (-1 none), dummy offset
   SparseRows sys_;
+  std::vector<std::vector<std::pair<int, double>>> rows_;  // assemble's rows (capacity kept between steps)
   std::vector<double> x_;
   std::vector<double> rhs_density_;  // source.type split: the density error's right-hand side
   static constexpr double kDensityTolerance = 1e-3;  // its solve's relative residual

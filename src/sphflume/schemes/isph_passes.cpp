@@ -1,0 +1,343 @@
+// ISPH's pair passes (schemes/isph.hpp): the summation density, the PPE's assembly and the
+// pressure correction, on the vectorised skeleton every pair loop shares (core/cell_list.hpp,
+// sweep_cells): the candidates of a cell's 3^D stencil are copied once into unit-stride columns
+// and each particle of the cell runs a branch-free loop over them. The passes stay in double
+// precision (the PPE's source is a small density difference). Tsurudome §3.4 (eqs 3.4.49-3.4.51).
+#include <algorithm>
+#include <cmath>
+
+#include "sphflume/boundaries/walls.hpp"
+#include "sphflume/core/cell_list.hpp"
+#include "sphflume/physics/porous.hpp"
+#include "sphflume/schemes/isph.hpp"
+
+namespace sph {
+namespace {
+
+constexpr std::size_t kLanes = 8;  // padding: 8 doubles (one AVX-512 vector, two AVX2 ones)
+constexpr double kFar = 1.0e3;     // padding entries: 1 km away, outside every support
+
+/// The owned fluid and wall particles of a cell (the particles ISPH's passes run); the count.
+template <int D>
+std::size_t owned_in(const CellList<D>& cells, std::size_t cell, std::size_t n_owned, const Kind* kind, bool fluid_only) {
+  const std::uint32_t* sorted = cells.sorted().data();
+  std::size_t m = 0;
+  for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) {
+    const std::uint32_t a = sorted[k];
+    if (a < n_owned && (kind[a] == Kind::Fluid || (!fluid_only && kind[a] == Kind::Wall))) ++m;
+  }
+  return m;
+}
+
+}  // namespace
+
+template <int D>
+template <class K>
+void ISPH<D>::kernel_density(System<D>& S, const K& ker) {
+  // Σ_j (m_j/φ_j) W_ij of every owned fluid and wall particle, self included, into drho
+  auto& P = S.particles;
+  const std::size_t n_owned = P.n_owned();
+  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  const Vec<D>* pos = P.pos.data();
+  const double* mass = P.mass.data();
+  const Kind* kind = P.kind.data();
+  const std::uint32_t* sorted = S.cells.sorted().data();
+  double* out = P.drho.data();
+  const auto& cells = S.cells;
+  enum { X0, X1, X2, MV, NCOL };
+  sweep_cells<double>(cells, NCOL, kLanes, [&](std::size_t cell) { return owned_in(cells, cell, n_owned, kind, false); },
+                      [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
+    const K kl = ker;
+    const double sup2 = kl.support2, w0 = kl.W(0.0);
+    const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+    const Vec<D> origin = pos[sorted[c0k]];
+    double* cx[3] = {B[X0], B[X1], B[X2]};
+    double* cm = B[MV];
+    st.for_each([&](std::size_t m, std::uint32_t b) {
+      for (int d = 0; d < D; ++d) cx[d][m] = pos[b][d] - origin[d];
+      cm[m] = phi ? mass[b] / phi[b] : mass[b];
+    });
+    for (std::size_t m = st.count; m < st.padded; ++m) {
+      for (int d = 0; d < D; ++d) cx[d][m] = kFar;
+      cm[m] = 0.0;
+    }
+    const double* __restrict bx0 = B[X0];
+    const double* __restrict bx1 = B[X1];
+    const double* __restrict bx2 = B[D == 3 ? X2 : X1];
+    const double* __restrict bm = B[MV];
+    const std::size_t npad = st.padded;
+    std::uint64_t pairs = 0;
+    for (std::uint32_t k = c0k; k < c1k; ++k) {
+      const std::uint32_t a = sorted[k];
+      if (a >= n_owned || (kind[a] != Kind::Fluid && kind[a] != Kind::Wall)) continue;
+      const double xa0 = pos[a][0] - origin[0], xa1 = pos[a][1] - origin[1], xa2 = pos[a][D - 1] - origin[D - 1];
+      double s = 0.0;
+#pragma omp simd reduction(+ : s)
+      for (std::size_t m = 0; m < npad; ++m) {
+        const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
+        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+        const double in = (r2 < sup2) & (r2 > 0.0) ? 1.0 : 0.0;
+        s += in * bm[m] * kl.W(std::sqrt(r2));
+      }
+      out[a] = (phi ? mass[a] / phi[a] : mass[a]) * w0 + s;
+      pairs += st.count;
+    }
+    return pairs;
+  });
+}
+
+template <int D>
+template <class K>
+void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
+  auto& P = S.particles;
+  const std::size_t n_owned = P.n_owned();
+  const double eta2 = o_.eta2 * S.h * S.h;
+  const bool split = o_.source == PpeSource::Split;
+  const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : (o_.source == PpeSource::DivergenceFree || split) ? 1.0 : 0.0;
+  const double rr = S.eos.rho0;  // the densities are normalised (solve_pressure)
+  const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
+  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
+  // each row into its own slot (the slots keep their capacity from step to step), then
+  // concatenated in row order (deterministic)
+  rows_.resize(rows);
+  std::vector<double> rhs(rows, 0.0);
+  rhs_density_.assign(split ? rows : 0, 0.0);
+  const Vec<D>* pos = P.pos.data();
+  const Vec<D>* vel = P.vel.data();
+  const double* mass = P.mass.data();
+  const double* rho = P.rho.data();
+  const Kind* kind = P.kind.data();
+  const std::uint32_t* sorted = S.cells.sorted().data();
+  const auto& cells = S.cells;
+  // columns: position, velocity, density, mass, fluid flag, in-the-PPE flag (fluid or wall),
+  // porosity and mobility (1 outside media), the PPE column a neighbour's pressure stands in
+  // (-1: known), a dummy's known offset; per candidate of the particle: c_ij
+  enum { X0, X1, X2, U0, U1, U2, RHO, MASS, FL, IN, PHI, MOB, COL, OFF, C, NCOL };
+  sweep_cells<double>(cells, NCOL, kLanes, [&](std::size_t cell) {
+    const std::uint32_t* so = cells.sorted().data();
+    std::size_t m = 0;
+    for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
+      if (so[k] < n_owned && unknown_[so[k]] >= 0) ++m;
+    return m;
+  }, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
+    const K kl = ker;
+    const double sup2 = kl.support2;
+    const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+    const Vec<D> origin = pos[sorted[c0k]];
+    st.for_each([&](std::size_t m, std::uint32_t b) {
+      for (int d = 0; d < D; ++d) {
+        B[X0 + d][m] = pos[b][d] - origin[d];
+        B[U0 + d][m] = vel[b][d];
+      }
+      const Kind kb = kind[b];
+      B[RHO][m] = rho[b];
+      B[MASS][m] = mass[b];
+      B[FL][m] = kb == Kind::Fluid ? 1.0 : 0.0;
+      B[IN][m] = kb == Kind::Fluid || kb == Kind::Wall ? 1.0 : 0.0;
+      B[PHI][m] = phi && kb == Kind::Fluid ? phi[b] : 1.0;
+      B[MOB][m] = mob && kb == Kind::Fluid ? mob[b] : 1.0;
+      B[COL][m] = col_[b];
+      B[OFF][m] = off_[b];
+    });
+    for (std::size_t m = st.count; m < st.padded; ++m) {
+      for (int d = 0; d < D; ++d) { B[X0 + d][m] = kFar; B[U0 + d][m] = 0.0; }
+      B[RHO][m] = rr; B[MASS][m] = 0.0; B[FL][m] = 0.0; B[IN][m] = 0.0; B[PHI][m] = 1.0; B[MOB][m] = 1.0;
+      B[COL][m] = -1.0; B[OFF][m] = 0.0;
+    }
+    const double* __restrict bx0 = B[X0];
+    const double* __restrict bx1 = B[X1];
+    const double* __restrict bx2 = B[D == 3 ? X2 : X1];
+    const double* __restrict bu0 = B[U0];
+    const double* __restrict bu1 = B[U1];
+    const double* __restrict bu2 = B[D == 3 ? U2 : U1];
+    const double* __restrict brho = B[RHO];
+    const double* __restrict bm = B[MASS];
+    const double* __restrict bfl = B[FL];
+    const double* __restrict bin = B[IN];
+    const double* __restrict bphi = B[PHI];
+    const double* __restrict bmob = B[MOB];
+    const double* __restrict bcol = B[COL];
+    const double* __restrict boff = B[OFF];
+    double* __restrict cc = B[C];
+    const std::size_t npad = st.padded, cnt = st.count;
+    const bool porous = phi != nullptr;
+    std::uint64_t pairs = 0;
+    for (std::uint32_t k = c0k; k < c1k; ++k) {
+      const std::uint32_t i = sorted[k];
+      if (i >= n_owned || unknown_[i] < 0) continue;
+      auto& e = rows_[static_cast<std::size_t>(unknown_[i])];
+      e.clear();
+      const double me = double(first_row_ + static_cast<std::size_t>(unknown_[i]));  // (columns: global unknown numbers)
+      const double xa0 = pos[i][0] - origin[0], xa1 = pos[i][1] - origin[1], xa2 = pos[i][D - 1] - origin[D - 1];
+      const double va0 = vel[i][0], va1 = vel[i][1], va2 = vel[i][D - 1];
+      const double ri = rho[i];
+      // porous (SPHAM): (1/φ_i) ∇·(φ ∇P/ρ) = (1/φ_i) ∇·(φ u*)/Δt + ...; a fluid neighbour's volume
+      // m/(φ ρ), a wall's its own (dx^D); a wall continues the medium of the fluid it faces; the
+      // conductivity φ m_d, so that the correction meets the drag as the prediction does. Outside
+      // media every φ and m_d is 1 and the terms reduce to the plain ones
+      const double fi = kind[i] == Kind::Fluid ? 1.0 : 0.0;
+      const double phii = phi && fi > 0.0 ? phi[i] : 1.0, mobi = mob && fi > 0.0 ? mob[i] : 1.0;
+      double diag = 0.0, div = 0.0, known = 0.0;
+#pragma omp simd reduction(+ : diag, div, known)
+      for (std::size_t m = 0; m < npad; ++m) {
+        const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
+        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+        const double in = (r2 < sup2) & (r2 > 0.0) ? bin[m] : 0.0;
+        const double F = kl.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
+        double c, dvol;  // c_ij; m_j F r_ij·(u_j − u_i) (porous: φ-weighted, over φ_a)
+        if (porous) {
+          const double fj = bfl[m];
+          const double pa = fi * phii + (1.0 - fi) * (fj * bphi[m] + (1.0 - fj));
+          const double pb = fj * bphi[m] + (1.0 - fj) * pa;
+          const double mj = bm[m] / (fj * pb + (1.0 - fj));
+          const double ka = pa * (fi * mobi + (1.0 - fi) * (fj * bmob[m] + (1.0 - fj)));
+          const double kb = pb * (fj * bmob[m] + (1.0 - fj) * ka / pa);
+          const double rs = ri + brho[m];
+          c = in * (-8.0 * mj / (rs * rs) * F * r2 / (r2 + eta2)) * (2.0 * ka * kb / ((ka + kb) * pa));
+          const double dv = (pb * bu0[m] - pa * va0) * r0 + (pb * bu1[m] - pa * va1) * r1 +
+                            (D == 3 ? (pb * bu2[m] - pa * va2) * r2c : 0.0);
+          dvol = in * mj * F * dv / pa;
+        } else {  // (one division a pair)
+          const double rs = ri + brho[m];
+          c = in * (-8.0 * bm[m] * F * r2) / (rs * rs * (r2 + eta2));
+          const double dv = (bu0[m] - va0) * r0 + (bu1[m] - va1) * r1 + (D == 3 ? (bu2[m] - va2) * r2c : 0.0);
+          dvol = in * bm[m] * F * dv;
+        }
+        div += dvol;
+        known -= c * boff[m];  // a dummy's P_foot + offset: the offset is known
+        diag -= bcol[m] == me ? 0.0 : c;  // the particle itself (a dummy under it, or its own image): cancels
+        cc[m] = in > 0.0 ? c : -1.0;  // (-1: no neighbour; c >= 0 otherwise)
+      }
+      for (std::size_t m = 0; m < cnt; ++m)
+        if (cc[m] >= 0.0 && bcol[m] >= 0.0 && bcol[m] != me) e.emplace_back(static_cast<int>(bcol[m]), cc[m]);
+      pairs += cnt;
+      const int mei = static_cast<int>(me);
+      if (cls_[i] != 0) {  // a P = 0 particle's identity row (stable row numbering)
+        e.assign(1, {mei, diag < 0.0 ? diag : -1.0});
+        rhs[static_cast<std::size_t>(unknown_[i])] = 0.0;
+        continue;
+      }
+      // the diagonal in its place and the columns ascending, repeated columns (the dummies
+      // standing in for one foot) summed
+      e.emplace_back(mei, diag);
+      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::size_t w = 0;
+      for (std::size_t r = 1; r < e.size(); ++r) {
+        if (e[r].first == e[w].first) e[w].second += e[r].second;
+        else e[++w] = e[r];
+      }
+      e.resize(w + 1);
+      const double b_hs = div / (rr * dt);
+      // the density-invariant part: a deficit (a truncated support at the free surface, or a
+      // particle the flow has just left room around) is not sucked back unless asked for
+      const double b_std = (o_.density_deficit ? rr - ri : std::min(rr - ri, 0.0)) / (rr * dt * dt);
+      rhs[static_cast<std::size_t>(unknown_[i])] = gamma * b_hs + (1.0 - gamma) * b_std + known;
+      if (split) rhs_density_[static_cast<std::size_t>(unknown_[i])] = o_.relaxation * b_std;  // (a dummy's offset: not a density error)
+    }
+    return pairs;
+  });
+  sys_.first_row = first_row_;
+  sys_.stable_rows = stable_rows_;
+  sys_.start.assign(1, 0);
+  sys_.col.clear();
+  sys_.val.clear();
+  for (const auto& e : rows_) {
+    for (const auto& [col, v] : e) { sys_.col.push_back(col); sys_.val.push_back(v); }
+    sys_.start.push_back(sys_.col.size());
+  }
+  sys_.rhs.swap(rhs);
+}
+
+template <int D>
+template <class K>
+void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
+  auto& P = S.particles;
+  const std::size_t n_owned = P.n_owned();
+  // the gradient normalised by its lattice moment (gradient_normalisation: lattice): exact for a
+  // linear pressure on a full lattice (κ = 0.99 for Wendland C2 at h/dx 1.5)
+  const double inv_kappa = o_.gradient_lattice && kappa_ > 0.0 ? 1.0 / kappa_ : 1.0;
+  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
+  const double* psi = o_.source == PpeSource::Split ? P.scalar("_psi").data() : nullptr;
+  Vec<D>* dr = psi ? P.vector("_density_shift").data() : nullptr;
+  const Vec<D>* pos = P.pos.data();
+  const double* mass = P.mass.data();
+  const double* rho = P.rho.data();
+  const double* prs = P.p.data();
+  const Kind* kind = P.kind.data();
+  const std::uint32_t* sorted = S.cells.sorted().data();
+  Vec<D>* vel = P.vel.data();
+  const auto& cells = S.cells;
+  // columns: position; the neighbour's volume factor m_j (a porous fluid neighbour m_j/φ_j, 0
+  // for a particle outside the PPE); P_j/ρ_j²; ψ_j/ρ_j² (source.type split)
+  enum { X0, X1, X2, MV, PR, PS, NCOL };
+  sweep_cells<double>(cells, NCOL, kLanes, [&](std::size_t cell) { return owned_in(cells, cell, n_owned, kind, true); },
+                      [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
+    const K kl = ker;
+    const double sup2 = kl.support2;
+    const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+    const Vec<D> origin = pos[sorted[c0k]];
+    st.for_each([&](std::size_t m, std::uint32_t b) {
+      for (int d = 0; d < D; ++d) B[X0 + d][m] = pos[b][d] - origin[d];
+      const Kind kb = kind[b];
+      const double r2i = 1.0 / (rho[b] * rho[b]);
+      B[MV][m] = kb == Kind::Fluid ? (phi ? mass[b] / phi[b] : mass[b]) : kb == Kind::Wall ? mass[b] : 0.0;
+      B[PR][m] = prs[b] * r2i;
+      B[PS][m] = psi ? psi[b] * r2i : 0.0;
+    });
+    for (std::size_t m = st.count; m < st.padded; ++m) {
+      for (int d = 0; d < D; ++d) B[X0 + d][m] = kFar;
+      B[MV][m] = 0.0; B[PR][m] = 0.0; B[PS][m] = 0.0;
+    }
+    const double* __restrict bx0 = B[X0];
+    const double* __restrict bx1 = B[X1];
+    const double* __restrict bx2 = B[D == 3 ? X2 : X1];
+    const double* __restrict bmv = B[MV];
+    const double* __restrict bpr = B[PR];
+    const double* __restrict bps = B[PS];
+    const std::size_t npad = st.padded;
+    std::uint64_t pairs = 0;
+    for (std::uint32_t k = c0k; k < c1k; ++k) {
+      const std::uint32_t i = sorted[k];
+      if (i >= n_owned || kind[i] != Kind::Fluid) continue;
+      const double xa0 = pos[i][0] - origin[0], xa1 = pos[i][1] - origin[1], xa2 = pos[i][D - 1] - origin[D - 1];
+      const double ri2 = 1.0 / (rho[i] * rho[i]);
+      const double pi = prs[i] * ri2, si = psi ? psi[i] * ri2 : 0.0;
+      // the symmetric gradient (eq 3.4.51): Σ m_j (P_i/ρ_i² + P_j/ρ_j²) F r_ij
+      double g0 = 0.0, g1 = 0.0, g2 = 0.0, h0 = 0.0, h1 = 0.0, h2 = 0.0;
+#pragma omp simd reduction(+ : g0, g1, g2, h0, h1, h2)
+      for (std::size_t m = 0; m < npad; ++m) {
+        const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
+        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+        const double in = (r2 < sup2) & (r2 > 0.0) ? bmv[m] : 0.0;
+        const double wF = in * kl.F(std::sqrt(r2));
+        const double gp = wF * (pi + bpr[m]), gs = wF * (si + bps[m]);
+        g0 += gp * r0; g1 += gp * r1; g2 += gp * r2c;
+        h0 += gs * r0; h1 += gs * r1; h2 += gs * r2c;
+      }
+      pairs += st.count;
+      const double scale = inv_kappa * (mob ? mob[i] : 1.0);
+      Vec<D> grad{}, gpsi{};
+      grad[0] = g0; grad[1] = g1; gpsi[0] = h0; gpsi[1] = h1;
+      if constexpr (D == 3) { grad[2] = g2; gpsi[2] = h2; }
+      vel[i] -= (dt * scale) * grad;
+      if (dr) dr[i] = (-dt * dt * scale) * gpsi;
+    }
+    return pairs;
+  });
+}
+
+#define SPH_ISPH_PASSES(D, K)                                                     \
+  template void ISPH<D>::kernel_density<K<D>>(System<D>&, const K<D>&);           \
+  template void ISPH<D>::assemble<K<D>>(System<D>&, const K<D>&, double);         \
+  template void ISPH<D>::correct<K<D>>(System<D>&, const K<D>&, double);
+SPH_ISPH_PASSES(2, WendlandC2)
+SPH_ISPH_PASSES(2, CubicSpline)
+SPH_ISPH_PASSES(2, QuinticSpline)
+SPH_ISPH_PASSES(3, WendlandC2)
+SPH_ISPH_PASSES(3, CubicSpline)
+SPH_ISPH_PASSES(3, QuinticSpline)
+#undef SPH_ISPH_PASSES
+
+}  // namespace sph
