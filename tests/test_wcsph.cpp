@@ -13,7 +13,7 @@
 #include <cfloat>
 #include <cmath>
 
-#include "sphflume/physics/eos.hpp"
+#include "sphflume/core/eos.hpp"
 #include "test_helpers.hpp"
 
 using namespace sph;

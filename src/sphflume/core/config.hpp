@@ -13,8 +13,7 @@
 #include "sphflume/core/errors.hpp"
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/core/node.hpp"
-#include "sphflume/physics/eos.hpp"
-#include "sphflume/physics/shifting.hpp"
+#include "sphflume/core/eos.hpp"
 
 namespace sph {
 
@@ -23,6 +22,13 @@ enum class Integrator { Symplectic, PredictorCorrector, Verlet, Dual };
 enum class DensityDiffusion { None, MolteniColagrossi, Fourtakas };
 enum class ViscosityModel { None, Laminar, Artificial };
 enum class PressureGradient { Sum, Symmetric };  // (pa+pb)/(ra rb) [Federico 3.8] ; pa/ra^2+pb/rb^2 [3.9]
+
+/// Particle shifting's options (physics/shifting.hpp).
+struct ShiftingConfig {
+  double coefficient = 0.0;  // A; 0 = off (Skillen et al. 2013 suggest 1 to 6)
+  double surface = 0.0;      // ∇·r threshold of the free surface; 0 = 1.5 (2D) or 2.75 (3D)
+  bool on() const { return coefficient > 0.0; }
+};
 
 struct FluidConfig {
   double density = 1000.0;     // rho0 [kg/m3]
@@ -62,7 +68,7 @@ struct SchemeConfig {
 };
 
 /// The projection scheme's options (`scheme.type: isph`, schemes/isph.hpp; read by
-/// schemes/isph_options.cpp).
+/// io/case_isph.cpp).
 enum class PpeSource { Hybrid, Standard, DivergenceFree, Split };
 
 struct IsphConfig {

@@ -7,13 +7,13 @@
 #include <memory>
 #include <vector>
 
-#include "sphflume/boundaries/periodic.hpp"
+#include "sphflume/core/periodic.hpp"
 #include "sphflume/core/cell_list.hpp"
 #include "sphflume/core/communicator.hpp"
 #include "sphflume/core/halo.hpp"
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/core/particles.hpp"
-#include "sphflume/physics/eos.hpp"
+#include "sphflume/core/eos.hpp"
 
 namespace sph {
 

@@ -12,7 +12,7 @@
 
 #include "sphflume/io/case_reader.hpp"
 #include "sphflume/io/geometry.hpp"
-#include "sphflume/schemes/isph_options.hpp"
+#include "sphflume/io/case_isph.hpp"
 
 namespace sph {
 namespace {

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "sphflume/io/case_reader.hpp"
-#include "sphflume/schemes/isph_options.hpp"
+#include "sphflume/io/case_isph.hpp"
 
 namespace sph::caseio {
 namespace {

@@ -14,18 +14,13 @@
 #pragma once
 #include <vector>
 
+#include "sphflume/core/config.hpp"  // ShiftingConfig
 #include "sphflume/core/vec.hpp"
 
 namespace sph {
 
 template <int D>
 struct System;
-
-struct ShiftingConfig {
-  double coefficient = 0.0;  // A; 0 = off (Skillen et al. 2013 suggest 1 to 6)
-  double surface = 0.0;      // ∇·r threshold of the free surface; 0 = 1.5 (2D) or 2.75 (3D)
-  bool on() const { return coefficient > 0.0; }
-};
 
 template <int D>
 class Shifting {

@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "sphflume/schemes/isph_options.hpp"
+#include "sphflume/core/config.hpp"
 #include "sphflume/schemes/pressure_solver.hpp"
 #include "sphflume/schemes/scheme.hpp"
 #include "sphflume/schemes/wcsph.hpp"

@@ -1,5 +1,5 @@
-#include "sphflume/schemes/isph_options.hpp"
-#include "sphflume/schemes/pressure_solver.hpp"
+#include "sphflume/io/case_isph.hpp"
+#include "sphflume/version.hpp"  // SPHFLUME_HYPRE
 
 #include <fmt/format.h>
 
@@ -60,7 +60,7 @@ void read_isph_options(Reader& r, IsphConfig& o) {
     const std::string st = q.choice("type", "auto", {"auto", "bicgstab", "boomeramg"});
     o.amg = st == "boomeramg";
     o.solver_auto = st == "auto";
-    if (o.amg && !have_hypre())
+    if (o.amg && !SPHFLUME_HYPRE)
       q.fail_at(q.get("type"), "scheme.solver.type",
                 "bicgstab: this build has no hypre (install libhypre-dev, scripts/install-deps.sh, and rebuild)");
     o.tolerance = q.in_range("tolerance", 1e-6, 1e-14, 1e-2);
