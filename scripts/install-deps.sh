@@ -8,7 +8,7 @@
 set -euo pipefail
 PKGS=(
   build-essential g++ cmake make pkg-config git
-  libeigen3-dev libmuparser-dev libyaml-cpp-dev libhdf5-dev libcli11-dev libfmt-dev libspdlog-dev
+  libeigen3-dev libmuparser-dev libyaml-cpp-dev libhdf5-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libhypre-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
   python3 python3-numpy python3-matplotlib python3-h5py python3-yaml

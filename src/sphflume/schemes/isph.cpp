@@ -471,18 +471,19 @@ void ISPH<D>::restore(const std::map<std::string, double>& s) {
 }
 
 template <int D>
-std::string ISPH<D>::summary_json() const {
+void ISPH<D>::summary(nlohmann::ordered_json& j) const {
   const double mean = stats_.solves > 0 ? double(stats_.iterations) / double(stats_.solves) : 0.0;
-  return fmt::format(
-      "  \"pressure_solver\": {{\"name\": \"{}\", \"solves\": {}, \"mean_iterations\": {:.2f}, \"max_iterations\": {}, "
-      "\"max_residual\": {:.3e}, \"tolerance\": {:.3e}, \"unknowns\": {}, \"nonzeros\": {}, \"free_surface\": {}, "
-      "\"assemble_seconds\": {:.3f}, \"solve_seconds\": {:.3f}, \"predict_seconds\": {:.3f}, \"correct_seconds\": {:.3f}, "
-      "\"reference_density\": {:.6g}, \"gradient_moment\": {:.6g}, \"redone_steps\": {}, \"source\": \"{}\"}}",
-      solver_->name(), stats_.solves, mean, stats_.max_iterations, stats_.max_residual, o_.tolerance, stats_.unknowns,
-      stats_.nonzeros, stats_.free_surface, stats_.assemble_s, stats_.solve_s, stats_.predict_s, stats_.correct_s, rho_ref_,
-      kappa_, stats_.redone,
-      o_.source == PpeSource::Split ? "split" : o_.source == PpeSource::Hybrid ? "hybrid"
-      : o_.source == PpeSource::Standard ? "standard" : "divergence_free");
+  const char* source = o_.source == PpeSource::Split      ? "split"
+                       : o_.source == PpeSource::Hybrid   ? "hybrid"
+                       : o_.source == PpeSource::Standard ? "standard"
+                                                          : "divergence_free";
+  j["pressure_solver"] = {{"name", solver_->name()}, {"solves", stats_.solves}, {"mean_iterations", mean},
+                          {"max_iterations", stats_.max_iterations}, {"max_residual", stats_.max_residual},
+                          {"tolerance", o_.tolerance}, {"unknowns", stats_.unknowns}, {"nonzeros", stats_.nonzeros},
+                          {"free_surface", stats_.free_surface}, {"assemble_seconds", stats_.assemble_s},
+                          {"solve_seconds", stats_.solve_s}, {"predict_seconds", stats_.predict_s},
+                          {"correct_seconds", stats_.correct_s}, {"reference_density", rho_ref_},
+                          {"gradient_moment", kappa_}, {"redone_steps", stats_.redone}, {"source", source}};
 }
 
 template class ISPH<2>;

@@ -50,7 +50,7 @@ class ISPH final : public Scheme<D> {
   std::size_t bytes() const override;
   std::map<std::string, double> state() const override;
   void restore(const std::map<std::string, double>& s) override;
-  std::string summary_json() const override;
+  void summary(nlohmann::ordered_json& j) const override;
   bool even_steps() const override { return true; }
 
   /// The reference density: the kernel's sum over a full lattice of spacing dx (exposed for tests).

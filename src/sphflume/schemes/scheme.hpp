@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "sphflume/core/errors.hpp"
 #include "sphflume/core/registry.hpp"
 #include "sphflume/core/system.hpp"
@@ -35,9 +37,8 @@ class Scheme {
   /// True when a step much shorter than the last one disturbs the scheme (the driver then
   /// splits the time left before an output into two equal steps instead of leaving a sliver).
   virtual bool even_steps() const { return false; }
-  /// The scheme's own block in summary.json (`"key": value` lines, comma-separated, no
-  /// trailing comma), or empty.
-  virtual std::string summary_json() const { return {}; }
+  /// The scheme's own keys in summary.json (docs/output.md), added to `j` (none by default).
+  virtual void summary(nlohmann::ordered_json& j) const { (void)j; }
 };
 
 template <int D>

@@ -14,6 +14,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -43,16 +44,6 @@ int thread_count() {
 #else
   return 1;
 #endif
-}
-
-std::string json_escape(const std::string& in) {
-  std::string s;
-  for (char ch : in) {
-    if (ch == '"' || ch == '\\') s += '\\';
-    if (ch == '\n') { s += "\\n"; continue; }
-    s += ch;
-  }
-  return s;
 }
 
 std::string hms(double s) {
@@ -346,47 +337,62 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   const Totals<D> tot(S, rs);
   const RankStats ranks = rank_stats(S, res.steps);
   if (!S.comm->root()) return;
-  std::string faces;
-  for (const auto& [f, n] : tot.removed_by_face) faces += fmt::format("{}\"{}\": {}", faces.empty() ? "" : ", ", f, n);
+  // the output contract (docs/output.md): keys in this order, numbers as JSON numbers (NaN: null)
+  nlohmann::ordered_json j;
+  j["version"] = o.version;
+  j["case"] = c.name;
+  j["case_file"] = c.file;
+  j["dimension"] = D;
+  j["scheme"] = R.scheme->name();
+  j["kernel"] = kernel_name(c.kernel);
+  j["integrator"] = c.scheme.type == "isph" ? "projection"
+                    : c.scheme.integrator == Integrator::Verlet ? "verlet"
+                    : c.scheme.integrator == Integrator::Dual ? "dual"
+                    : c.scheme.integrator == Integrator::Symplectic ? "symplectic" : "predictor_corrector";
+  j["passes_per_step"] = R.scheme->passes_per_step();
+  j["ignored_keys"] = c.warnings;  // (every warning, the name kept for old readers)
+  j["warnings"] = c.warnings;
+  R.scheme->summary(j);  // the scheme's own block (ISPH: "pressure_solver")
+  j["dx"] = S.dx;
+  j["h"] = S.h;
+  j["sound_speed"] = S.eos.c0;
+  j["particles"] = {{"fluid", tot[Kind::Fluid]}, {"wall", tot[Kind::Wall]}, {"inflow", tot[Kind::Inflow]},
+                    {"outflow", tot[Kind::Outflow]}, {"total", res.total}, {"initial_fluid", R.rep.fluid}};
+  j["steps"] = res.steps;
+  j["total_steps"] = S.step;
+  j["simulated_time"] = S.time;
+  j["end_time"] = c.t_end;
+  j["wall_seconds"] = sm.wall;
+  j["threads"] = thread_count();
+  j["ranks"] = {{"count", S.comm->size()}, {"halo_bytes_per_step", ranks.halo_bytes_per_step},
+                {"imbalance", ranks.imbalance}, {"fluid_imbalance", ranks.fluid_imbalance},
+                {"rebalances", ranks.rebalances}, {"migrated_per_step", ranks.migrated_per_step},
+                {"snapshot_writes", sm.snapshot_writes}};
+  j["particle_steps_per_second"] = res.particle_steps_per_second;
+  j["fluid_particle_steps_per_second"] = res.fluid_particle_steps_per_second;
+  j["pair_interactions_per_second"] = res.pair_interactions_per_second;
+  j["bytes_per_particle"] = res.bytes_per_particle;
+  j["last_dt"] = sm.last_dt;
+  j["snapshots"] = sm.snapshots;
+  j["mass"] = {{"initial", rs.initial_mass}, {"inflow", tot.inflow}, {"outflow", tot.outflow},
+               {"backflow", tot.backflow_mass}, {"removed", tot.removed_mass}, {"final", tot.final_mass},
+               {"relative_error", res.mass_error}};
+  j["backflow"] = {{"particles", tot.backflow}, {"mass", tot.backflow_mass}};
   long removed = 0;
-  for (const auto& [f, n] : tot.removed_by_face) removed += n;
-  std::string json = "{\n";
-  json += fmt::format("  \"version\": \"{}\",\n  \"case\": \"{}\",\n  \"case_file\": \"{}\",\n", o.version, json_escape(c.name), json_escape(c.file));
-  json += fmt::format("  \"dimension\": {},\n  \"scheme\": \"{}\",\n  \"kernel\": \"{}\",\n", D, R.scheme->name(), kernel_name(c.kernel));
-  json += fmt::format("  \"integrator\": \"{}\",\n  \"passes_per_step\": {},\n",
-                      c.scheme.type == "isph" ? "projection"
-                      : c.scheme.integrator == Integrator::Verlet ? "verlet"
-                      : c.scheme.integrator == Integrator::Dual ? "dual"
-                      : c.scheme.integrator == Integrator::Symplectic ? "symplectic" : "predictor_corrector",
-                      R.scheme->passes_per_step());
-  std::string ignored;
-  for (const auto& w : c.warnings) ignored += fmt::format("{}\"{}\"", ignored.empty() ? "" : ", ", json_escape(w));
-  json += fmt::format("  \"ignored_keys\": [{}],\n", ignored);  // (every warning, the name kept for old readers)
-  json += fmt::format("  \"warnings\": [{}],\n", ignored);
-  if (const std::string block = R.scheme->summary_json(); !block.empty()) json += block + ",\n";
-  json += fmt::format("  \"dx\": {:.9g},\n  \"h\": {:.9g},\n  \"sound_speed\": {:.9g},\n", S.dx, S.h, S.eos.c0);
-  json += fmt::format("  \"particles\": {{\"fluid\": {}, \"wall\": {}, \"inflow\": {}, \"outflow\": {}, \"total\": {}, \"initial_fluid\": {}}},\n",
-                      tot[Kind::Fluid], tot[Kind::Wall], tot[Kind::Inflow], tot[Kind::Outflow], res.total, R.rep.fluid);
-  json += fmt::format("  \"steps\": {},\n  \"total_steps\": {},\n  \"simulated_time\": {:.9g},\n  \"end_time\": {:.9g},\n  \"wall_seconds\": {:.6g},\n  \"threads\": {},\n",
-                      res.steps, S.step, S.time, c.t_end, sm.wall, thread_count());
-  json += fmt::format("  \"ranks\": {{\"count\": {}, \"halo_bytes_per_step\": {:.6g}, \"imbalance\": {:.4f}, "
-                      "\"fluid_imbalance\": {:.4f}, \"rebalances\": {}, \"migrated_per_step\": {:.4g}, "
-                      "\"snapshot_writes\": \"{}\"}},\n",
-                      S.comm->size(), ranks.halo_bytes_per_step, ranks.imbalance, ranks.fluid_imbalance, ranks.rebalances,
-                      ranks.migrated_per_step, sm.snapshot_writes);
-  json += fmt::format("  \"particle_steps_per_second\": {:.6g},\n  \"fluid_particle_steps_per_second\": {:.6g},\n",
-                      res.particle_steps_per_second, res.fluid_particle_steps_per_second);
-  json += fmt::format("  \"pair_interactions_per_second\": {:.6g},\n  \"bytes_per_particle\": {:.1f},\n",
-                      res.pair_interactions_per_second, res.bytes_per_particle);
-  json += fmt::format("  \"last_dt\": {:.6g},\n  \"snapshots\": {},\n", sm.last_dt, sm.snapshots);
-  json += fmt::format("  \"mass\": {{\"initial\": {:.17g}, \"inflow\": {:.17g}, \"outflow\": {:.17g}, \"backflow\": {:.17g}, \"removed\": {:.17g}, \"final\": {:.17g}, \"relative_error\": {:.3e}}},\n",
-                      rs.initial_mass, tot.inflow, tot.outflow, tot.backflow_mass, tot.removed_mass, tot.final_mass, res.mass_error);
-  json += fmt::format("  \"backflow\": {{\"particles\": {}, \"mass\": {:.17g}}},\n", tot.backflow, tot.backflow_mass);
-  json += fmt::format("  \"removed_particles\": {{{}}},\n  \"removed_particles_total\": {},\n", faces, removed);
-  json += fmt::format("  \"restarted_from\": \"{}\",\n  \"last_good_snapshot\": \"{}\",\n", json_escape(sm.restarted_from),
-                      json_escape(sm.last_good));
-  json += fmt::format("  \"exit_status\": \"{}\",\n  \"exit_code\": {},\n  \"message\": \"{}\"\n}}\n", sm.status, res.exit_code,
-                      json_escape(sm.message));
+  nlohmann::ordered_json faces = nlohmann::ordered_json::object();
+  for (const auto& [f, n] : tot.removed_by_face) {
+    faces[f] = n;
+    removed += n;
+  }
+  j["removed_particles"] = faces;
+  j["removed_particles_total"] = removed;
+  j["restarted_from"] = sm.restarted_from;
+  j["last_good_snapshot"] = sm.last_good;
+  j["exit_status"] = sm.status;
+  j["exit_code"] = res.exit_code;
+  j["message"] = sm.message;
+  // (a message or path that is not valid UTF-8 is written with U+FFFD, not refused)
+  const std::string json = j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
   write_file_atomically(o.output + "/summary.json", json);
 }
 
@@ -509,7 +515,6 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     // snapshots at every snapshot_every-th output time (and the first and last); gauges at each
     const long k = std::lround(S.time / c.output_interval);
     const bool snap = always || c.snapshot_every <= 1 || k % c.snapshot_every == 0 || S.time >= c.t_end * (1.0 - 1e-12);
-    if (snap) write_snapshot();
     if (R.open.any()) {  // (the boundary_volume gauge's cumulative masses, summed over the ranks)
       const Totals<D> tot(S, R.rs);
       S.counters["inflow_mass"] = tot.inflow;
@@ -519,7 +524,11 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
     if (S.transport)
       for (std::size_t k = 0; k < S.transport->count(); ++k)  // (summed over the ranks)
         S.counters["source_mass." + S.transport->name(k)] = S.comm->sum(S.transport->source_mass(k));
+    // the gauges' rows before the snapshot: a run killed between the two leaves a snapshot only
+    // where its rows are on disk (a restart keeps the rows up to its snapshot's time and writes
+    // none at that time; robustness_restart saw the row at the restart time lost the other way)
     gauges->sample(S);
+    if (snap) write_snapshot();
     if (snap) {
       last_snapshot_step = S.step;
       restart_point = snaps.last_path();
