@@ -54,6 +54,17 @@ ISPH<D>::ISPH(const Case& c)
 }
 
 template <int D>
+std::string ISPH<D>::distributed_refusal() const {
+  if (!have_hypre())
+    return "the ISPH scheme without hypre (its pressure equation across ranks is solved by hypre: install "
+           "libhypre-dev and rebuild)";
+  if (!o_.amg && !o_.solver_auto)
+    return "scheme.solver.type: bicgstab (Eigen's solver holds the whole system in one process: use "
+           "scheme.solver.type: boomeramg or auto, hypre over every rank's rows)";
+  return {};
+}
+
+template <int D>
 void ISPH<D>::initialise(System<D>& S) {
   set_reference(S);
   S.particles.scalar("free_surface");  // the flag (set by each solve) exists from the first snapshot

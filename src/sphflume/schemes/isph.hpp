@@ -43,6 +43,11 @@ class ISPH final : public Scheme<D> {
  public:
   explicit ISPH(const Case& c);
   const char* name() const override { return "isph"; }
+  const char* integrator() const override { return "projection"; }
+  // the summation density is low at the free surface by construction (a splash particle alone
+  // reads m W(0)): only compression is a sign of failure
+  bool density_bounded_below() const override { return false; }
+  std::string distributed_refusal() const override;
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;

@@ -26,6 +26,14 @@ class Scheme {
   virtual double time_step(const System<D>& S) const = 0;
   /// Advance by dt.
   virtual void step(System<D>& S, double dt) = 0;
+  /// The time integration, as summary.json's "integrator" names it.
+  virtual const char* integrator() const = 0;
+  /// False where the scheme's density may fall far below ρ0 without anything being wrong (a
+  /// projection scheme's summation density at a free surface): the health check then looks for
+  /// compression only.
+  virtual bool density_bounded_below() const { return true; }
+  /// Why this scheme, as configured, cannot run over several MPI ranks (empty: it can).
+  virtual std::string distributed_refusal() const { return {}; }
   /// Rates passes (neighbour sweeps) per step, for throughput accounting.
   virtual int passes_per_step() const = 0;
   /// Bytes per owned particle held by the scheme itself (integrator state).

@@ -37,6 +37,15 @@ class WCSPH final : public Scheme<D> {
   /// projection scheme (gravity, viscosity, turbulence, walls, force terms, porous drag rate).
   WCSPH(const SchemeConfig& cfg, const TurbulenceConfig& turb) : cfg_(cfg), turb_(turb), shift_(cfg.shifting) {}
   const char* name() const override { return "wcsph"; }
+  const char* integrator() const override {
+    switch (cfg_.integrator) {
+      case Integrator::Verlet: return "verlet";
+      case Integrator::Dual: return "dual";
+      case Integrator::Symplectic: return "symplectic";
+      case Integrator::PredictorCorrector: return "predictor_corrector";
+    }
+    return "?";
+  }
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;

@@ -29,7 +29,6 @@
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/transport.hpp"
-#include "sphflume/schemes/pressure_solver.hpp"
 #include "sphflume/schemes/scheme.hpp"
 #include "sphflume/sim/health.hpp"
 #include "sphflume/sim/ranks.hpp"
@@ -150,9 +149,7 @@ struct Run {
     open.setup(S, rs.open);  // fluid inside the zones becomes inflow/outflow particles
     if (S.transport) S.transport->impose(S);  // the inflow particles' prescribed values
     if (open.needs_prepare()) S.before_rates = [this](System<D>& s) { open.prepare(s); };
-    // a projection scheme's density is the kernel sum, low at the free surface by construction
-    // (a splash particle alone reads m W(0)): only compression is a sign of failure there
-    if (c.scheme.type == "isph") limits.density_min_ratio = 0.0;
+    if (!scheme->density_bounded_below()) limits.density_min_ratio = 0.0;  // (compression only)
   }
 
   void start_fresh() {
@@ -345,10 +342,7 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   j["dimension"] = D;
   j["scheme"] = R.scheme->name();
   j["kernel"] = kernel_name(c.kernel);
-  j["integrator"] = c.scheme.type == "isph" ? "projection"
-                    : c.scheme.integrator == Integrator::Verlet ? "verlet"
-                    : c.scheme.integrator == Integrator::Dual ? "dual"
-                    : c.scheme.integrator == Integrator::Symplectic ? "symplectic" : "predictor_corrector";
+  j["integrator"] = R.scheme->integrator();
   j["passes_per_step"] = R.scheme->passes_per_step();
   j["ignored_keys"] = c.warnings;  // (every warning, the name kept for old readers)
   j["warnings"] = c.warnings;
@@ -415,12 +409,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
       throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported: run it in one "
                                    "process (without mpirun)", c.file, what, comm->size()));
     };
-    if (c.scheme.type == "isph" && !have_hypre())
-      refuse("the ISPH scheme without hypre (its pressure equation across ranks is solved by hypre: install "
-             "libhypre-dev and rebuild)");
-    if (c.scheme.type == "isph" && !c.isph.amg && !c.isph.solver_auto)
-      refuse("scheme.solver.type: bicgstab (Eigen's solver holds the whole system in one process: use "
-             "scheme.solver.type: boomeramg or auto, hypre over every rank's rows)");
+    if (const std::string why = R.scheme->distributed_refusal(); !why.empty()) refuse(why);
     distribute<D>(S, comm);  // (every gauge reduces its value over the ranks: io/gauges.cpp)
   }
   if (distributed && restart && !comm->root()) {  // the restart point's counters are global: the first rank keeps them
