@@ -17,6 +17,34 @@ namespace {
 constexpr std::size_t kLanes = 8;  // padding: 8 doubles (one AVX-512 vector, two AVX2 ones)
 constexpr double kFar = 1.0e3;     // padding entries: 1 km away, outside every support
 
+/// The stencil's positions relative to the cell's first particle (small differences keep their digits),
+/// copied into columns X0 .. X0 + D - 1 and padded far away; the read pointers of the pair loops (x2 = x1 in
+/// 2D) and a particle's own relative position.
+template <int D>
+struct RelativePositions {
+  Vec<D> origin;
+  const double* __restrict x0;
+  const double* __restrict x1;
+  const double* __restrict x2;
+  RelativePositions(const CellStencil<D>& st, const Vec<D>* pos, const Vec<D>& first, ScratchColumns<double>& B, int X0)
+      : origin(first) {
+    double* c[3] = {B[X0], B[X0 + 1], B[X0 + D - 1]};
+    st.for_each([&](std::size_t m, std::uint32_t b) {
+      for (int d = 0; d < D; ++d) c[d][m] = pos[b][d] - origin[d];
+    });
+    for (std::size_t m = st.count; m < st.padded; ++m)
+      for (int d = 0; d < D; ++d) c[d][m] = kFar;
+    x0 = c[0];
+    x1 = c[1];
+    x2 = c[D - 1];
+  }
+  void of(const Vec<D>& p, double& a0, double& a1, double& a2) const {
+    a0 = p[0] - origin[0];
+    a1 = p[1] - origin[1];
+    a2 = p[D - 1] - origin[D - 1];
+  }
+};
+
 /// The owned fluid and wall particles of a cell (the particles ISPH's passes run); the count.
 template <int D>
 std::size_t owned_in(const CellList<D>& cells, std::size_t cell, std::size_t n_owned, const Kind* kind, bool fluid_only) {
@@ -50,27 +78,21 @@ void ISPH<D>::kernel_density(System<D>& S, const K& ker) {
     const K kl = ker;
     const double sup2 = kl.support2, w0 = kl.W(0.0);
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-    const Vec<D> origin = pos[sorted[c0k]];
-    double* cx[3] = {B[X0], B[X1], B[X2]};
+    const RelativePositions<D> rp(st, pos, pos[sorted[c0k]], B, X0);
     double* cm = B[MV];
-    st.for_each([&](std::size_t m, std::uint32_t b) {
-      for (int d = 0; d < D; ++d) cx[d][m] = pos[b][d] - origin[d];
-      cm[m] = phi ? mass[b] / phi[b] : mass[b];
-    });
-    for (std::size_t m = st.count; m < st.padded; ++m) {
-      for (int d = 0; d < D; ++d) cx[d][m] = kFar;
-      cm[m] = 0.0;
-    }
-    const double* __restrict bx0 = B[X0];
-    const double* __restrict bx1 = B[X1];
-    const double* __restrict bx2 = B[D == 3 ? X2 : X1];
+    st.for_each([&](std::size_t m, std::uint32_t b) { cm[m] = phi ? mass[b] / phi[b] : mass[b]; });
+    for (std::size_t m = st.count; m < st.padded; ++m) cm[m] = 0.0;
+    const double* __restrict bx0 = rp.x0;
+    const double* __restrict bx1 = rp.x1;
+    const double* __restrict bx2 = rp.x2;
     const double* __restrict bm = B[MV];
     const std::size_t npad = st.padded;
     std::uint64_t pairs = 0;
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t a = sorted[k];
       if (a >= n_owned || (kind[a] != Kind::Fluid && kind[a] != Kind::Wall)) continue;
-      const double xa0 = pos[a][0] - origin[0], xa1 = pos[a][1] - origin[1], xa2 = pos[a][D - 1] - origin[D - 1];
+      double xa0, xa1, xa2;
+      rp.of(pos[a], xa0, xa1, xa2);
       double s = 0.0;
 #pragma omp simd reduction(+ : s)
       for (std::size_t m = 0; m < npad; ++m) {
@@ -124,12 +146,9 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     const K kl = ker;
     const double sup2 = kl.support2;
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-    const Vec<D> origin = pos[sorted[c0k]];
+    const RelativePositions<D> rp(st, pos, pos[sorted[c0k]], B, X0);
     st.for_each([&](std::size_t m, std::uint32_t b) {
-      for (int d = 0; d < D; ++d) {
-        B[X0 + d][m] = pos[b][d] - origin[d];
-        B[U0 + d][m] = vel[b][d];
-      }
+      for (int d = 0; d < D; ++d) B[U0 + d][m] = vel[b][d];
       const Kind kb = kind[b];
       B[RHO][m] = rho[b];
       B[MASS][m] = mass[b];
@@ -141,13 +160,13 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       B[OFF][m] = off_[b];
     });
     for (std::size_t m = st.count; m < st.padded; ++m) {
-      for (int d = 0; d < D; ++d) { B[X0 + d][m] = kFar; B[U0 + d][m] = 0.0; }
+      for (int d = 0; d < D; ++d) B[U0 + d][m] = 0.0;
       B[RHO][m] = rr; B[MASS][m] = 0.0; B[FL][m] = 0.0; B[IN][m] = 0.0; B[PHI][m] = 1.0; B[MOB][m] = 1.0;
       B[COL][m] = -1.0; B[OFF][m] = 0.0;
     }
-    const double* __restrict bx0 = B[X0];
-    const double* __restrict bx1 = B[X1];
-    const double* __restrict bx2 = B[D == 3 ? X2 : X1];
+    const double* __restrict bx0 = rp.x0;
+    const double* __restrict bx1 = rp.x1;
+    const double* __restrict bx2 = rp.x2;
     const double* __restrict bu0 = B[U0];
     const double* __restrict bu1 = B[U1];
     const double* __restrict bu2 = B[D == 3 ? U2 : U1];
@@ -169,7 +188,8 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       auto& e = rows_[static_cast<std::size_t>(unknown_[i])];
       e.clear();
       const double me = double(first_row_ + static_cast<std::size_t>(unknown_[i]));  // (columns: global unknown numbers)
-      const double xa0 = pos[i][0] - origin[0], xa1 = pos[i][1] - origin[1], xa2 = pos[i][D - 1] - origin[D - 1];
+      double xa0, xa1, xa2;
+      rp.of(pos[i], xa0, xa1, xa2);
       const double va0 = vel[i][0], va1 = vel[i][1], va2 = vel[i][D - 1];
       const double ri = rho[i];
       // porous (SPHAM): (1/φ_i) ∇·(φ ∇P/ρ) = (1/φ_i) ∇·(φ u*)/Δt + ...; a fluid neighbour's volume
@@ -277,22 +297,18 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
     const K kl = ker;
     const double sup2 = kl.support2;
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-    const Vec<D> origin = pos[sorted[c0k]];
+    const RelativePositions<D> rp(st, pos, pos[sorted[c0k]], B, X0);
     st.for_each([&](std::size_t m, std::uint32_t b) {
-      for (int d = 0; d < D; ++d) B[X0 + d][m] = pos[b][d] - origin[d];
       const Kind kb = kind[b];
       const double r2i = 1.0 / (rho[b] * rho[b]);
       B[MV][m] = kb == Kind::Fluid ? (phi ? mass[b] / phi[b] : mass[b]) : kb == Kind::Wall ? mass[b] : 0.0;
       B[PR][m] = prs[b] * r2i;
       B[PS][m] = psi ? psi[b] * r2i : 0.0;
     });
-    for (std::size_t m = st.count; m < st.padded; ++m) {
-      for (int d = 0; d < D; ++d) B[X0 + d][m] = kFar;
-      B[MV][m] = 0.0; B[PR][m] = 0.0; B[PS][m] = 0.0;
-    }
-    const double* __restrict bx0 = B[X0];
-    const double* __restrict bx1 = B[X1];
-    const double* __restrict bx2 = B[D == 3 ? X2 : X1];
+    for (std::size_t m = st.count; m < st.padded; ++m) { B[MV][m] = 0.0; B[PR][m] = 0.0; B[PS][m] = 0.0; }
+    const double* __restrict bx0 = rp.x0;
+    const double* __restrict bx1 = rp.x1;
+    const double* __restrict bx2 = rp.x2;
     const double* __restrict bmv = B[MV];
     const double* __restrict bpr = B[PR];
     const double* __restrict bps = B[PS];
@@ -301,7 +317,8 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t i = sorted[k];
       if (i >= n_owned || kind[i] != Kind::Fluid) continue;
-      const double xa0 = pos[i][0] - origin[0], xa1 = pos[i][1] - origin[1], xa2 = pos[i][D - 1] - origin[D - 1];
+      double xa0, xa1, xa2;
+      rp.of(pos[i], xa0, xa1, xa2);
       const double ri2 = 1.0 / (rho[i] * rho[i]);
       const double pi = prs[i] * ri2, si = psi ? psi[i] * ri2 : 0.0;
       // the symmetric gradient (eq 3.4.51): Σ m_j (P_i/ρ_i² + P_j/ρ_j²) F r_ij
