@@ -45,6 +45,19 @@ struct RelativePositions {
   }
 };
 
+/// A PPE row's entries with its diagonal in place, the columns ascending and repeated columns (the dummies
+/// standing in for one foot) summed.
+void finish_row(std::vector<std::pair<int, double>>& e, int me, double diag) {
+  e.emplace_back(me, diag);
+  std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::size_t w = 0;
+  for (std::size_t r = 1; r < e.size(); ++r) {
+    if (e[r].first == e[w].first) e[w].second += e[r].second;
+    else e[++w] = e[r];
+  }
+  e.resize(w + 1);
+}
+
 /// The owned fluid and wall particles of a cell (the particles ISPH's passes run); the count.
 template <int D>
 std::size_t owned_in(const CellList<D>& cells, std::size_t cell, std::size_t n_owned, const Kind* kind, bool fluid_only) {
@@ -238,16 +251,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
         rhs[static_cast<std::size_t>(unknown_[i])] = 0.0;
         continue;
       }
-      // the diagonal in its place and the columns ascending, repeated columns (the dummies
-      // standing in for one foot) summed
-      e.emplace_back(mei, diag);
-      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-      std::size_t w = 0;
-      for (std::size_t r = 1; r < e.size(); ++r) {
-        if (e[r].first == e[w].first) e[w].second += e[r].second;
-        else e[++w] = e[r];
-      }
-      e.resize(w + 1);
+      finish_row(e, mei, diag);
       const double b_hs = div / (rr * dt);
       // the density-invariant part: a deficit (a truncated support at the free surface, or a
       // particle the flow has just left room around) is not sucked back unless asked for
@@ -259,13 +263,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   });
   sys_.first_row = first_row_;
   sys_.stable_rows = stable_rows_;
-  sys_.start.assign(1, 0);
-  sys_.col.clear();
-  sys_.val.clear();
-  for (const auto& e : rows_) {
-    for (const auto& [col, v] : e) { sys_.col.push_back(col); sys_.val.push_back(v); }
-    sys_.start.push_back(sys_.col.size());
-  }
+  sys_.set_rows(rows_);
   sys_.rhs.swap(rhs);
 }
 

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sph {
@@ -31,6 +32,16 @@ struct SparseRows {
   double tolerance = 0.0;
   std::size_t rows() const { return start.size() - 1; }
   std::size_t nonzeros() const { return col.size(); }
+  /// The matrix from rows of (column, value) entries, in row order (the right-hand side apart).
+  void set_rows(const std::vector<std::vector<std::pair<int, double>>>& rows) {
+    start.assign(1, 0);
+    col.clear();
+    val.clear();
+    for (const auto& e : rows) {
+      for (const auto& [c, v] : e) { col.push_back(c); val.push_back(v); }
+      start.push_back(col.size());
+    }
+  }
 };
 
 struct SolveReport {
