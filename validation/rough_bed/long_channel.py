@@ -13,10 +13,12 @@ model's developed uniform flow; check.py's verification run), run beside it.
 Gates (decision 3), over the window (the last third of the run):
   - discharge (mid-channel flux gauge) within 3 % of the periodic channel's;
   - depth uniform within 2 % ((max - min) / mean of the time-mean depth at 9 stations over the middle 80 %);
-  - |V_out - V_in| / V_in < 0.5 % for every 1 s of the window (Kazemi eq 3.19, boundary volume gauge).
+  - |V_out - V_in| / V_in < 0.5 % over every 10 s window of the window (issue 40, decision 3; Kazemi eq 3.19,
+    boundary volume gauge); the same per 1 s is printed (it measures the insertion's granularity too).
+Modes: coarse H/dx = 10, medium 15, fine 20.
 Reported: the thesis's 4H channel with the same inflow and its frozen outlet (check.py's in/out run).
 Not in CTest (a 12 k particle run of 40 s takes about 15 min on 2 cores); results in README.md.
-Usage: /usr/bin/python3 validation/rough_bed/long_channel.py [--mode coarse|fine] [--reuse] [--out DIR]
+Usage: /usr/bin/python3 validation/rough_bed/long_channel.py [--mode coarse|medium|fine] [--reuse] [--out DIR]
        [--set flows=S004H50] [--set t_end=40]
 """
 import math
@@ -31,7 +33,9 @@ import flows  # noqa: E402
 from check import ode, read_csv, window_mean, worst_volume_imbalance  # noqa: E402
 
 NAME = "rough_bed_long"
-MODES = {"coarse": {"dx_per_h": 10, "t_end": 40.0}, "fine": {"dx_per_h": 20, "t_end": 40.0}}
+# medium: H/dx = 15, decision 3's run to see whether the depth's fall converges
+MODES = {"coarse": {"dx_per_h": 10, "t_end": 40.0}, "medium": {"dx_per_h": 15, "t_end": 40.0},
+         "fine": {"dx_per_h": 20, "t_end": 40.0}}
 U0 = 0.2
 
 
@@ -90,9 +94,13 @@ def main():
         rep.metric(f"{fid} depth non-uniformity over the middle 80 % (9 stations)", f"{100 * unif:.2f} % "
                    f"(mean {1000 * dm.mean():.2f} mm, H + R_d = {1000 * (h + rd):.2f} mm; stations "
                    + " ".join(f"{1000 * d:.1f}" for d in dm) + ")", unif <= 0.02, "<= 2 %", "issue 20 decision 3")
-        worst = worst_volume_imbalance(outl, t0, t1)
-        rep.metric(f"{fid} worst |V_out - V_in| / V_in per 1 s", f"{100 * worst:.3f} %", worst < 0.005, "< 0.5 %",
-                   "issue 20 decision 3; Kazemi eq 3.19")
+        # decision 3 (issue 40): the balance over 10 s windows (every window of the averaging window, 1 s apart);
+        # over 1 s it also measures the insertion's granularity (a row of inflow particles at a time): printed
+        width = min(10.0, t1 - t0)
+        worst = worst_volume_imbalance(outl, t0, t1, width)
+        rep.metric(f"{fid} worst |V_out - V_in| / V_in over {width:g} s windows", f"{100 * worst:.3f} %", worst < 0.005,
+                   "< 0.5 %", "issue 40 decision 3; Kazemi eq 3.19")
+        print(f"       (info) the same per 1 s: {100 * worst_volume_imbalance(outl, t0, t1, 1.0):.3f} %")
         mb = sl["mass"]
         print(f"       long channel: {sl['particles']['total']} particles, {sl['steps']} steps, "
               f"{sl.get('wall_seconds', float('nan')):.0f} s wall; mass balance {mb['relative_error']:.1e}")
