@@ -468,9 +468,6 @@ struct CellStencil {
   }
 };
 
-/// The sum of L lane-wise partial sums (a pair loop's accumulators, L apart), pairwise in a fixed
-/// order: the order of the additions does not depend on the vector width, so AVX2 and AVX-512
-/// builds give bitwise the same sums. Overwrites v.
 /// The positions of store entries [k0, k0 + len) relative to `origin`, into the float columns
 /// x[0..D) at offset m: the stencil copies of the vectorised pair loops. The positions are read
 /// as a flat array of doubles (through Vec's operator[] GCC 12 left such loops scalar, "no
@@ -490,6 +487,9 @@ inline void copy_positions(const Vec<D>* pos, std::uint32_t k0, std::size_t len,
   }
 }
 
+/// The sum of L lane-wise partial sums (a pair loop's accumulators, L apart), pairwise in a fixed
+/// order: the order of the additions does not depend on the vector width, so AVX2 and AVX-512
+/// builds give bitwise the same sums. Overwrites v.
 template <std::size_t L, class T>
 inline T lane_sum(T* v) {
   for (std::size_t w = L / 2; w >= 1; w /= 2)

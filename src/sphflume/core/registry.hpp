@@ -1,5 +1,6 @@
 // Name -> factory registry: how force terms, wall models and schemes plug in. A new one is a
-// class plus one `add` line in its family's register_builtins().
+// class plus one `add` line in its family's registry function (force_registry(), wall_registry(),
+// scheme_registry(); docs/architecture.md).
 #pragma once
 #include <functional>
 #include <map>
