@@ -104,6 +104,17 @@ def variant(src, name, sets, gauges, ulp=False):
     with open(os.path.join(ROOT, "cases", src)) as f:
         c = yaml.safe_load(f)
     c["gauges"] = gauges
+    if name.startswith("isph_porous_dambreak"):
+        # without the gate: ISPH compresses the water under the rising gate at the dam face (1.31 rho0 at
+        # t = 0.054 s at dx = 0.01, validation/porous_dambreak_liu/README.md); this check is about the ranks
+        c["geometry"] = [g for g in c["geometry"] if g.get("motion") != "gate"]
+        c["motions"] = [m for m in c.get("motions", []) if m.get("name") != "gate"]
+        if not c["motions"]:
+            del c["motions"]
+    # the copy lives elsewhere: files the case names (a motion's table) keep pointing at the case's folder
+    for m in c.get("motions", []):
+        if "file" in m and not os.path.isabs(m["file"]):
+            m["file"] = os.path.join(ROOT, "cases", m["file"])
     if ulp:
         c["gravity"][-1] = float(c["gravity"][-1]) * (1.0 + 2.0**-23)
     for k, v in sets.items():

@@ -459,6 +459,17 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits)
     const WallBins<D> bins(wall_x, dx);
     for (std::size_t i = 0; i < fluid_x.size(); ++i) drop[i] = bins.any_within(fluid_x[i], 0.5 * dx * 0.999);
   }
+  // and every point inside a solid wall box (a gate, a paddle), whose own lattice may leave a point of another
+  // lattice (a porous zone's, spacing dx/sqrt(phi)) dx/2 or more from its particles yet inside the body
+  for (const auto& s : c.shapes) {
+    if (s.fill != "wall" || s.type != "box") continue;
+    const Vec<D> lo = to_vec<D>(s.min), hi = to_vec<D>(s.max);
+    for (std::size_t i = 0; i < fluid_x.size(); ++i) {
+      bool in = true;
+      for (int d = 0; d < D; ++d) in = in && fluid_x[i][d] > lo[d] && fluid_x[i][d] < hi[d];
+      if (in) drop[i] = 1;
+    }
+  }
   if constexpr (D == 2) {  // slopes whose walls are a layer: no fluid in the hollow under them
     for (const auto& s : c.shapes) {
       if (s.solid.empty()) continue;
