@@ -211,6 +211,26 @@ TEST(Porous, FillSpacingKeepsTheWaterVolume) {
   EXPECT_NEAR(vol, 0.3 * 0.15, 0.02 * 0.045);
 }
 
+// A solid wall box (a gate) standing in a porous zone: the zone's lattice (spacing dx/sqrt(φ)) leaves points
+// inside the box that are dx/2 or more from its wall particles (here (0.1107, 0.0107): 2.53 mm from the wall
+// particle at (0.1125, 0.0125)); the set-up drops every fluid point inside the body, not only those near its
+// particles (a fluid particle enclosed by walls reads 1.3 ρ0 in a summation density).
+TEST(Porous, FluidInsideASolidWallBoxIsDropped) {
+  std::string yaml = kPool;
+  yaml.replace(yaml.find("time:"), 0, "  - {type: box, fill: wall, min: [0.095, 0.0], max: [0.115, 0.12]}\n");
+  test::Setup<2> s(yaml);
+  const auto& P = s.S.particles;
+  std::size_t inside = 0, walls_inside = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    const auto& x = P.pos[i];
+    const bool in = x[0] > 0.095 && x[0] < 0.115 && x[1] > 0.0 && x[1] < 0.12;
+    inside += in && P.kind[i] == Kind::Fluid;
+    walls_inside += in && P.kind[i] == Kind::Wall;
+  }
+  EXPECT_EQ(inside, 0u);
+  EXPECT_EQ(walls_inside, 4u * 24u);  // the box itself: 4 x 24 wall particles at dx = 5 mm
+}
+
 // With φ = 1 the SPHAM terms are the plain ones: one rates pass on the same state (a sheared,
 // compressed pool, laminar and artificial viscosity, with turbulence) gives the same
 // accelerations and density rates with a porosity-1 region as without porous media.
