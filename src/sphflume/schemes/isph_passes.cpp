@@ -58,6 +58,85 @@ void finish_row(std::vector<std::pair<int, double>>& e, int me, double diag) {
   e.resize(w + 1);
 }
 
+/// The PPE's per-candidate columns of one cell's stencil (assemble), and each particle's sums over them.
+struct PpeColumns {
+  const double* __restrict x0; const double* __restrict x1; const double* __restrict x2;
+  const double* __restrict u0; const double* __restrict u1; const double* __restrict u2;
+  const double* __restrict rho; const double* __restrict m; const double* __restrict fl;
+  const double* __restrict in; const double* __restrict phi; const double* __restrict mob;
+  const double* __restrict col; const double* __restrict off;
+  double* __restrict c;  // out: c_ij per candidate, -1 where the candidate is no neighbour
+  std::size_t npad;
+};
+/// Particle i of the PPE (Tsurudome eq 3.4.49; porous: SPHAM): its position (relative to the cell's origin) and
+/// velocity, density, fluid flag, porosity and mobility (1 outside media), its own column.
+struct PpeRow {
+  double xa0, xa1, xa2, va0, va1, va2, ri, fi, phii, mobi, me;
+};
+struct PpeSums {
+  double diag = 0.0, div = 0.0, known = 0.0;
+};
+
+/// Σ_j over the stencil of particle a: the Laplacian's weights c_ij into b.c, the diagonal −Σ c_ij (its own
+/// column left out), the velocity divergence Σ m_j F r_ij·(u_j − u_i) and the dummies' known offsets. Porous
+/// (SPHAM): (1/φ_i) ∇·(φ ∇P/ρ) = (1/φ_i) ∇·(φ u*)/Δt + ...; a fluid neighbour's volume m/(φ ρ), a wall's its
+/// own (dx^D); a wall continues the medium of the fluid it faces; the conductivity φ m_d, so that the correction
+/// meets the drag as the prediction does. Outside media (Porous false) every φ and m_d is 1 and the terms are
+/// the plain ones, one division a pair.
+template <int D, bool Porous, class K>
+PpeSums ppe_sums(const K& kl, const PpeColumns& b, const PpeRow& a, double eta2) {
+  const double sup2 = kl.support2;
+  const double xa0 = a.xa0, xa1 = a.xa1, xa2 = a.xa2, va0 = a.va0, va1 = a.va1, va2 = a.va2, ri = a.ri;
+  const double fi = a.fi, phii = a.phii, mobi = a.mobi, me = a.me;
+  const double* __restrict bx0 = b.x0;
+  const double* __restrict bx1 = b.x1;
+  const double* __restrict bx2 = b.x2;
+  const double* __restrict bu0 = b.u0;
+  const double* __restrict bu1 = b.u1;
+  const double* __restrict bu2 = b.u2;
+  const double* __restrict brho = b.rho;
+  const double* __restrict bm = b.m;
+  const double* __restrict bfl = b.fl;
+  const double* __restrict bin = b.in;
+  const double* __restrict bphi = b.phi;
+  const double* __restrict bmob = b.mob;
+  const double* __restrict bcol = b.col;
+  const double* __restrict boff = b.off;
+  double* __restrict cc = b.c;
+  double diag = 0.0, div = 0.0, known = 0.0;
+#pragma omp simd reduction(+ : diag, div, known)
+  for (std::size_t m = 0; m < b.npad; ++m) {
+    const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
+    const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+    const double in = (r2 < sup2) & (r2 > 0.0) ? bin[m] : 0.0;
+    const double F = kl.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
+    double c, dvol;  // c_ij; m_j F r_ij·(u_j − u_i) (porous: φ-weighted, over φ_a)
+    if constexpr (Porous) {
+      const double fj = bfl[m];
+      const double pa = fi * phii + (1.0 - fi) * (fj * bphi[m] + (1.0 - fj));
+      const double pb = fj * bphi[m] + (1.0 - fj) * pa;
+      const double mj = bm[m] / (fj * pb + (1.0 - fj));
+      const double ka = pa * (fi * mobi + (1.0 - fi) * (fj * bmob[m] + (1.0 - fj)));
+      const double kb = pb * (fj * bmob[m] + (1.0 - fj) * ka / pa);
+      const double rs = ri + brho[m];
+      c = in * (-8.0 * mj / (rs * rs) * F * r2 / (r2 + eta2)) * (2.0 * ka * kb / ((ka + kb) * pa));
+      const double dv = (pb * bu0[m] - pa * va0) * r0 + (pb * bu1[m] - pa * va1) * r1 +
+                        (D == 3 ? (pb * bu2[m] - pa * va2) * r2c : 0.0);
+      dvol = in * mj * F * dv / pa;
+    } else {
+      const double rs = ri + brho[m];
+      c = in * (-8.0 * bm[m] * F * r2) / (rs * rs * (r2 + eta2));
+      const double dv = (bu0[m] - va0) * r0 + (bu1[m] - va1) * r1 + (D == 3 ? (bu2[m] - va2) * r2c : 0.0);
+      dvol = in * bm[m] * F * dv;
+    }
+    div += dvol;
+    known -= c * boff[m];  // a dummy's P_foot + offset: the offset is known
+    diag -= bcol[m] == me ? 0.0 : c;  // the particle itself (a dummy under it, or its own image): cancels
+    cc[m] = in > 0.0 ? c : -1.0;  // (-1: no neighbour; c >= 0 otherwise)
+  }
+  return {diag, div, known};
+}
+
 /// The owned fluid and wall particles of a cell (the particles ISPH's passes run); the count.
 template <int D>
 std::size_t owned_in(const CellList<D>& cells, std::size_t cell, std::size_t n_owned, const Kind* kind, bool fluid_only) {
@@ -157,7 +236,6 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     return m;
   }, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
     const K kl = ker;
-    const double sup2 = kl.support2;
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
     const RelativePositions<D> rp(st, pos, pos[sorted[c0k]], B, X0);
     st.for_each([&](std::size_t m, std::uint32_t b) {
@@ -177,71 +255,28 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       B[RHO][m] = rr; B[MASS][m] = 0.0; B[FL][m] = 0.0; B[IN][m] = 0.0; B[PHI][m] = 1.0; B[MOB][m] = 1.0;
       B[COL][m] = -1.0; B[OFF][m] = 0.0;
     }
-    const double* __restrict bx0 = rp.x0;
-    const double* __restrict bx1 = rp.x1;
-    const double* __restrict bx2 = rp.x2;
-    const double* __restrict bu0 = B[U0];
-    const double* __restrict bu1 = B[U1];
-    const double* __restrict bu2 = B[D == 3 ? U2 : U1];
-    const double* __restrict brho = B[RHO];
-    const double* __restrict bm = B[MASS];
-    const double* __restrict bfl = B[FL];
-    const double* __restrict bin = B[IN];
-    const double* __restrict bphi = B[PHI];
-    const double* __restrict bmob = B[MOB];
+    const PpeColumns cols{rp.x0, rp.x1, rp.x2, B[U0], B[U1], B[D == 3 ? U2 : U1], B[RHO], B[MASS], B[FL], B[IN], B[PHI],
+                          B[MOB], B[COL], B[OFF], B[C], st.padded};
     const double* __restrict bcol = B[COL];
-    const double* __restrict boff = B[OFF];
-    double* __restrict cc = B[C];
-    const std::size_t npad = st.padded, cnt = st.count;
-    const bool porous = phi != nullptr;
+    const double* __restrict cc = B[C];
+    const std::size_t cnt = st.count;
     std::uint64_t pairs = 0;
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t i = sorted[k];
       if (i >= n_owned || unknown_[i] < 0) continue;
       auto& e = rows_[static_cast<std::size_t>(unknown_[i])];
       e.clear();
-      const double me = double(first_row_ + static_cast<std::size_t>(unknown_[i]));  // (columns: global unknown numbers)
-      double xa0, xa1, xa2;
-      rp.of(pos[i], xa0, xa1, xa2);
-      const double va0 = vel[i][0], va1 = vel[i][1], va2 = vel[i][D - 1];
-      const double ri = rho[i];
-      // porous (SPHAM): (1/φ_i) ∇·(φ ∇P/ρ) = (1/φ_i) ∇·(φ u*)/Δt + ...; a fluid neighbour's volume
-      // m/(φ ρ), a wall's its own (dx^D); a wall continues the medium of the fluid it faces; the
-      // conductivity φ m_d, so that the correction meets the drag as the prediction does. Outside
-      // media every φ and m_d is 1 and the terms reduce to the plain ones
-      const double fi = kind[i] == Kind::Fluid ? 1.0 : 0.0;
-      const double phii = phi && fi > 0.0 ? phi[i] : 1.0, mobi = mob && fi > 0.0 ? mob[i] : 1.0;
-      double diag = 0.0, div = 0.0, known = 0.0;
-#pragma omp simd reduction(+ : diag, div, known)
-      for (std::size_t m = 0; m < npad; ++m) {
-        const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
-        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-        const double in = (r2 < sup2) & (r2 > 0.0) ? bin[m] : 0.0;
-        const double F = kl.F(std::sqrt(r2));  // ∇_i W = F r_ij, F <= 0
-        double c, dvol;  // c_ij; m_j F r_ij·(u_j − u_i) (porous: φ-weighted, over φ_a)
-        if (porous) {
-          const double fj = bfl[m];
-          const double pa = fi * phii + (1.0 - fi) * (fj * bphi[m] + (1.0 - fj));
-          const double pb = fj * bphi[m] + (1.0 - fj) * pa;
-          const double mj = bm[m] / (fj * pb + (1.0 - fj));
-          const double ka = pa * (fi * mobi + (1.0 - fi) * (fj * bmob[m] + (1.0 - fj)));
-          const double kb = pb * (fj * bmob[m] + (1.0 - fj) * ka / pa);
-          const double rs = ri + brho[m];
-          c = in * (-8.0 * mj / (rs * rs) * F * r2 / (r2 + eta2)) * (2.0 * ka * kb / ((ka + kb) * pa));
-          const double dv = (pb * bu0[m] - pa * va0) * r0 + (pb * bu1[m] - pa * va1) * r1 +
-                            (D == 3 ? (pb * bu2[m] - pa * va2) * r2c : 0.0);
-          dvol = in * mj * F * dv / pa;
-        } else {  // (one division a pair)
-          const double rs = ri + brho[m];
-          c = in * (-8.0 * bm[m] * F * r2) / (rs * rs * (r2 + eta2));
-          const double dv = (bu0[m] - va0) * r0 + (bu1[m] - va1) * r1 + (D == 3 ? (bu2[m] - va2) * r2c : 0.0);
-          dvol = in * bm[m] * F * dv;
-        }
-        div += dvol;
-        known -= c * boff[m];  // a dummy's P_foot + offset: the offset is known
-        diag -= bcol[m] == me ? 0.0 : c;  // the particle itself (a dummy under it, or its own image): cancels
-        cc[m] = in > 0.0 ? c : -1.0;  // (-1: no neighbour; c >= 0 otherwise)
-      }
+      PpeRow row;
+      rp.of(pos[i], row.xa0, row.xa1, row.xa2);
+      row.va0 = vel[i][0];
+      row.va1 = vel[i][1];
+      row.va2 = vel[i][D - 1];
+      const double ri = row.ri = rho[i];
+      row.fi = kind[i] == Kind::Fluid ? 1.0 : 0.0;
+      row.phii = phi && row.fi > 0.0 ? phi[i] : 1.0;
+      row.mobi = mob && row.fi > 0.0 ? mob[i] : 1.0;
+      const double me = row.me = double(first_row_ + static_cast<std::size_t>(unknown_[i]));  // (global unknown numbers)
+      const auto [diag, div, known] = phi ? ppe_sums<D, true>(kl, cols, row, eta2) : ppe_sums<D, false>(kl, cols, row, eta2);
       for (std::size_t m = 0; m < cnt; ++m)
         if (cc[m] >= 0.0 && bcol[m] >= 0.0 && bcol[m] != me) e.emplace_back(static_cast<int>(bcol[m]), cc[m]);
       pairs += cnt;
