@@ -8,7 +8,7 @@
 
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/case.hpp"
-#include "sphflume/io/geometry.hpp"
+#include "sphflume/setup/setup.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/wcsph.hpp"

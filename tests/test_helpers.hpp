@@ -6,7 +6,7 @@
 
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/case.hpp"
-#include "sphflume/io/geometry.hpp"
+#include "sphflume/setup/setup.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/transport.hpp"
@@ -23,14 +23,7 @@ struct Setup {
   std::unique_ptr<WCSPH<D>> scheme;
   explicit Setup(const std::string& yaml, const std::vector<std::string>& overrides = {}) {
     c = parse_case(yaml, "test.yaml", overrides);
-    rep = build_system<D>(c, S);
-    if (c.multiphase.on()) setup_phases<D>(c, S);
-    if (c.transport.on()) {
-      S.transport = std::make_shared<ScalarTransport<D>>(c.transport, c.transport.eta2, rep.wall_layers);
-      S.transport->initialise(S);
-    }
-    S.walls = wall_registry<D>().create(c.walls.type, c.walls);
-    add_force_terms<D>(c.forces, c.file, S);
+    setup_system<D>(c, S, rep);  // the CLI's set-up (setup/setup.hpp); the tests step WCSPH's own passes
     scheme = std::make_unique<WCSPH<D>>(c);
   }
 };

@@ -1,6 +1,6 @@
 // Bad input: every problem is an InputError whose message names the file, the line and the
 // dotted key and says what was expected (docs/case-file.md, "Errors"). Parse-time checks
-// (case.cpp) and build-time checks (geometry.cpp's build_system, before anything is computed).
+// (case.cpp) and build-time checks (setup/build.cpp's build_system, before anything is computed).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -9,7 +9,7 @@
 
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/case.hpp"
-#include "sphflume/io/geometry.hpp"
+#include "sphflume/setup/setup.hpp"
 #include "sphflume/physics/force_terms.hpp"
 
 using namespace sph;

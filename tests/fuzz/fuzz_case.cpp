@@ -12,7 +12,7 @@
 
 #include "sphflume/boundaries/walls.hpp"        // complete WallModel/ForceTerm for ~System
 #include "sphflume/io/case.hpp"
-#include "sphflume/io/geometry.hpp"
+#include "sphflume/setup/setup.hpp"
 #include "sphflume/physics/force_terms.hpp"
 
 namespace {

@@ -217,6 +217,13 @@ class FixedGhostWalls final : public WallModel<D> {
   const char* name() const override { return "fixed_ghost"; }
   bool evolves_density() const override { return false; }
 
+  void init_fields(System<D>& S, std::size_t first_wall, const std::vector<Vec<D>>& surface) const override {
+    WallModel<D>::init_fields(S, first_wall, surface);
+    auto& P = S.particles;
+    auto& mir = P.vector("ghost_mirror");  // each ghost's interpolation point, mirrored into the fluid
+    for (std::size_t k = 0; k < surface.size(); ++k) mir[first_wall + k] = 2.0 * surface[k] - P.pos[first_wall + k];
+  }
+
   void prepare(System<D>& S) override {
     auto& P = S.particles;
     if (!P.vector_fields().count("ghost_mirror"))
@@ -287,6 +294,23 @@ class DynamicWalls final : public WallModel<D> {
 };
 
 }  // namespace
+
+template <int D>
+void WallModel<D>::init_fields(System<D>& S, std::size_t first_wall, const std::vector<Vec<D>>& surface) const {
+  auto& P = S.particles;
+  if (cfg.repulsive) {  // unit normal of each wall particle towards the fluid side of its surface
+    auto& nrm = P.vector("wall_normal");
+    for (std::size_t k = 0; k < surface.size(); ++k) {
+      const Vec<D> v = surface[k] - P.pos[first_wall + k];
+      const double len = norm(v);
+      nrm[first_wall + k] = len > 0.0 ? (1.0 / len) * v : Vec<D>{};
+    }
+  }
+  if (cfg.backup) {  // the vector from each wall particle to its surface point (depth, normal)
+    auto& to = P.vector("wall_to_surface");
+    for (std::size_t k = 0; k < surface.size(); ++k) to[first_wall + k] = surface[k] - P.pos[first_wall + k];
+  }
+}
 
 template <int D>
 void WallModel<D>::add_forces(System<D>& S) const {

@@ -58,6 +58,10 @@ class WallModel {
   /// After the pair loop: forces the walls add to fluid particles (the Monaghan–Kos repulsion
   /// when cfg.repulsive).
   void add_forces(System<D>& S) const;
+  /// Set-up (setup/setup.cpp): create the per-wall-particle fields this model reads, from each
+  /// wall particle's nearest point of its shape's surface (surface[k] for particle first_wall + k):
+  /// "wall_normal" (repulsion), "wall_to_surface" (backup); fixed ghosts add "ghost_mirror".
+  virtual void init_fields(System<D>& S, std::size_t first_wall, const std::vector<Vec<D>>& surface) const;
   WallConfig cfg;
 
  protected:

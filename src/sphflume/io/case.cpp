@@ -11,7 +11,6 @@
 #include <yaml-cpp/yaml.h>
 
 #include "sphflume/io/case_reader.hpp"
-#include "sphflume/io/geometry.hpp"
 #include "sphflume/io/case_isph.hpp"
 
 namespace sph {
@@ -592,6 +591,12 @@ Case load_case(const std::string& path, const std::vector<std::string>& override
   std::stringstream ss;
   ss << in.rdbuf();
   return parse_case(ss.str(), path, overrides);
+}
+
+int wall_layers_for(const Case& c) {
+  if (c.walls.layers > 0) return c.walls.layers;
+  const double support = kernel_support_factor(c.kernel) * c.h_over_dx;  // in units of dx
+  return static_cast<int>(std::ceil(support - 1e-9));
 }
 
 }  // namespace sph

@@ -11,7 +11,6 @@
 
 #include "sphflume/boundaries/paddle.hpp"
 #include "sphflume/io/case_reader.hpp"
-#include "sphflume/io/geometry.hpp"
 
 namespace sph::caseio {
 namespace {

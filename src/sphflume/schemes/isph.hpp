@@ -47,6 +47,7 @@ class ISPH final : public Scheme<D> {
   // the summation density is low at the free surface by construction (a splash particle alone
   // reads m W(0)): only compression is a sign of failure
   bool density_bounded_below() const override { return false; }
+  bool needs_wall_surface() const override { return true; }  // the wall pressure's Neumann condition
   std::string distributed_refusal() const override;
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;

@@ -32,6 +32,9 @@ class Scheme {
   /// projection scheme's summation density at a free surface): the health check then looks for
   /// compression only.
   virtual bool density_bounded_below() const { return true; }
+  /// Whether the scheme reads each wall particle's vector to its wall surface ("wall_to_surface",
+  /// made at set-up): ISPH's wall pressure, the dual integrator's Riemann dissipation at walls.
+  virtual bool needs_wall_surface() const { return false; }
   /// Why this scheme, as configured, cannot run over several MPI ranks (empty: it can).
   virtual std::string distributed_refusal() const { return {}; }
   /// Rates passes (neighbour sweeps) per step, for throughput accounting.

@@ -49,6 +49,7 @@ class WCSPH final : public Scheme<D> {
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
+  bool needs_wall_surface() const override { return cfg_.integrator == Integrator::Dual; }  // Riemann dissipation at walls
   int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet && !cfg_.frozen ? 1 : 2; }
   std::size_t bytes() const override;
   std::map<std::string, double> state() const override {

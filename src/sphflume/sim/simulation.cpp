@@ -23,13 +23,13 @@
 #include "sphflume/boundaries/open_boundary.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/gauges.hpp"
-#include "sphflume/io/geometry.hpp"
 #include "sphflume/io/restart.hpp"
 #include "sphflume/io/snapshot.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/scheme.hpp"
+#include "sphflume/setup/setup.hpp"
 #include "sphflume/sim/health.hpp"
 #include "sphflume/sim/ranks.hpp"
 
@@ -49,39 +49,6 @@ std::string hms(double s) {
   if (!std::isfinite(s) || s < 0) return "--:--:--";
   const long t = std::lround(s);
   return fmt::format("{:02d}:{:02d}:{:02d}", t / 3600, (t / 60) % 60, t % 60);
-}
-
-template <int D>
-void setup(const Case& c, System<D>& S, BuildReport& rep, std::unique_ptr<Scheme<D>>& scheme) {
-  rep = build_system<D>(c, S);
-  if (c.multiphase.on()) {
-    if (c.turbulence.model != "none" || c.porous.on())
-      throw InputError(fmt::format("{}: line {}: 'multiphase': several phases with a turbulence model or porous regions "
-                                   "are not supported in this version: remove one of them", c.file, c.multiphase.line));
-    if (c.scheme.shifting.on())
-      throw InputError(fmt::format("{}: line {}: 'multiphase': particle shifting (scheme.shifting) across a phase "
-                                   "interface is not supported in this version: remove scheme.shifting", c.file, c.multiphase.line));
-    if (c.multiphase.grenier && c.scheme.pressure_gradient != PressureGradient::Sum)
-      throw InputError(fmt::format("{}: line {}: multiphase.formulation: grenier needs scheme.pressure_gradient: sum "
-                                   "(its p/Γ terms take the place of (p_a + p_b))", c.file, c.multiphase.line));
-    setup_phases<D>(c, S);
-  }
-  if (c.transport.on()) {
-    S.transport = std::make_shared<ScalarTransport<D>>(c.transport, c.transport.eta2, rep.wall_layers);
-    try {
-      S.transport->initialise(S);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", c.file, e.what()));
-    }
-  }
-  try {
-    S.walls = wall_registry<D>().create(c.walls.type, c.walls);
-    scheme = scheme_registry<D>().create(c.scheme.type, c);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(fmt::format("{}: {}", c.file, e.what()));
-  }
-  add_force_terms<D>(c.forces, c.file, S);
-  if (!c.motions.empty()) S.motion = std::make_shared<WallMotion<D>>(c.motions, c.file);
 }
 
 /// The box particles must stay in: the case's domain, or the initial bounding box with
@@ -143,7 +110,7 @@ struct Run {
   OpenBoundaries<D> open;
 
   explicit Run(const Case& cs) : c(cs), open(cs) {
-    setup(c, S, rep, scheme);
+    scheme = setup_system<D>(c, S, rep);
     domain_box(c, S, lo, hi);  // from the case's geometry, so a restart gets the same box
     rs.case_text = c.fingerprint;
     open.setup(S, rs.open);  // fluid inside the zones becomes inflow/outflow particles
@@ -657,7 +624,7 @@ std::string check_dim(const Case& c) {
   System<D> S;
   BuildReport rep;
   std::unique_ptr<Scheme<D>> scheme;
-  setup(c, S, rep, scheme);
+  scheme = setup_system<D>(c, S, rep);
   scheme->initialise(S);
   const double dt = scheme->time_step(S);
   std::string s;

@@ -1,0 +1,55 @@
+// The particles of a case (setup/setup.hpp): build_system.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "sphflume/physics/porous.hpp"
+#include "sphflume/setup/initial_state.hpp"
+#include "sphflume/setup/setup.hpp"
+#include "sphflume/setup/shape_lattice.hpp"
+
+namespace sph {
+
+template <int D>
+BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits, std::vector<Vec<D>>* wall_surface) {
+  BuildReport rep;
+  S.kernel = c.kernel;
+  S.dx = c.dx;
+  S.h = c.h();
+  S.support = kernel_support_factor(c.kernel) * S.h;
+  S.nu = c.fluid.viscosity;
+  S.gravity = setup_detail::to_vec<D>(c.gravity);
+  const int layers = wall_layers_for(c);
+  rep.wall_layers = layers;
+  const double dx = c.dx;
+  const double m = c.fluid.density * std::pow(dx, D);
+  if (!std::isnormal(m) || !std::isnormal(S.h * S.h) || !std::isnormal(1.0 / (S.support * S.support)))
+    throw InputError(fmt::format("{}: 'particles.dx' = {} m with 'fluid.density' = {} kg/m3 gives a particle mass of {:.3g} "
+                                 "kg and h = {:.3g} m: expected sizes a double can square and invert (SI units: m, kg/m3)",
+                                 c.file, dx, c.fluid.density, m, S.h));
+  check_geometry<D>(c, limits, S.support, layers);
+
+  // porous media: the fluid inside a porous region (or a `porous.fill` box) starts on a lattice
+  // dx / phi0^(1/D) (Kazemi eq 5.1), so that every particle keeps the mass rho0 dx^D and the
+  // volume m / (phi rho)
+  if (c.porous.on()) S.porous = std::make_shared<PorousMedia<D>>(c.porous, c.kernel, S.h, dx);
+  FillPoints<D> f = fill_shapes<D>(c, layers, S.porous.get());
+  drop_inside_walls<D>(c, f);
+  relax_porous_interface<D>(c, S, f, rep);
+  double zmin = 1e300, zmax = -1e300;
+  for (std::size_t i = 0; i < f.fluid_x.size(); ++i)
+    if (!f.drop[i]) { zmin = std::min(zmin, f.fluid_x[i][D - 1]); zmax = std::max(zmax, f.fluid_x[i][D - 1]); }
+  rep.fluid_height = zmax - zmin + dx;
+  set_eos<D>(c, S, rep.fluid_height);
+  add_particles<D>(c, S, f, rep);
+  if (wall_surface) *wall_surface = std::move(f.wall_s);
+  set_periodic<D>(c, S);
+  if (S.porous) S.porous->update(S);  // the initial porosity (snapshots, checks)
+  S.particles.shrink_to_fit();  // particles were appended one by one: drop the growth slack
+  return rep;
+}
+
+template BuildReport build_system<2>(const Case&, System<2>&, const BuildLimits&, std::vector<Vec<2>>*);
+template BuildReport build_system<3>(const Case&, System<3>&, const BuildLimits&, std::vector<Vec<3>>*);
+
+}  // namespace sph

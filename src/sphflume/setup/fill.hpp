@@ -1,0 +1,33 @@
+// The lattice fill of a case's shapes (setup/fill.cpp): fluid and wall points before any particle
+// exists, the fluid points that fall inside walls, and the checks on them. Internal to setup/.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "sphflume/core/vec.hpp"
+#include "sphflume/io/case.hpp"
+#include "sphflume/physics/porous.hpp"
+
+namespace sph {
+
+template <int D>
+struct FillPoints {
+  std::vector<Vec<D>> fluid_x, fluid_v;   // fluid points and their initial velocity
+  std::vector<std::uint32_t> fluid_shape;  // which shape made each fluid point
+  std::vector<double> fluid_half;          // half the lattice spacing of each fluid point
+  std::vector<Vec<D>> wall_x, wall_s;      // wall points and the nearest point of their shape's surface
+  std::vector<std::uint32_t> wall_shape;   // which shape made each wall point
+  std::vector<char> drop;                  // fluid points inside walls (drop_inside_walls)
+};
+
+/// Every shape's lattice points (porous zones' fluid at the zone's spacing, Kazemi eq 5.1).
+template <int D>
+FillPoints<D> fill_shapes(const Case& c, int layers, const PorousMedia<D>* porous);
+
+/// Marks the fluid points inside walls (closer than dx/2 to a wall point, inside a solid wall box,
+/// under or too close to a slope's wall layer) and refuses fluid shapes that make no particle or
+/// lie mostly inside walls (InputError naming the shape).
+template <int D>
+void drop_inside_walls(const Case& c, FillPoints<D>& f);
+
+}  // namespace sph
