@@ -105,11 +105,15 @@ class Reader {
     return v;
   }
   std::string choice(const std::string& k, const std::string& def, std::initializer_list<const char*> options) {
+    return choice(k, def, std::vector<std::string>(options.begin(), options.end()));
+  }
+  /// One of a list known at run time (a registry's names).
+  std::string choice(const std::string& k, const std::string& def, const std::vector<std::string>& options) {
     const std::string v = scalar<std::string>(k, def);
     std::string list;
-    for (const char* o : options) {
+    for (const auto& o : options) {
       if (v == o) return v;
-      list += (list.empty() ? "" : ", ") + std::string(o);
+      list += (list.empty() ? "" : ", ") + o;
     }
     fail_at(node_[k], key_path(k), "one of " + list + " (got '" + v + "')");
   }

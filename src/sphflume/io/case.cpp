@@ -1,4 +1,5 @@
 #include "sphflume/io/case.hpp"
+#include "sphflume/io/gauge_type.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -136,76 +137,12 @@ GaugeConfig read_gauge(const Node& n, const std::string& file, const std::string
   for (char c : g.name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       r.fail_at(r.get("name"), r.key_path("name"), "a name of letters, digits, '_', '-' or '.'");
-  (void)r.required<std::string>("type", "a gauge type: water_level, pressure, velocity_profile, stress_profile, depth_profile, front, energy, flux, boundary_volume, water_volume, scalar, scalar_profile, scalar_mass, scalar_flux, phase, paddle, velocity or runup");
-  g.type = r.choice("type", "", {"water_level", "pressure", "velocity_profile", "stress_profile", "depth_profile", "front", "energy", "flux", "boundary_volume", "water_volume", "scalar", "scalar_profile", "scalar_mass", "scalar_flux", "phase", "paddle", "velocity", "runup"});
-  const std::size_t d = static_cast<std::size_t>(dim);
-  const bool scalar_gauge = g.type.rfind("scalar", 0) == 0;
-  if (scalar_gauge) g.field = r.required<std::string>("field", "the name of a transported scalar (transport.scalars)");
-  if (g.type == "phase") g.field = r.required<std::string>("field", "the name of a phase (multiphase.phases)");
-  if (g.type == "paddle") g.field = r.required<std::string>("motion", "the name of a wall motion (motions)");
-  if (g.type == "water_level") {
-    g.point = r.vec("point", d);
-    if (g.point.empty()) {
-      g.x = r.required<double>("x", "the x of the vertical line");
-      g.point.assign(d, 0.0);
-      g.point[0] = g.x;
-    }
-  } else if (g.type == "runup") {
-    if (dim != 2) r.fail_at(n, path, "a 2D case (run-up gauges are 2D in this version)");
-    g.start = r.vec("start", d);
-    g.end = r.vec("end", d);
-    for (const char* k : {"start", "end"})
-      if (!r.has(k)) r.misspelt(k);
-    if (g.start.empty() || g.end.empty()) r.fail_at(n, path, "'start' and 'end': the toe and the top of the slope's surface line");
-    if (!(g.end[d - 1] > g.start[d - 1])) r.fail_at(r.get("end"), r.key_path("end"), "an end above the start (the line runs up the slope)");
-    g.level = r.required<double>("level", "the still-water level z [m] the run-up is measured from");
-    g.reach = r.scalar<double>("reach", 0.0);
-    if (!(g.reach >= 0.0)) r.fail_at(r.get("reach"), r.key_path("reach"), "a distance >= 0 in m (0 = 1.5 dx)");
-    g.film = r.scalar<double>("film", g.film);
-    if (!(g.film >= 0.0)) r.fail_at(r.get("film"), r.key_path("film"), "a thickness >= 0 in m, normal to the slope (default 0.001)");
-    g.neighbours = r.scalar<int>("neighbours", g.neighbours);
-    if (g.neighbours < 0 || g.neighbours > 50) r.fail_at(r.get("neighbours"), r.key_path("neighbours"), "an integer in [0, 50]");
-  } else if (g.type == "pressure" || g.type == "scalar" || g.type == "velocity") {
-    g.point = r.vec("point", d);
-    if (g.point.empty()) r.misspelt("point");
-    if (g.point.empty()) r.fail_at(n, r.key_path("point"), "the point where pressure is measured");
-    if (g.type == "pressure") {
-      g.diameter = r.scalar<double>("diameter", 0.0);
-      if (!(g.diameter >= 0.0)) r.fail_at(r.get("diameter"), r.key_path("diameter"), "a sensor diameter >= 0 in m (0 = a point)");
-      g.window = r.scalar<double>("window", 0.0);
-      if (!(g.window >= 0.0)) r.fail_at(r.get("window"), r.key_path("window"), "a sampling window >= 0 in s (0 = the value at the output time)");
-      g.normal = r.vec("normal", d);
-      if (g.diameter > 0.0) {
-        double len = 0.0;
-        for (double v : g.normal) len += v * v;
-        if (g.normal.empty() || !(len > 0.0))
-          r.fail_at(g.normal.empty() ? n : r.get("normal"), r.key_path("normal"),
-                    "the sensor face's normal (a non-zero vector, e.g. [-1, 0] on a right-hand wall) with 'diameter'");
-      }
-    }
-  } else if (g.type == "velocity_profile" || g.type == "stress_profile" || g.type == "depth_profile" || g.type == "flux" ||
-             g.type == "scalar_profile" || g.type == "scalar_flux") {
-    if ((g.type == "flux" || g.type == "scalar_flux") && dim != 2) r.fail_at(n, path, "a 2D case (flux gauges are 2D in this version)");
-    g.start = r.vec("start", d);
-    g.end = r.vec("end", d);
-    for (const char* k : {"start", "end"})
-      if (!r.has(k)) r.misspelt(k);
-    if (g.start.empty() || g.end.empty()) r.fail_at(n, path, "'start' and 'end' points of the line");
-    g.points = r.scalar<int>("points", 20);
-    if (g.points < 2 || g.points > 10000) r.fail_at(r.get("points"), r.key_path("points"), "an integer in [2, 10000]");
-    g.average_from = r.scalar<double>("average_from", g.average_from);
-  } else if (g.type == "water_volume" || g.type == "scalar_mass") {  // optional box [start, end]; default: everywhere
-    g.start = r.vec("start", d);
-    g.end = r.vec("end", d);
-    if (g.start.empty() != g.end.empty()) r.fail_at(n, path, "both 'start' and 'end' corners of the box, or neither");
-    for (std::size_t i = 0; i < g.start.size(); ++i)
-      if (!(g.end[i] > g.start[i])) r.fail_at(r.get("end"), r.key_path("end"), "end > start in every coordinate");
-  } else if (g.type == "front") {
-    const std::string ax = r.scalar<std::string>("axis", "x");
-    g.axis = axis_index(ax, dim);
-    if (g.axis < 0) r.fail_at(r.get("axis"), r.key_path("axis"), dim == 2 ? "x or z" : "x, y or z");
-    g.direction = r.scalar<double>("direction", 1.0) >= 0 ? 1.0 : -1.0;
-  }
+  const std::vector<std::string> types = gauge_registry<2>().names();  // (the same types in 3D)
+  std::string known;
+  for (const auto& t : types) known += (known.empty() ? "" : ", ") + t;
+  (void)r.required<std::string>("type", "a gauge type: " + known);
+  g.type = r.choice("type", "", types);
+  read_gauge_keys(r, g, n, path, dim);
   r.finish();
   return g;
 }

@@ -1,5 +1,5 @@
 // Gauges: one CSV per gauge in OUTPUT/gauges/NAME.csv, first column `time`, one row per
-// output time.
+// output time. Each type is a class in io/gauge_*.cpp behind GaugeType (io/gauge_type.hpp).
 //  water_level       level: highest z on the vertical line where the fluid fraction
 //                    Σ V_b W >= 0.5 (linearly interpolated)
 //  pressure          pressure: linear-MLS kernel interpolation from fluid particles
@@ -43,6 +43,7 @@
 
 #include "sphflume/core/system.hpp"
 #include "sphflume/io/case.hpp"
+#include "sphflume/io/gauge_type.hpp"
 
 namespace sph {
 
@@ -63,8 +64,6 @@ class GaugeSet {
   static std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double level_top);
 
  private:
-  static std::vector<double> evaluate_stress(const GaugeConfig& g, const System<D>& S);
-  static std::vector<double> evaluate_scalar(const GaugeConfig& g, const System<D>& S);
   void accumulate(std::size_t k, double t, const std::vector<double>& v);
   struct Mean {
     long n = 0;
@@ -73,6 +72,7 @@ class GaugeSet {
     std::vector<long> count;
   };
   std::vector<GaugeConfig> cfg_;
+  std::vector<std::unique_ptr<GaugeType<D>>> types_;  // each gauge's type (gauge_registry)
   std::vector<std::unique_ptr<std::ofstream>> files_;
   double level_top_;
   std::string dir_;

@@ -1,0 +1,182 @@
+// Line gauges (io/gauge_type.hpp): profiles of velocity, turbulent stress and a scalar at points
+// along a line (their coordinates in NAME.points.csv), and the volume and scalar fluxes through a
+// line's wet part.
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "sphflume/io/gauge_sampling.hpp"
+#include "sphflume/io/gauge_types.hpp"
+#include "sphflume/physics/transport.hpp"
+
+namespace sph {
+using namespace gauge_detail;
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+/// One column name per point and component: prefix(i).
+template <class F>
+std::string per_point(const GaugeConfig& g, F&& name) {
+  std::string s;
+  for (int i = 0; i < g.points; ++i) s += name(i);
+  return s;
+}
+
+/// velocity_profile: ux_i, (uy_i,) uz_i at the points i along the line (Shepard average).
+template <int D>
+class VelocityProfileGauge final : public GaugeType<D> {
+ public:
+  void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override { read_line(r, g, n, path, D); }
+  bool line() const override { return true; }
+  std::string columns(const GaugeConfig& g) const override {
+    const char* ax = D == 2 ? "xz" : "xyz";
+    return per_point(g, [&](int i) {
+      std::string s;
+      for (int d = 0; d < D; ++d) s += fmt::format(",u{}_{}", ax[d], i);
+      return s;
+    });
+  }
+  std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
+    const auto& P = S.particles;
+    const double nan = kNan;
+    return at_held_points(S, line_points<D>(g), D, [&](const Vec<D>& x, double* out) {
+      for (int d = 0; d < D; ++d) {
+        auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d]; });
+        out[d] = v ? *v : nan;
+      }
+    });
+  }
+};
+
+/// stress_profile: per point ū, the modelled turbulent shear stress τ_t/ρ (the xz component of the
+/// eddy-viscosity stress, 0 without turbulence), the resolved stress τ_r/ρ = −⟨(u − ū)(w − w̄)⟩
+/// (Kazemi eqs 3.22–3.23: the kernel-weighted covariance of the particle velocities about their
+/// kernel average; positive in the sense of τ_t) and ν_t.
+template <int D>
+class StressProfileGauge final : public GaugeType<D> {
+ public:
+  void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override { read_line(r, g, n, path, D); }
+  bool line() const override { return true; }
+  std::string columns(const GaugeConfig& g) const override {
+    return per_point(g, [](int i) { return fmt::format(",ux_{0},tau_t_{0},tau_r_{0},nu_t_{0}", i); });
+  }
+  std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
+    const auto& P = S.particles;
+    const double nan = kNan;
+    const char* xz = "tau_xz";
+    const std::vector<double>* tau = P.has_scalar(xz) ? &P.scalar_fields().at(xz) : nullptr;
+    const std::vector<double>* nut = P.has_scalar("nu_t") ? &P.scalar_fields().at("nu_t") : nullptr;
+    return at_held_points(S, line_points<D>(g), 4, [&](const Vec<D>& x, double* out) {
+      auto u = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][0]; });
+      auto w = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][D - 1]; });
+      if (!u || !w) {
+        for (int k = 0; k < 4; ++k) out[k] = nan;
+        return;
+      }
+      const double ub = *u, wb = *w;
+      auto tt = tau ? interpolate_shepard(S, x, [&](std::uint32_t b) { return (*tau)[b]; }) : std::optional<double>(0.0);
+      auto tr = interpolate_shepard(S, x, [&](std::uint32_t b) { return -(P.vel[b][0] - ub) * (P.vel[b][D - 1] - wb); });
+      auto nt = nut ? interpolate_shepard(S, x, [&](std::uint32_t b) { return (*nut)[b]; }) : std::optional<double>(0.0);
+      out[0] = ub;
+      out[1] = tt ? *tt : nan;
+      out[2] = tr ? *tr : nan;
+      out[3] = nt ? *nt : nan;
+    });
+  }
+};
+
+/// scalar_profile: the transported scalar `field` at the points along the line.
+template <int D>
+class ScalarProfileGauge final : public GaugeType<D> {
+ public:
+  void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override {
+    read_scalar_field(r, g);
+    read_line(r, g, n, path, D);
+  }
+  bool line() const override { return true; }
+  std::string columns(const GaugeConfig& g) const override {
+    return per_point(g, [&](int i) { return fmt::format(",{}_{}", g.field, i); });
+  }
+  std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
+    const auto* C = S.particles.find_scalar(g.field);
+    if (!C) return {kNan};
+    return at_held_points(S, line_points<D>(g), 1, scalar_at<D>(S, *C));
+  }
+};
+
+/// flux: the volume flux through the line (per unit width, m2/s), u·n integrated over the wet
+/// part (fluid fraction >= 0.5), n the line's normal (for a line going up, n = +x); in porous
+/// media the superficial velocity φu (the intrinsic velocity carries water through the pores only).
+template <int D>
+class FluxGauge final : public GaugeType<D> {
+ public:
+  void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override {
+    refuse_3d_flux(r, n, path, D);
+    read_line(r, g, n, path, D);
+  }
+  std::string columns(const GaugeConfig&) const override { return ",flux"; }
+  std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
+    const auto& P = S.particles;
+    const double* phi = porosity_field(S);
+    return {wet_line_flux(S, g, [&](const Vec<D>& x, const Vec<D>& nrm) {
+      double un = 0.0;
+      for (int d = 0; d < D; ++d) {
+        auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][d] * (phi ? phi[b] : 1.0); });
+        un += (v ? *v : 0.0) * nrm[d];
+      }
+      return un;
+    })};
+  }
+};
+
+/// scalar_flux: ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m in 2D], n the line's
+/// normal (for a line going up, +x); D the scalar's molecular diffusivity (the turbulent part is
+/// not included), ∇C the first-order consistent kernel gradient.
+template <int D>
+class ScalarFluxGauge final : public GaugeType<D> {
+ public:
+  void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override {
+    read_scalar_field(r, g);
+    refuse_3d_flux(r, n, path, D);
+    read_line(r, g, n, path, D);
+  }
+  std::string columns(const GaugeConfig&) const override { return ",flux"; }
+  std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
+    const auto& P = S.particles;
+    const auto* Cp = P.find_scalar(g.field);
+    if (!Cp) return {kNan};
+    const auto& C = *Cp;
+    double diffusivity = 0.0;
+    if (S.transport)
+      for (const auto& sc : S.transport->config().scalars)
+        if (sc.name == g.field) diffusivity = sc.diffusivity;
+    return {wet_line_flux(S, g, [&](const Vec<D>& x, const Vec<D>& nrm) {
+      double un = 0.0;
+      for (int d = 0; d < D; ++d) {
+        auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b] * P.vel[b][d]; });
+        un += (v ? *v : 0.0) * nrm[d];
+      }
+      if constexpr (D == 2)
+        if (diffusivity > 0.0)
+          if (auto gr = interpolate_gradient(S, x, [&](std::uint32_t b) { return C[b]; }))
+            un -= diffusivity * dot(*gr, nrm);
+      return un;
+    })};
+  }
+};
+
+}  // namespace
+
+template <int D>
+void add_line_gauges(Registry<GaugeType<D>>& reg) {
+  add_gauge<VelocityProfileGauge>(reg, "velocity_profile");
+  add_gauge<StressProfileGauge>(reg, "stress_profile");
+  add_gauge<ScalarProfileGauge>(reg, "scalar_profile");
+  add_gauge<FluxGauge>(reg, "flux");
+  add_gauge<ScalarFluxGauge>(reg, "scalar_flux");
+}
+SPHFLUME_GAUGE_FAMILY(add_line_gauges)
+
+}  // namespace sph
