@@ -232,15 +232,15 @@ TEST(ISPH, PorousMediumReadsTheIntrinsicDensity) {
   b.isph.solve_pressure(S, 1e-3);
   const auto& P = S.particles;
   const std::size_t c = b.nearest(0.15, 0.15);
-  EXPECT_NEAR(P.scalar_fields().at("porosity")[c], 0.49, 1e-12);
+  EXPECT_NEAR(P.require(field::porosity)[c], 0.49, 1e-12);
   EXPECT_NEAR(P.rho[c] / 1000.0, 1.0, 1e-3);
-  EXPECT_EQ(P.scalar_fields().at("free_surface")[c], 0.0);
+  EXPECT_EQ(P.require(field::free_surface)[c], 0.0);
   // the rows near the block's edge read a little below ρ0 (at h/spacing 1.05 the kernel reaches two
   // spacings past the edge row): the standard source turns those deficits into a small suction, which
   // the maximum principle bounds by the 1D slab's: |P| <= ρ0 (1 − γ) ε_max/Δt² L²/8 (L = 0.3 m)
   double eps = 0.0, pmax = 0.0, pmin = 0.0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
-    if (P.scalar_fields().at("free_surface")[i] == 0.0) eps = std::max(eps, 1.0 - P.rho[i] / 1000.0);
+    if (P.require(field::free_surface)[i] == 0.0) eps = std::max(eps, 1.0 - P.rho[i] / 1000.0);
     pmax = std::max(pmax, P.p[i]);
     pmin = std::min(pmin, P.p[i]);
   }

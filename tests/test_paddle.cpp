@@ -188,8 +188,8 @@ time: {end: 1.0}
   const double t = 1.7;
   move_walls(S, t);
   const auto& law = S.motion->law(0);
-  const auto& grp = *S.particles.find_scalar("motion_group");
-  const auto& org = *S.particles.find_vector("motion_origin");
+  const auto& grp = *S.particles.find(field::motion_group);
+  const auto& org = *S.particles.find(field::motion_origin);
   std::size_t moved = 0;
   for (std::size_t i = 0; i < S.particles.n_owned(); ++i) {
     if (grp[i] > 0.0) {

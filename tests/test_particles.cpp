@@ -63,7 +63,7 @@ TEST(ParticleStore, LongPermuteKeepsEveryFieldTogether) {
   const int n = 20000;
   for (int i = 0; i < n; ++i) P.add(Vec<3>{{double(i), 0.0, 1.0}}, Vec<3>{{0.0, double(i), 0.0}}, 1000.0 + i, i * 0.5, i % 3 ? Kind::Fluid : Kind::Wall);
   auto& c = P.scalar("concentration");
-  auto& w = P.vector("wall_to_surface");
+  auto& w = P.vector(field::wall_to_surface);
   for (int i = 0; i < n; ++i) { c[i] = 3.0 * i; w[i] = Vec<3>{{0.0, 0.0, -double(i)}}; }
   std::vector<std::uint32_t> perm(n);
   std::iota(perm.begin(), perm.end(), 0u);
@@ -77,6 +77,24 @@ TEST(ParticleStore, LongPermuteKeepsEveryFieldTogether) {
     ASSERT_EQ(P.rho[i], 1000.0 + k);
     ASSERT_EQ(P.kind[i], static_cast<int>(k) % 3 ? Kind::Fluid : Kind::Wall);
     ASSERT_EQ(P.scalar("concentration")[i], 3.0 * k);
-    ASSERT_EQ(P.vector("wall_to_surface")[i][2], -k);
+    ASSERT_EQ(P.vector(field::wall_to_surface)[i][2], -k);
   }
+}
+
+// Typed field handles (core/fields.hpp): a field the set-up did not create is named when required,
+// and the handle and the name reach the same storage.
+TEST(ParticleStore, RequiredFieldMissingIsNamed) {
+  ParticleStore<2> P;
+  P.add(Vec<2>{{0.0, 0.0}}, Vec<2>{}, 1000.0, 1.0, Kind::Wall);
+  try {
+    (void)P.require(field::wall_to_surface);
+    FAIL() << "require() of a field never created returned";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'wall_to_surface'"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(P.find(field::porosity), nullptr);
+  P.scalar(field::porosity)[0] = 0.4;
+  EXPECT_TRUE(P.has(field::porosity));
+  EXPECT_EQ(P.require(field::porosity)[0], 0.4);
+  EXPECT_EQ(&P.scalar(std::string("porosity")), &P.scalar(field::porosity));  // the same storage by name
 }

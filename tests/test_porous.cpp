@@ -196,7 +196,7 @@ time: {end: 1.0}
 TEST(Porous, FillSpacingKeepsTheWaterVolume) {
   test::Setup<2> s(kPool);
   const auto& P = s.S.particles;
-  const auto& phi = s.S.particles.scalar_fields().at("porosity");
+  const auto& phi = s.S.particles.require(field::porosity);
   std::size_t in_block = 0;
   double vol = 0.0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {

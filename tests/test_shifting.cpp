@@ -91,7 +91,7 @@ TEST(Shifting, KeepsTheSurfaceAndTheRowBelowIt) {
   Shifting<2> sh(s.c.scheme.shifting);
   const double dt = 0.02 * s.S.h;
   sh.compute(s.S, dt);
-  const auto& dr = P.vector("shift");
+  const auto& dr = P.vector(field::shift);
   const double scale = 2.0 * s.S.h * 1.0 * dt / s.S.h;  // A h |u| dt times a ∇C of 1/h
   int n = 0, second = 0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {

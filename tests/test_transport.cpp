@@ -165,7 +165,7 @@ multiphase:
 time: {end: 1.0}
 )");
   const auto& P = s.S.particles;
-  const auto& ph = P.find_scalar("phase");
+  const auto& ph = P.find(field::phase);
   ASSERT_NE(ph, nullptr);
   ASSERT_EQ(s.S.phase_eos.size(), 2u);
   EXPECT_NEAR(s.S.phase_eos[1].c0, 20.0 * std::sqrt(1.4 * 1000.0 / 7.0), 1e-9);

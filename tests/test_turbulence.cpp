@@ -32,7 +32,7 @@ TEST(Turbulence, SmagorinskyEddyViscosityOfLinearShear) {
   for (std::size_t i = 0; i < P.n_owned(); ++i) P.vel[i] = Vec<2>{{gamma * P.pos[i][1], 0.0}};
   s.S.update_neighbours();
   s.scheme->rates(s.S);
-  const auto& nut = P.scalar("nu_t");
+  const auto& nut = P.scalar(field::nu_t);
   const auto& txz = P.scalar("tau_xz");
   const auto& txx = P.scalar("tau_xx");
   int n = 0;

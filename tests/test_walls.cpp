@@ -95,7 +95,7 @@ void backup_matches_brute_force(const char* yaml) {
   s.S.update_neighbours();
   for (auto& a : P.acc) a = Vec<D>{};
   s.S.walls->add_forces(s.S);
-  const auto& to = P.vector("wall_to_surface");
+  const auto& to = P.vector(field::wall_to_surface);
   const auto& cfg = s.S.walls->cfg;
   const double s0 = 0.25 * dx, reach = std::hypot(dx + s0, dx), c0 = s.S.eos.c0, pi = std::acos(-1.0);
   std::size_t pushed = 0;

@@ -171,7 +171,7 @@ time: {end: 1.0}
 )");
   s.scheme->initialise(s.S);
   const auto& P = s.S.particles;
-  const auto& mir = s.S.particles.vector_fields().at("ghost_mirror");
+  const auto& mir = s.S.particles.require(field::ghost_mirror);
   int n = 0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     if (P.kind[i] != Kind::Wall || P.pos[i][1] > 0.0 || P.pos[i][0] < 0.05 || P.pos[i][0] > 0.35) continue;

@@ -34,11 +34,11 @@ std::size_t WallMotion<D>::index(const std::string& name) const {
 template <int D>
 void WallMotion<D>::apply(System<D>& S, double t) const {
   auto& P = S.particles;
-  const auto* grp = P.find_scalar("motion_group");
+  const auto* grp = P.find(field::motion_group);
   if (!grp) return;
-  const auto* org = P.find_vector("motion_origin");
+  const auto* org = P.find(field::motion_origin);
   if (!org) throw std::logic_error("wall motion: no motion_origin field");
-  auto& acc = P.vector("wall_acc");
+  auto& acc = P.vector(field::wall_acc);
   std::vector<Vec<D>> x(size()), u(size()), a(size());
   for (std::size_t k = 0; k < size(); ++k) {
     x[k] = laws_[k]->displacement(t) * dir_[k];
@@ -59,8 +59,8 @@ void WallMotion<D>::apply(System<D>& S, double t) const {
 template <int D>
 Vec<D> WallMotion<D>::pressure_force(const System<D>& S, std::size_t k) const {
   const auto& P = S.particles;
-  const auto* grp = P.find_scalar("motion_group");
-  const auto* to = P.find_vector("wall_to_surface");
+  const auto* grp = P.find(field::motion_group);
+  const auto* to = P.find(field::wall_to_surface);
   Vec<D> f{};
   if (!grp || !to) return f;
   const double want = double(k + 1);

@@ -278,8 +278,8 @@ bool OpenBoundaries<D>::update(System<D>& S, OpenFlowCounters& k) const {
   P.clear_images();
   // particles that became fluid start their integrator history from their current state; a new
   // inflow particle replaces each, one zone length upstream
-  std::vector<Vec<D>>* vprev = P.vector_fields().count("v_prev") ? &P.vector("v_prev") : nullptr;
-  std::vector<double>* rprev = P.has_scalar("rho_prev") ? &P.scalar("rho_prev") : nullptr;
+  std::vector<Vec<D>>* vprev = P.has(field::v_prev) ? &P.vector(field::v_prev) : nullptr;
+  std::vector<double>* rprev = P.has(field::rho_prev) ? &P.scalar(field::rho_prev) : nullptr;
   std::vector<Vec<D>> spawn, spawn_vel;
   std::vector<double> spawn_mass, spawn_rho;
   for (std::size_t i : born) {

@@ -39,7 +39,7 @@ class DummyWalls final : public WallModel<D> {
     const double* __restrict prs = P.p.data();
     const Kind* __restrict kind = P.kind.data();
     const double rho_bg = S.eos.density(S.eos.background);
-    const Vec<D>* aw = P.find_vector("wall_acc") ? P.find_vector("wall_acc")->data() : nullptr;  // moving walls
+    const Vec<D>* aw = P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr;  // moving walls
     enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
     S.with_kernel([&](const auto& K) {
       const double support2 = K.support2;
@@ -220,15 +220,15 @@ class FixedGhostWalls final : public WallModel<D> {
   void init_fields(System<D>& S, std::size_t first_wall, const std::vector<Vec<D>>& surface) const override {
     WallModel<D>::init_fields(S, first_wall, surface);
     auto& P = S.particles;
-    auto& mir = P.vector("ghost_mirror");  // each ghost's interpolation point, mirrored into the fluid
+    auto& mir = P.vector(field::ghost_mirror);  // each ghost's interpolation point, mirrored into the fluid
     for (std::size_t k = 0; k < surface.size(); ++k) mir[first_wall + k] = 2.0 * surface[k] - P.pos[first_wall + k];
   }
 
   void prepare(System<D>& S) override {
     auto& P = S.particles;
-    if (!P.vector_fields().count("ghost_mirror"))
+    if (!P.has(field::ghost_mirror))
       throw std::logic_error("fixed_ghost walls: the geometry made no mirror points (ghost_mirror)");
-    const auto& mir = P.vector("ghost_mirror");
+    const auto& mir = P.vector(field::ghost_mirror);
     const std::size_t n = P.n_owned();
     const bool no_slip = this->cfg.no_slip, clamp = this->cfg.clamp_negative_pressure;
     const double rho_bg = S.eos.density(S.eos.background);
@@ -299,7 +299,7 @@ template <int D>
 void WallModel<D>::init_fields(System<D>& S, std::size_t first_wall, const std::vector<Vec<D>>& surface) const {
   auto& P = S.particles;
   if (cfg.repulsive) {  // unit normal of each wall particle towards the fluid side of its surface
-    auto& nrm = P.vector("wall_normal");
+    auto& nrm = P.vector(field::wall_normal);
     for (std::size_t k = 0; k < surface.size(); ++k) {
       const Vec<D> v = surface[k] - P.pos[first_wall + k];
       const double len = norm(v);
@@ -307,7 +307,7 @@ void WallModel<D>::init_fields(System<D>& S, std::size_t first_wall, const std::
     }
   }
   if (cfg.backup) {  // the vector from each wall particle to its surface point (depth, normal)
-    auto& to = P.vector("wall_to_surface");
+    auto& to = P.vector(field::wall_to_surface);
     for (std::size_t k = 0; k < surface.size(); ++k) to[first_wall + k] = surface[k] - P.pos[first_wall + k];
   }
 }
@@ -317,9 +317,9 @@ void WallModel<D>::add_forces(System<D>& S) const {
   if (cfg.backup) add_backup(S);
   if (!cfg.repulsive) return;
   auto& P = S.particles;
-  if (!P.vector_fields().count("wall_normal"))
+  if (!P.has(field::wall_normal))
     throw std::logic_error("repulsive walls: the geometry made no wall normals (wall_normal)");
-  const auto& nrm = P.vector("wall_normal");
+  const auto& nrm = P.vector(field::wall_normal);
   const std::size_t n = P.n_owned();
   const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
   const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
@@ -346,9 +346,9 @@ void WallModel<D>::add_forces(System<D>& S) const {
 template <int D>
 void WallModel<D>::add_backup(System<D>& S) const {
   auto& P = S.particles;
-  if (!P.vector_fields().count("wall_to_surface"))
+  if (!P.has(field::wall_to_surface))
     throw std::logic_error("wall backup: the geometry made no wall surface vectors (wall_to_surface)");
-  const auto& to = P.vector("wall_to_surface");
+  const auto& to = P.vector(field::wall_to_surface);
   const std::size_t n = P.n_owned();
   const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
   const double s0 = 0.25 * dx;  // the fluid's normal distance from the surface is dx/2

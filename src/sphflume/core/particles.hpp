@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "sphflume/core/fields.hpp"
 #include "sphflume/core/vec.hpp"
 
 namespace sph {
@@ -106,6 +107,26 @@ class ParticleStore {
     auto it = vector_fields_.find(name);
     return it == vector_fields_.end() ? nullptr : &it->second;
   }
+  /// The engine's own fields by their typed handles (core/fields.hpp): a misspelt handle does
+  /// not compile. The string forms above serve fields named at run time (a transported scalar,
+  /// a stress component) and must not be called with a literal of an engine field.
+  std::vector<double>& scalar(ScalarField f) { return scalar(std::string(f.name)); }
+  std::vector<V>& vector(VectorField f) { return vector(std::string(f.name)); }
+  bool has(ScalarField f) const { return scalar_fields_.count(f.name) != 0; }
+  bool has(VectorField f) const { return vector_fields_.count(f.name) != 0; }
+  const std::vector<double>* find(ScalarField f) const { return find_scalar(f.name); }
+  const std::vector<V>* find(VectorField f) const { return find_vector(f.name); }
+  /// A field that must exist (made at set-up): std::logic_error naming it otherwise.
+  const std::vector<double>& require(ScalarField f) const {
+    if (const auto* p = find(f)) return *p;
+    throw std::logic_error(std::string("particle field '") + f.name + "' was not created at set-up");
+  }
+  const std::vector<V>& require(VectorField f) const {
+    if (const auto* p = find(f)) return *p;
+    throw std::logic_error(std::string("particle field '") + f.name + "' was not created at set-up");
+  }
+  std::vector<double>& require(ScalarField f) { return const_cast<std::vector<double>&>(static_cast<const ParticleStore&>(*this).require(f)); }
+  std::vector<V>& require(VectorField f) { return const_cast<std::vector<V>&>(static_cast<const ParticleStore&>(*this).require(f)); }
   const std::map<std::string, std::vector<double>>& scalar_fields() const { return scalar_fields_; }
   const std::map<std::string, std::vector<V>>& vector_fields() const { return vector_fields_; }
 

@@ -58,7 +58,7 @@ struct System {
     if (phase_eos.empty()) return eos;
     return phase_eos[static_cast<std::size_t>((*phase_field_)[i])];
   }
-  void bind_phase_field() { phase_field_ = &particles.scalar("phase"); }
+  void bind_phase_field() { phase_field_ = &particles.scalar(field::phase); }
   /// Boundary conditions that set imposed particles from the fluid before every rates pass
   /// (e.g. open boundaries with averaged or extrapolated states); called before the walls.
   std::function<void(System&)> before_rates;

@@ -67,7 +67,7 @@ class StressProfileGauge final : public GaugeType<D> {
     const double nan = kNan;
     const char* xz = "tau_xz";
     const std::vector<double>* tau = P.has_scalar(xz) ? &P.scalar_fields().at(xz) : nullptr;
-    const std::vector<double>* nut = P.has_scalar("nu_t") ? &P.scalar_fields().at("nu_t") : nullptr;
+    const std::vector<double>* nut = P.has(field::nu_t) ? &P.require(field::nu_t) : nullptr;
     return at_held_points(S, line_points<D>(g), 4, [&](const Vec<D>& x, double* out) {
       auto u = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][0]; });
       auto w = interpolate_shepard(S, x, [&](std::uint32_t b) { return P.vel[b][D - 1]; });

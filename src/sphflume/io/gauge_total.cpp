@@ -152,7 +152,7 @@ class PhaseGauge final : public GaugeType<D> {
   bool exact() const override { return true; }
   std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
     const auto& P = S.particles;
-    const auto* ph = P.find_scalar("phase");
+    const auto* ph = P.find(field::phase);
     double k = -1.0;
     for (std::size_t i = 0; i < S.phase_names.size(); ++i)
       if (S.phase_names[i] == g.field) k = static_cast<double>(i);

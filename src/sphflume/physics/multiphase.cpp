@@ -14,7 +14,7 @@ void setup_phases(const Case& c, System<D>& S) {
   S.grenier = c.multiphase.grenier;
   S.chi = c.multiphase.chi;
   S.phase_names = {"water"};
-  auto& phase = P.scalar("phase");
+  auto& phase = P.scalar(field::phase);
   S.bind_phase_field();
   for (std::size_t k = 0; k < c.multiphase.phases.size(); ++k) {
     const auto& pc = c.multiphase.phases[k];
@@ -46,7 +46,7 @@ template <int D>
 void grenier_gamma(System<D>& S) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
-  auto& gam = P.scalar("_gamma");
+  auto& gam = P.scalar(field::gamma_grenier);
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::size_t a = 0; a < n; ++a) {

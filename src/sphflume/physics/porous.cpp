@@ -174,7 +174,7 @@ double PorousMedia<D>::porosity(const Vec<D>& x, int* region) const {
 template <int D>
 void PorousMedia<D>::update(System<D>& S) {
   auto& P = S.particles;
-  auto& phi = P.scalar("porosity");
+  auto& phi = P.scalar(field::porosity);
   const std::size_t n = P.n_owned();
   region_of_.assign(n, -1);
 #pragma omp parallel for schedule(dynamic, 256)
@@ -188,9 +188,9 @@ void PorousMedia<D>::update(System<D>& S) {
 template <int D>
 void PorousMedia<D>::drag(System<D>& S) {
   auto& P = S.particles;
-  auto& rate = P.scalar("drag_rate");
-  auto& inertia = P.scalar("inertia");
-  const auto& phi = P.scalar("porosity");
+  auto& rate = P.scalar(field::drag_rate);
+  auto& inertia = P.scalar(field::inertia);
+  const auto& phi = P.scalar(field::porosity);
   const std::size_t n = P.n_owned();
   if (region_of_.size() != n) throw std::logic_error("PorousMedia::drag: update() was not called for this state");
 #pragma omp parallel for schedule(static)

@@ -11,10 +11,10 @@ template <int D>
 void Shifting<D>::compute(System<D>& S, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned(), nall = P.size();
-  auto& dr = P.vector("shift");  // a particle field: it follows the store's re-sorting
+  auto& dr = P.vector(field::shift);  // a particle field: it follows the store's re-sorting
   std::fill(dr.begin(), dr.end(), Vec<D>{});
   const double surface = cfg_.surface > 0.0 ? cfg_.surface : (D == 2 ? 1.5 : 2.75);
-  const auto* pf = S.porous ? P.find_scalar("porosity") : nullptr;  // SPHAM volumes m/(φρ)
+  const auto* pf = S.porous ? P.find(field::porosity) : nullptr;  // SPHAM volumes m/(φρ)
   const double* phi = pf ? pf->data() : nullptr;
   const double ah = cfg_.coefficient * S.h * dt;
   // pass 1: ∇C and ∇·r of every owned fluid particle; images take their sources' values
@@ -75,7 +75,7 @@ void Shifting<D>::compute(System<D>& S, double dt) {
 template <int D>
 void Shifting<D>::apply(System<D>& S) const {
   auto& P = S.particles;
-  const auto& dr = P.vector("shift");
+  const auto& dr = P.vector(field::shift);
   const std::size_t n = P.n_owned();
   for (std::size_t a = 0; a < n; ++a) P.pos[a] += dr[a];
 }

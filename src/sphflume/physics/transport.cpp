@@ -111,7 +111,7 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double eta2 = eta2_ * S.h * S.h;
-  const double* nut = P.has_scalar("nu_t") ? P.scalar("nu_t").data() : nullptr;
+  const double* nut = P.has(field::nu_t) ? P.scalar(field::nu_t).data() : nullptr;
   const double advect = cfg_.advection == ScalarAdvection::Conservative ? 0.0
                         : cfg_.advection == ScalarAdvection::None ? 1.0 : 2.0;
   const DiffusionOperator op = cfg_.op;
@@ -243,7 +243,7 @@ template <int D>
 double ScalarTransport<D>::time_step(const System<D>& S, double coef) const {
   const auto& P = S.particles;
   double nut_max = 0.0;
-  if (const auto* nut = P.find_scalar("nu_t"))
+  if (const auto* nut = P.find(field::nu_t))
     for (std::size_t i = 0; i < P.n_owned(); ++i) nut_max = std::max(nut_max, (*nut)[i]);
   double dt = std::numeric_limits<double>::infinity();
   for (const auto& sc : cfg_.scalars) {

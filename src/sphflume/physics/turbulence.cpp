@@ -132,7 +132,7 @@ void Turbulence<D>::update(System<D>& S) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   if (grad_.size() < n * D * D) return;  // no pass has filled the gradient yet
-  auto& nut = P.scalar("nu_t");
+  auto& nut = P.scalar(field::nu_t);
   std::vector<double>* tau[kStress];
   for (int k = 0; k < kStress; ++k) tau[k] = &P.scalar(stress_name(k));
   const bool ml = cfg_.model == "mixing_length";

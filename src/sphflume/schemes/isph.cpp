@@ -67,7 +67,7 @@ std::string ISPH<D>::distributed_refusal() const {
 template <int D>
 void ISPH<D>::initialise(System<D>& S) {
   set_reference(S);
-  S.particles.scalar("free_surface");  // the flag (set by each solve) exists from the first snapshot
+  S.particles.scalar(field::free_surface);  // the flag (set by each solve) exists from the first snapshot
   // the starting pressure (the hydrostatic state of the set-up) is the first solve's warm start
   auto& P = S.particles;
   for (std::size_t i = 0; i < P.n_owned(); ++i)
@@ -153,10 +153,10 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   S.update_neighbours();
   forces_.rates(S);
   stats_.predict_s += seconds_since(t_pred);
-  auto& x0 = P.vector("x0");
-  auto& v0 = P.vector("v0");
-  const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
-  const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
+  auto& x0 = P.vector(field::x0);
+  auto& v0 = P.vector(field::v0);
+  const double* kr = S.porous ? P.scalar(field::drag_rate).data() : nullptr;
+  const double* im = S.porous ? P.scalar(field::inertia).data() : nullptr;
   const std::size_t n = P.n_owned();
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -216,9 +216,9 @@ void ISPH<D>::step(System<D>& S, double dt_in) {
   if (shift_.on()) shift_.compute(S, dt);  // from r* and u_{t+1} (the lists of r*)
   stats_.correct_s += seconds_since(t_shift);
   double amax2 = 0.0;
-  const auto& x0s = P.vector("x0");
-  const auto& v0s = P.vector("v0");
-  const auto* drs = o_.source == PpeSource::Split ? &P.vector("_density_shift") : nullptr;
+  const auto& x0s = P.vector(field::x0);
+  const auto& v0s = P.vector(field::v0);
+  const auto* drs = o_.source == PpeSource::Split ? &P.vector(field::density_shift) : nullptr;
   const std::size_t m = P.n_owned();
 #pragma omp parallel for schedule(static) reduction(max : amax2)
   for (std::size_t i = 0; i < m; ++i) {
@@ -245,7 +245,7 @@ void ISPH<D>::classify(System<D>& S) {
   const double beta_div = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
   // at the free surface: the density (Tsurudome eq 4.2.3) or the position divergence (in drho)
   auto free = [&](std::size_t i) { return o_.fs_divergence ? P.drho[i] < beta_div : P.rho[i] < beta_rho; };
-  const std::vector<Vec<D>>* to = P.vector_fields().count("wall_to_surface") ? &P.vector("wall_to_surface") : nullptr;
+  const std::vector<Vec<D>>* to = P.has(field::wall_to_surface) ? &P.vector(field::wall_to_surface) : nullptr;
   if (!to) throw std::logic_error("isph: the geometry made no wall surface vectors (wall_to_surface)");
   cls_.assign(n, 1);
   unknown_.assign(n, -1);
@@ -264,7 +264,7 @@ void ISPH<D>::classify(System<D>& S) {
   }
   stats_.free_surface = fs;
   // the flag in the snapshots (1: free surface, P = 0), for the user and the checks
-  auto& flag = P.scalar("free_surface");
+  auto& flag = P.scalar(field::free_surface);
   for (std::size_t i = 0; i < n; ++i) flag[i] = P.kind[i] == Kind::Fluid && cls_[i] == 1 ? 1.0 : 0.0;
   // each dummy carries the pressure of the first-layer particle at the foot of its normal
   const double half = 0.5 * S.dx;
@@ -309,7 +309,7 @@ void ISPH<D>::classify(System<D>& S) {
   first_row_ = static_cast<std::size_t>(S.comm->exscan(static_cast<std::uint64_t>(k), total));
   dummy_off_.assign(n, 0.0);
   if (o_.dummy_body_force) {
-    const auto* aw = P.find_vector("wall_acc");
+    const auto* aw = P.find(field::wall_acc);
     for (std::size_t i = 0; i < n; ++i)
       if (cls_[i] == 2 && map_[i] >= 0) {
         const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
@@ -338,15 +338,15 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const auto t0 = std::chrono::steady_clock::now();
-  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
   if (phi) {
     // porous: the pressure acceleration meets the prediction's point-implicit drag and added mass,
     // u_{t+1} = u* − Δt m_d ∇P/ρ with the mobility m_d = (1/M)/(1 + Δt K/M) (1 where no drag was
     // computed), and the PPE carries m_d in its conductivity (a medium of fine grains conducts the
     // pressure's impulse as Darcy's law does)
-    auto& mob = P.scalar("_mobility");
-    const auto* kr = P.find_scalar("drag_rate");
-    const auto* im = P.find_scalar("inertia");
+    auto& mob = P.scalar(field::mobility);
+    const auto* kr = P.find(field::drag_rate);
+    const auto* im = P.find(field::inertia);
     for (std::size_t i = 0; i < n; ++i)
       mob[i] = kr && im && P.kind[i] == Kind::Fluid ? (*im)[i] / (1.0 + dt * (*kr)[i]) : 1.0;
   }
@@ -409,7 +409,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
     // than the default 1e-6 (runs that must agree across partitions, tests/mpi/check_ranks.py) applies too
     sys_.rhs.swap(rhs_density_);
     sys_.tolerance = o_.tolerance < 1e-6 ? o_.tolerance : kDensityTolerance;
-    solve_into(S, P.scalar("_psi"), false);
+    solve_into(S, P.scalar(field::psi), false);
     sys_.tolerance = 0.0;
     sys_.rhs.swap(rhs_density_);
   }

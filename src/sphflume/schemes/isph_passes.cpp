@@ -157,7 +157,7 @@ void ISPH<D>::kernel_density(System<D>& S, const K& ker) {
   // Σ_j (m_j/φ_j) W_ij of every owned fluid and wall particle, self included, into drho
   auto& P = S.particles;
   const std::size_t n_owned = P.n_owned();
-  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
   const Vec<D>* pos = P.pos.data();
   const double* mass = P.mass.data();
   const Kind* kind = P.kind.data();
@@ -210,8 +210,8 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   const double gamma = o_.source == PpeSource::Hybrid ? o_.gamma : (o_.source == PpeSource::DivergenceFree || split) ? 1.0 : 0.0;
   const double rr = S.eos.rho0;  // the densities are normalised (solve_pressure)
   const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
-  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
-  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
+  const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
   // each row into its own slot (the slots keep their capacity from step to step), then
   // concatenated in row order (deterministic)
   rows_.resize(rows);
@@ -310,10 +310,10 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   // the gradient normalised by its lattice moment (gradient_normalisation: lattice): exact for a
   // linear pressure on a full lattice (κ = 0.99 for Wendland C2 at h/dx 1.5)
   const double inv_kappa = o_.gradient_lattice && kappa_ > 0.0 ? 1.0 / kappa_ : 1.0;
-  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;
-  const double* mob = S.porous ? P.scalar("_mobility").data() : nullptr;
-  const double* psi = o_.source == PpeSource::Split ? P.scalar("_psi").data() : nullptr;
-  Vec<D>* dr = psi ? P.vector("_density_shift").data() : nullptr;
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
+  const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
+  const double* psi = o_.source == PpeSource::Split ? P.scalar(field::psi).data() : nullptr;
+  Vec<D>* dr = psi ? P.vector(field::density_shift).data() : nullptr;
   const Vec<D>* pos = P.pos.data();
   const double* mass = P.mass.data();
   const double* rho = P.rho.data();

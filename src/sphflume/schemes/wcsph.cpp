@@ -139,17 +139,17 @@ void WCSPH<D>::verlet_step(System<D>& S, double dt) {
   // the odd and even sequences. acc/drho hold the rates of the current state on entry.
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
-  auto& vprev = P.vector("v_prev");
-  auto& rprev = P.scalar("rho_prev");
+  auto& vprev = P.vector(field::v_prev);
+  auto& rprev = P.scalar(field::rho_prev);
   const bool dyn = S.walls->evolves_density();
-  std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector("xsph") : nullptr;
+  std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector(field::xsph) : nullptr;
   const bool euler = !verlet_started_ || (cfg_.verlet_steps > 0 && (S.step + 1) % cfg_.verlet_steps == 0);
   verlet_started_ = true;
   const double dt2 = euler ? dt : 2.0 * dt;
   const double hdt2 = 0.5 * dt * dt;
   // porous drag, point-implicit: u = (u_base + Δt a/M) / (1 + Δt K/M)
-  const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
-  const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
+  const double* kr = S.porous ? P.scalar(field::drag_rate).data() : nullptr;
+  const double* im = S.porous ? P.scalar(field::inertia).data() : nullptr;
   if (S.transport) S.transport->begin_step(S);  // scalars: forward Euler on Y = C/ρ
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -191,12 +191,13 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
   S.update_neighbours();
   rates(S);
   // start-of-step state as store fields: they follow the particles through the re-sort below
-  auto& x0 = P.vector("x0");
-  auto& v0 = P.vector("v0");
-  auto& rho0 = P.scalar("rho0");
+  // (the handles' names: the string form keeps this function's code, and its results, as they were)
+  auto& x0 = P.vector(field::x0.name);
+  auto& v0 = P.vector(field::v0.name);
+  auto& rho0 = P.scalar(field::rho0.name);
   const std::size_t n = P.n_owned();
   const bool dyn = S.walls->evolves_density();
-  std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector("xsph") : nullptr;
+  std::vector<Vec<D>>* xs = cfg_.xsph > 0.0 ? &P.vector(field::xsph) : nullptr;
   const double hdt = 0.5 * dt;
   // porous drag, point-implicit: u = (u_base + Δt a/M) / (1 + Δt K/M), K of the stage's state
   // (fields looked up per call: the store re-sorts between the stages)
@@ -205,8 +206,8 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
     if (!por) return base + step * P.acc[i];
     return (1.0 / (1.0 + step * kr[i])) * (base + (step * im[i]) * P.acc[i]);
   };
-  const double* kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
-  const double* im = S.porous ? P.scalar("inertia").data() : nullptr;
+  const double* kr = S.porous ? P.scalar(field::drag_rate).data() : nullptr;
+  const double* im = S.porous ? P.scalar(field::inertia).data() : nullptr;
   if (S.transport) S.transport->begin_step(S);  // scalars: explicit midpoint on Y = C/ρ
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -232,8 +233,8 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
   S.update_neighbours();
   rates(S);
   const bool symplectic = cfg_.integrator == Integrator::Symplectic;
-  kr = S.porous ? P.scalar("drag_rate").data() : nullptr;
-  im = S.porous ? P.scalar("inertia").data() : nullptr;
+  kr = S.porous ? P.scalar(field::drag_rate).data() : nullptr;
+  im = S.porous ? P.scalar(field::inertia).data() : nullptr;
   // (the owned particles again: in a distributed run the re-sort above also hands particles
   // that crossed into another rank's part to it, with their x0, v0 and rho0)
   const std::size_t n2 = P.n_owned();
@@ -273,8 +274,8 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   std::vector<double> out(n);
-  const double* phi = S.porous ? P.scalar("porosity").data() : nullptr;  // volumes m/(φρ)
-  const double* phase = S.phase_eos.empty() ? nullptr : P.scalar("phase").data();  // within a phase
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;  // volumes m/(φρ)
+  const double* phase = S.phase_eos.empty() ? nullptr : P.scalar(field::phase).data();  // within a phase
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
@@ -291,8 +292,8 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
     }
   });
   // Verlet keeps the previous density too: shift it by the same correction
-  if (P.has_scalar("rho_prev")) {
-    auto& rp = P.scalar("rho_prev");
+  if (P.has(field::rho_prev)) {
+    auto& rp = P.scalar(field::rho_prev);
     for (std::size_t a = 0; a < n; ++a) rp[a] += out[a] - P.rho[a];
   }
   if (S.transport) S.transport->rescale(S, out);  // keep each particle's pollutant mass m C/ρ

@@ -61,7 +61,7 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   const F32 fsupport2 = F32(ker.support2), ffar = F32(1.0e3), fk = F32(cfg_.riemann_limiter / c0);
   // walls: the dissipation acts along the wall normal (towards the fluid), on twice the
   // wall-relative normal speed (the mirror state), so that sliding along a wall is free
-  const Vec<D>* __restrict wn = Pass == 1 ? P.vector("wall_to_surface").data() : nullptr;
+  const Vec<D>* __restrict wn = Pass == 1 ? P.vector(field::wall_to_surface).data() : nullptr;
   // the per-particle columns the candidates need, packed once per pass in store order (a
   // division per particle, not one per particle per stencil it falls in), so that the per-cell
   // stencil copies below only move floats; the pair sums are bitwise those of gathering the

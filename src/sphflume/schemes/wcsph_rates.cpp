@@ -65,7 +65,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const double wall_in = S.walls->in_pair_sums() ? 1.0 : 0.0;  // walls enter the pair sums at all
   const double dcoef = 2.0 * cfg_.delta * h * c0;
   const double xsph = cfg_.xsph;
-  std::vector<Vec<D>>* xs = xsph > 0.0 ? &P.vector("xsph") : nullptr;
+  std::vector<Vec<D>>* xs = xsph > 0.0 ? &P.vector(field::xsph) : nullptr;
   // turbulence: the stress of the previous pass (kinematic, τ/ρ) and the gradient buffer
   constexpr int NT = Turbulence<D>::kStress;
   const double* tau_in[6] = {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
@@ -75,13 +75,13 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
     grad_out = turb_.gradient(P.n_owned());
   }
   // porous media (SPHAM, Kazemi eqs 4.56-4.57): φ of every particle (walls 1)
-  const double* __restrict phi = Porous ? P.scalar("porosity").data() : nullptr;
+  const double* __restrict phi = Porous ? P.scalar(field::porosity).data() : nullptr;
   double g[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
   const double support2 = ker.support2;
   const Eos eos = S.eos;
   // phases: each particle's reference density and sound speed from its phase's EOS
-  const double* __restrict phase = Multi ? P.scalar("phase").data() : nullptr;
+  const double* __restrict phase = Multi ? P.scalar(field::phase).data() : nullptr;
   const std::vector<Eos>& peos = S.phase_eos;
   auto ref_of = [&](std::size_t b) { return Multi ? peos[static_cast<std::size_t>(phase[b])].rho0 : rho0; };
   auto sound_of = [&](std::size_t b, double rh) {
@@ -109,7 +109,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   // double precision.
   using F32 = float;
   // Grenier: pressures enter as p/Γ (walls Γ = 1); chi: interface repulsion
-  const double* __restrict gam = (Multi && S.grenier) ? P.scalar("_gamma").data() : nullptr;
+  const double* __restrict gam = (Multi && S.grenier) ? P.scalar(field::gamma_grenier).data() : nullptr;
   auto p_of = [&](std::size_t b) { return gam && fluid_like(kind[b]) ? prs[b] / gam[b] : prs[b]; };
   const F32 fchi = F32(Multi ? S.chi : 0.0);
   enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, REF, PHS, NCOL };

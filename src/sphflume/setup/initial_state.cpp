@@ -94,9 +94,9 @@ void add_particles(const Case& c, System<D>& S, const FillPoints<D>& f, BuildRep
     ++rep.wall;
   }
   if (!c.motions.empty()) {  // moving walls: the motion of each wall particle and its place at X = 0
-    auto& grp = P.scalar("motion_group");
-    auto& org = P.vector("motion_origin");
-    P.vector("wall_acc");
+    auto& grp = P.scalar(field::motion_group);
+    auto& org = P.vector(field::motion_origin);
+    P.vector(field::wall_acc);
     for (std::size_t k = 0; k < f.wall_x.size(); ++k) {
       const std::string& mname = c.shapes[f.wall_shape[k]].motion;
       org[first_wall + k] = f.wall_x[k];

@@ -49,7 +49,7 @@ std::unique_ptr<Scheme<D>> setup_system(const Case& c, System<D>& S, BuildReport
   // the scheme or a wall motion reads it
   S.walls->init_fields(S, rep.first_wall, surface);
   if (scheme->needs_wall_surface() || !c.motions.empty()) {
-    auto& to = S.particles.vector("wall_to_surface");
+    auto& to = S.particles.vector(field::wall_to_surface);
     for (std::size_t k = 0; k < surface.size(); ++k) to[rep.first_wall + k] = surface[k] - S.particles.pos[rep.first_wall + k];
   }
   add_force_terms<D>(c.forces, c.file, S);
