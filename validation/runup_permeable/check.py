@@ -135,7 +135,7 @@ def main():
         if part in ("a", "b", "a2"):
             out, _ = run(part, P["solid"], "solid", {"particles.h_over_dx": 2.0, "motions.0.height": P["H"]})
             Rs = runup(out)[0]
-            print(f"== {part}: solid slope R = {1000 * Rs:.1f} mm (dx = {DX}, h = 2 dx)")
+            print(f"== {part}: solid slope R = {1000 * Rs:.1f} mm (dx = {parse_sets(a.set).get('particles.dx', DX)}, h = 2 dx)")
             rows = []
             for dc in dcs:
                 out, _ = run(part, P["case"], f"dc{dc:g}", {"porous.regions.0.diameter": dc / 1000, "motions.0.height": P["H"]})

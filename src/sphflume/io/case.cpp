@@ -308,14 +308,10 @@ OpenBoundaryConfig read_open_boundary(const Node& n, const std::string& file, co
   return b;
 }
 
-Case build_case(const Node& root, const std::string& file) {
-  Case c;
-  c.file = file;
-  Reader top(root, file, "");
-  top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
-             "gauges", "forces", "turbulence", "porous", "transport", "multiphase", "motions"});
-  for (const char* k : {"particles", "fluid", "geometry", "time"})
-    if (!top.has(k)) top.misspelt(k);
+namespace {
+
+/// name, dimension, gravity (or a bed slope that tilts it).
+void read_frame(Reader& top, const std::string&, Case& c) {
   c.name = top.scalar<std::string>("name", "case");
   c.dimension = top.scalar<int>("dimension", 2);
   if (c.dimension != 2 && c.dimension != 3) top.fail_at(top.get("dimension"), "dimension", "2 or 3");
@@ -332,7 +328,10 @@ Case build_case(const Node& root, const std::string& file) {
     c.gravity[0] = 9.81 * std::sin(th);
     c.gravity[d - 1] = -9.81 * std::cos(th);
   }
+}
 
+/// particles: dx, kernel, h/dx.
+void read_particles(Reader& top, const std::string& file, Case& c) {
   {  // particles / kernel
     if (!top.has("particles")) throw InputError(fmt::format("{}: missing required section 'particles' (with at least dx, the particle spacing in m)", file));
     Reader r(top.get("particles"), file, "particles");
@@ -342,6 +341,11 @@ Case build_case(const Node& root, const std::string& file) {
     c.h_over_dx = r.in_range("h_over_dx", kernel_default_h_over_dx(c.kernel), lo, hi);
     r.finish();
   }
+}
+
+/// domain: the box particles stay in, periodic axes.
+void read_domain(Reader& top, const std::string& file, Case& c) {
+  const std::size_t d = static_cast<std::size_t>(c.dimension);
   if (top.has("domain")) {
     Reader r(top.get("domain"), file, "domain");
     c.domain_min = r.vec("min", d);
@@ -363,6 +367,10 @@ Case build_case(const Node& root, const std::string& file) {
     }
     r.finish();
   }
+}
+
+/// fluid: density, viscosity, sound speed, EOS.
+void read_fluid(Reader& top, const std::string& file, Case& c) {
   {
     if (!top.has("fluid")) throw InputError(fmt::format("{}: missing required section 'fluid'", file));
     Reader r(top.get("fluid"), file, "fluid");
@@ -379,8 +387,10 @@ Case build_case(const Node& root, const std::string& file) {
     c.fluid.hydrostatic_init = r.scalar<bool>("hydrostatic_init", true);
     r.finish();
   }
-  if (top.has("scheme")) caseio::read_scheme(top.get("scheme"), file, c);
-  if (top.has("walls")) caseio::read_walls(top.get("walls"), file, c);
+}
+
+/// geometry: the shapes.
+void read_geometry(Reader& top, const std::string& file, Case& c) {
   {
     const Node& geo = top.get("geometry");
     if (!geo.given()) throw InputError(fmt::format("{}: missing required section 'geometry' (a list of shapes filled with fluid or wall)", file));
@@ -389,6 +399,10 @@ Case build_case(const Node& root, const std::string& file) {
     for (std::size_t i = 0; i < geo.size(); ++i)
       c.shapes.push_back(read_shape(geo[i], file, fmt::format("geometry.{}", i), c.dimension, wall_layers_for(c) * c.dx));
   }
+}
+
+/// time: end, output and snapshot intervals.
+void read_time(Reader& top, const std::string& file, Case& c) {
   {
     if (!top.has("time")) throw InputError(fmt::format("{}: missing required section 'time' (end and output_interval in s)", file));
     Reader r(top.get("time"), file, "time");
@@ -408,6 +422,10 @@ Case build_case(const Node& root, const std::string& file) {
     }
     r.finish();
   }
+}
+
+/// gauges: each read by its type (io/gauge_type.hpp), names unique.
+void read_gauges(Reader& top, const std::string& file, Case& c) {
   if (top.has("gauges")) {
     const Node& gs = top.get("gauges");
     if (!gs.is_sequence()) top.fail_at(gs, "gauges", "a list of gauges");
@@ -418,6 +436,10 @@ Case build_case(const Node& root, const std::string& file) {
         top.fail_at(gs[i], fmt::format("gauges.{}.name", i), "a name not used by another gauge");
     }
   }
+}
+
+/// open_boundaries: at most one inflow and one outflow zone, in that order along x.
+void read_open_boundaries(Reader& top, const std::string& file, Case& c) {
   if (top.has("open_boundaries")) {
     const Node& ob = top.get("open_boundaries");
     if (!ob.is_sequence()) top.fail_at(ob, "open_boundaries", "a list of inflow/outflow zones");
@@ -432,13 +454,10 @@ Case build_case(const Node& root, const std::string& file) {
       if (!(out.x0 > in.x1)) top.fail_at(ob, "open_boundaries", "the outflow zone downstream (+x) of the inflow zone");
     }
   }
-  caseio::read_motions(top, file, c);
-  caseio::warn_short_support_with_motions(top, file, c);
-  caseio::check_slopes(c);
-  if (top.has("turbulence")) caseio::read_turbulence(top.get("turbulence"), file, c);
-  if (top.has("porous")) caseio::read_porous(top.get("porous"), file, c);
-  if (top.has("transport")) caseio::read_transport(top.get("transport"), file, c);
-  if (top.has("multiphase")) caseio::read_multiphase(top.get("multiphase"), file, c);
+}
+
+/// integrator: dual carries dummy walls, one inviscid phase and no other model yet.
+void check_dual(Reader& top, const std::string&, Case& c) {
   if (c.scheme.type == "wcsph" && c.scheme.integrator == Integrator::Dual) {
     // the Riemann passes carry the plain single-phase equations with dummy walls (what the dam
     // breaks need); the other models live in the one-pass loop of the other integrators
@@ -459,8 +478,10 @@ Case build_case(const Node& root, const std::string& file) {
                   fmt::format("a case without {} (the dual integrator's Riemann passes have dummy walls, one inviscid "
                               "phase and no other model yet): use integrator: symplectic or verlet", other));
   }
-  if (c.scheme.frozen && !c.transport.on())
-    top.fail_at(top.get("scheme"), "scheme.frozen", "a 'transport:' section too (a frozen flow only transports scalars)");
+}
+
+/// The motion, phase or scalar a gauge names must be defined.
+void check_gauge_fields(Reader&, const std::string& file, Case& c) {
   for (const auto& g : c.gauges)
     if (g.type == "paddle") {
       bool known = false;
@@ -481,6 +502,39 @@ Case build_case(const Node& root, const std::string& file) {
         throw InputError(fmt::format("{}: line {}: gauge '{}': field '{}' is not a transported scalar (define it under "
                                      "transport.scalars)", file, g.line, g.name, g.field));
     }
+}
+
+}  // namespace
+
+Case build_case(const Node& root, const std::string& file) {
+  Case c;
+  c.file = file;
+  Reader top(root, file, "");
+  top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
+             "gauges", "forces", "turbulence", "porous", "transport", "multiphase", "motions"});
+  for (const char* k : {"particles", "fluid", "geometry", "time"})
+    if (!top.has(k)) top.misspelt(k);
+  read_frame(top, file, c);
+  read_particles(top, file, c);
+  read_domain(top, file, c);
+  read_fluid(top, file, c);
+  if (top.has("scheme")) caseio::read_scheme(top.get("scheme"), file, c);
+  if (top.has("walls")) caseio::read_walls(top.get("walls"), file, c);
+  read_geometry(top, file, c);
+  read_time(top, file, c);
+  read_gauges(top, file, c);
+  read_open_boundaries(top, file, c);
+  caseio::read_motions(top, file, c);
+  caseio::warn_short_support_with_motions(top, file, c);
+  caseio::check_slopes(c);
+  if (top.has("turbulence")) caseio::read_turbulence(top.get("turbulence"), file, c);
+  if (top.has("porous")) caseio::read_porous(top.get("porous"), file, c);
+  if (top.has("transport")) caseio::read_transport(top.get("transport"), file, c);
+  if (top.has("multiphase")) caseio::read_multiphase(top.get("multiphase"), file, c);
+  check_dual(top, file, c);
+  if (c.scheme.frozen && !c.transport.on())
+    top.fail_at(top.get("scheme"), "scheme.frozen", "a 'transport:' section too (a frozen flow only transports scalars)");
+  check_gauge_fields(top, file, c);
   if (top.has("forces")) {
     c.forces = top.get("forces");
     if (!c.forces.is_sequence()) top.fail_at(c.forces, "forces", "a list of force terms, each {type: NAME, ...}");
