@@ -20,10 +20,11 @@ struct Setup {
   Case c;
   System<D> S;
   BuildReport rep;
-  std::unique_ptr<WCSPH<D>> scheme;
+  std::unique_ptr<WCSPH<D>> scheme;  // WCSPH's own passes, which the operator tests call
+  std::unique_ptr<Scheme<D>> named;   // the scheme the case names, as the CLI makes it
   explicit Setup(const std::string& yaml, const std::vector<std::string>& overrides = {}) {
     c = parse_case(yaml, "test.yaml", overrides);
-    setup_system<D>(c, S, rep);  // the CLI's set-up (setup/setup.hpp); the tests step WCSPH's own passes
+    named = setup_system<D>(c, S, rep);  // the CLI's set-up (setup/setup.hpp)
     scheme = std::make_unique<WCSPH<D>>(c);
   }
 };

@@ -1,4 +1,4 @@
-// The dual-criteria Riemann integrator (`scheme.integrator: dual`, schemes/wcsph_dual.cpp):
+// The dual-criteria Riemann integrator (`scheme.integrator: dual`, schemes/dual.hpp):
 //  - the summation density of a full lattice is rho0 in the interior (its reference sigma0 is
 //    that lattice's own sum) and at least rho0 at the free surface;
 //  - its pressure pass is the SPH gradient of the pressure (a linear field through the linear
@@ -38,7 +38,7 @@ bool interior(const Vec<2>& x) { return x[0] > 0.1 && x[0] < 0.2 && x[1] > 0.1 &
 
 TEST(WCSPHDual, SummationDensityIsRho0OnTheLatticeAndNeverBelow) {
   test::Setup<2> s(kBlock);
-  s.scheme->initialise(s.S);  // the dual integrator re-initialises the density by summation
+  s.named->initialise(s.S);  // the dual integrator re-initialises the density by summation
   const auto& P = s.S.particles;
   int n = 0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
@@ -58,11 +58,11 @@ TEST(WCSPHDual, PressurePassIsTheSphGradient) {
   auto& P = s.S.particles;
   const double c0 = 300.0, G = 2.0e3;  // dp/dz [Pa/m] through ρ = ρ0 + G z / c0²
   for (std::size_t i = 0; i < P.n_owned(); ++i) P.rho[i] = 1000.0 + G * P.pos[i][1] / (c0 * c0);
-  s.scheme->initialise(s.S);  // the continuity pass at rest: Dρ = 0, no dissipation
+  s.named->initialise(s.S);  // the continuity pass at rest: Dρ = 0, no dissipation
   const double dt = 1e-6;
   std::vector<double> z0(P.n_owned());
   for (std::size_t i = 0; i < P.n_owned(); ++i) z0[i] = P.pos[i][1];
-  s.scheme->step(s.S, dt);
+  s.named->step(s.S, dt);
   int n = 0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     if (!interior(P.pos[i])) continue;
@@ -82,7 +82,7 @@ TEST(WCSPHDual, IsolatedBlockConservesMomentum) {
   auto& P = s.S.particles;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> U(-0.5, 0.5);
-  s.scheme->initialise(s.S);
+  s.named->initialise(s.S);
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     P.vel[i] = Vec<2>{{U(rng), U(rng)}};  // a rough field: every Riemann term is active
     P.rho[i] *= 1.0 + 0.01 * U(rng);
@@ -97,7 +97,7 @@ TEST(WCSPHDual, IsolatedBlockConservesMomentum) {
     return std::make_pair(m, scale);
   };
   const auto [m0, scale] = momentum();
-  for (int k = 0; k < 5; ++k) s.scheme->step(s.S, s.scheme->time_step(s.S));
+  for (int k = 0; k < 5; ++k) s.named->step(s.S, s.named->time_step(s.S));
   const auto [m1, unused] = momentum();
   // pair terms cancel between a and b; what is left is float round-off of the per-particle sums
   // (each ~1e-7 relative of its own terms): 1e-5 of Σ m|u| is far below a single missing pair
@@ -120,8 +120,8 @@ time: {end: 1.0}
   auto run = [&](int threads) {
     omp_set_num_threads(threads);
     auto s = std::make_unique<test::Setup<2>>(dam);
-    s->scheme->initialise(s->S);
-    for (int i = 0; i < 400; ++i) s->scheme->step(s->S, s->scheme->time_step(s->S));
+    s->named->initialise(s->S);
+    for (int i = 0; i < 400; ++i) s->named->step(s->S, s->named->time_step(s->S));
     return s;
   };
   auto a = run(1);

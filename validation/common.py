@@ -27,16 +27,24 @@ def add_set_option(ap):
 def run_case(sphflume, case, out, sets, threads, reuse):
     """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc)."""
     summary_path = os.path.join(out, "summary.json")
+    checkpoint = os.path.join(out, "checkpoint.h5")
+    resume = False
     if reuse and os.path.exists(summary_path):
         with open(summary_path) as f:
             s = json.load(f)
-        if s.get("exit_code") == 0 and math.isclose(s.get("dx", -1), sets["particles.dx"], rel_tol=1e-7) \
-                and math.isclose(s.get("end_time", -1), sets["time.end"], rel_tol=1e-7):
+        same = math.isclose(s.get("dx", -1), float(sets["particles.dx"]), rel_tol=1e-7) \
+            and math.isclose(s.get("end_time", -1), float(sets["time.end"]), rel_tol=1e-7)
+        if s.get("exit_code") == 0 and same:
             print(f"reusing {out} (dx = {s['dx']}, end = {s['end_time']})")
             return s, float(s.get("wall_seconds", float("nan"))), 0
-    if os.path.isdir(out):
+        # A run stopped by a signal (the session ended) wrote checkpoint.h5: go on from there (issue 40).
+        resume = same and s.get("exit_status") == "interrupted" and os.path.exists(checkpoint)
+    if os.path.isdir(out) and not resume:
         shutil.rmtree(out)
     cmd = [sphflume, "run", case, "--output", out, "-q", "--threads", str(threads)]
+    if resume:
+        cmd += ["--restart", checkpoint]
+        print(f"resuming {out} from its checkpoint (t = {s['simulated_time']:.4g} s)")
     for k, v in sets.items():
         cmd += ["--set", f"{k}={v}"]
     print("running:", " ".join(cmd), flush=True)

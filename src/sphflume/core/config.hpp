@@ -44,7 +44,7 @@ struct FluidConfig {
 struct SchemeConfig {
   std::string type = "wcsph";
   Integrator integrator = Integrator::Symplectic;  // symplectic | predictor_corrector | verlet | dual
-  // dual (schemes/wcsph_dual.cpp): acoustic steps cfl h/(c+|u|) inside advection steps
+  // dual (schemes/dual.hpp): acoustic steps cfl h/(c+|u|) inside advection steps
   // advection_cfl h/max(U, |u|, sqrt(4 h |a|)), U = c0/10; Riemann-solver pressure and continuity
   double advection_cfl = 0.25;
   double riemann_limiter = 3.0;   // slope of the low-dissipation limiter min(k U/c0, 1)
@@ -68,7 +68,7 @@ struct SchemeConfig {
 };
 
 /// The projection scheme's options (`scheme.type: isph`, schemes/isph.hpp; read by
-/// io/case_isph.cpp).
+/// schemes/isph_options.cpp).
 enum class PpeSource { Hybrid, Standard, DivergenceFree, Split };
 
 struct IsphConfig {

@@ -12,7 +12,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "sphflume/io/case_reader.hpp"
-#include "sphflume/io/case_isph.hpp"
+#include "sphflume/schemes/scheme_options.hpp"
 
 namespace sph {
 namespace {
@@ -456,30 +456,6 @@ void read_open_boundaries(Reader& top, const std::string& file, Case& c) {
   }
 }
 
-/// integrator: dual carries dummy walls, one inviscid phase and no other model yet.
-void check_dual(Reader& top, const std::string&, Case& c) {
-  if (c.scheme.type == "wcsph" && c.scheme.integrator == Integrator::Dual) {
-    // the Riemann passes carry the plain single-phase equations with dummy walls (what the dam
-    // breaks need); the other models live in the one-pass loop of the other integrators
-    std::string other;
-    if (c.walls.type != "dummy" || c.walls.repulsive) other = "walls.type: " + c.walls.type;
-    else if (c.turbulence.model != "none") other = "turbulence";
-    else if (c.porous.on()) other = "porous";
-    else if (c.transport.on()) other = "transport";
-    else if (c.multiphase.on()) other = "multiphase";
-    else if (!c.open_boundaries.empty()) other = "open_boundaries";
-    else if (!c.motions.empty()) other = "motions";
-    else if (c.scheme.shifting.on()) other = "scheme.shifting";
-    else if (c.scheme.xsph > 0.0) other = "scheme.xsph";
-    else if (c.scheme.shepard_every > 0) other = "scheme.shepard_every";
-    else if (c.scheme.viscosity == ViscosityModel::Laminar && c.fluid.viscosity > 0.0) other = "fluid.viscosity > 0 with viscosity: laminar";
-    if (!other.empty())
-      top.fail_at(top.get("scheme"), "scheme.integrator: dual",
-                  fmt::format("a case without {} (the dual integrator's Riemann passes have dummy walls, one inviscid "
-                              "phase and no other model yet): use integrator: symplectic or verlet", other));
-  }
-}
-
 /// The motion, phase or scalar a gauge names must be defined.
 void check_gauge_fields(Reader&, const std::string& file, Case& c) {
   for (const auto& g : c.gauges)
@@ -531,9 +507,7 @@ Case build_case(const Node& root, const std::string& file) {
   if (top.has("porous")) caseio::read_porous(top.get("porous"), file, c);
   if (top.has("transport")) caseio::read_transport(top.get("transport"), file, c);
   if (top.has("multiphase")) caseio::read_multiphase(top.get("multiphase"), file, c);
-  check_dual(top, file, c);
-  if (c.scheme.frozen && !c.transport.on())
-    top.fail_at(top.get("scheme"), "scheme.frozen", "a 'transport:' section too (a frozen flow only transports scalars)");
+  scheme_types().at(c.scheme.type).check(top, c);  // what the scheme cannot run (schemes/scheme_options.hpp)
   check_gauge_fields(top, file, c);
   if (top.has("forces")) {
     c.forces = top.get("forces");

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "sphflume/io/case_reader.hpp"
-#include "sphflume/io/case_isph.hpp"
+#include "sphflume/schemes/scheme_options.hpp"
 
 namespace sph::caseio {
 namespace {
@@ -123,57 +123,10 @@ PorousRegionConfig read_porous_region(const Node& n, const std::string& file, co
 
 void read_scheme(const Node& n, const std::string& file, Case& c) {
   Reader r(n, file, "scheme");
-  c.scheme.type = r.choice("type", "wcsph", {"wcsph", "isph"});
-  if (c.scheme.type == "isph") {
-    read_isph_options(r, c.isph);
-    for (const auto& k : c.isph.ignored) c.warnings.push_back(fmt::format("{}: {}: ignored under scheme.type: isph", file, k));
-    return;
-  }
-  // the projection scheme's own keys under type: wcsph are a mistake, not a typo: say whose they are
-  for (const char* k : {"source", "free_surface", "solver", "dummy_pressure", "gradient_normalisation", "dt_max"})
-    if (r.has(k))
-      r.fail_at(r.get(k), fmt::format("scheme.{}", k),
-                "scheme.type: isph (it is an option of the incompressible scheme), or drop the key");
-  // the weakly-compressible scheme's keys
-  const std::string integ = r.choice("integrator", "symplectic", {"symplectic", "predictor_corrector", "verlet", "dual"});
-  c.scheme.integrator = integ == "symplectic" ? Integrator::Symplectic
-                        : integ == "verlet"   ? Integrator::Verlet
-                        : integ == "dual"     ? Integrator::Dual : Integrator::PredictorCorrector;
-  const bool dual = c.scheme.integrator == Integrator::Dual;
-  c.scheme.advection_cfl = r.in_range("advection_cfl", 0.25, 1e-3, 1.0);
-  c.scheme.riemann_limiter = r.in_range("riemann_limiter", 3.0, 0.0, 1e3);
-  c.scheme.density_reinit = r.scalar<bool>("density_reinit", true);
-  if (!dual)
-    for (const char* k : {"advection_cfl", "riemann_limiter", "density_reinit"})
-      if (r.has(k)) c.warnings.push_back(fmt::format("{}: scheme.{}: only used by integrator: dual (ignored)", file, k));
-  c.scheme.verlet_steps = r.scalar<int>("verlet_steps", 40);
-  if (c.scheme.verlet_steps < 0) r.fail_at(r.get("verlet_steps"), "scheme.verlet_steps", "an integer >= 0 (0 = no Euler steps)");
-  const std::string dd = r.choice("density_diffusion", "fourtakas", {"none", "molteni_colagrossi", "fourtakas"});
-  c.scheme.density_diffusion = dd == "none" ? DensityDiffusion::None
-                               : dd == "fourtakas" ? DensityDiffusion::Fourtakas : DensityDiffusion::MolteniColagrossi;
-  c.scheme.delta = r.in_range("delta", 0.1, 0.0, 1.0);
-  const std::string vm = r.choice("viscosity", "laminar", {"none", "laminar", "artificial"});
-  c.scheme.viscosity = vm == "none" ? ViscosityModel::None : vm == "laminar" ? ViscosityModel::Laminar : ViscosityModel::Artificial;
-  c.scheme.alpha = r.in_range("alpha", 0.01, 0.0, 10.0);
-  c.scheme.pressure_gradient = r.choice("pressure_gradient", "sum", {"sum", "symmetric"}) == "sum"
-                                   ? PressureGradient::Sum : PressureGradient::Symmetric;
-  c.scheme.shepard_every = r.scalar<int>("shepard_every", 0);
-  if (c.scheme.shepard_every < 0) r.fail_at(r.get("shepard_every"), "scheme.shepard_every", "an integer >= 0 (0 = off)");
-  c.scheme.xsph = r.in_range("xsph", 0.0, 0.0, 1.0);
-  if (r.has("shifting")) {
-    Reader q(r.get("shifting"), file, "scheme.shifting");
-    c.scheme.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
-    c.scheme.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
-    q.finish();
-  }
-  // the dual integrator's acoustic steps are position-Verlet with Riemann dissipation: 0.6 is
-  // stable (docs/numerics.md); the one-stage schemes keep DualSPHysics' 0.2
-  c.scheme.cfl = r.in_range("cfl", dual ? 0.6 : 0.2, 1e-4, 1.5);
-  c.scheme.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
-  c.scheme.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
-  c.scheme.eta2 = r.in_range("eta2", 0.01, 1e-8, 0.1);
-  c.scheme.frozen = r.scalar<bool>("frozen", false);
-  r.finish();
+  std::vector<std::string> types;
+  for (const auto& [name, unused] : scheme_types()) types.push_back(name);
+  c.scheme.type = r.choice("type", "wcsph", types);
+  scheme_types().at(c.scheme.type).read(r, c);  // its own keys (schemes/scheme_options.hpp)
 }
 
 void read_walls(const Node& n, const std::string& file, Case& c) {

@@ -1,4 +1,5 @@
 #include "sphflume/schemes/isph.hpp"
+#include "sphflume/schemes/isph_options.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -40,17 +41,7 @@ template <int D>
 ISPH<D>::ISPH(const Case& c)
     : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(c.isph.amg ? make_hypre_solver(c.isph.tolerance, c.isph.max_iterations)
                           : make_eigen_solver(c.isph.tolerance, c.isph.max_iterations)) {
-  // the shared models this scheme supports (the rest: a clear refusal, not a silent misuse)
-  auto refuse = [&](int line, const std::string& what, const std::string& fix) {
-    throw InputError(fmt::format("{}: {}{} is not supported with scheme.type: isph in this version: {}", c.file,
-                                 line > 0 ? fmt::format("line {}: ", line) : std::string(), what, fix));
-  };
-  if (c.walls.type != "dummy" || c.walls.repulsive)
-    refuse(0, fmt::format("walls.type: {}{}", c.walls.type, c.walls.repulsive ? " with repulsion" : ""),
-           "use walls.type: dummy (the first wall layer carries the PPE's wall pressure, the deeper ones copy it)");
-  if (!c.open_boundaries.empty()) refuse(c.open_boundaries[0].line, "open_boundaries", "use scheme.type: wcsph");
-  if (c.multiphase.on()) refuse(c.multiphase.line, "multiphase", "use scheme.type: wcsph");
-  if (c.transport.on()) refuse(0, "transport", "use scheme.type: wcsph");
+  check_isph_models(c);  // (the case reader checked it too; a case built in code is checked here)
 }
 
 template <int D>

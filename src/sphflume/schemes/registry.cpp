@@ -1,4 +1,5 @@
-// The schemes a case can name in `scheme.type`: one line each.
+// The schemes a case can name in `scheme.type`: one line each (their keys: scheme_options.cpp).
+#include "sphflume/schemes/dual.hpp"
 #include "sphflume/schemes/isph.hpp"
 #include "sphflume/schemes/wcsph.hpp"
 
@@ -8,7 +9,11 @@ template <int D>
 Registry<Scheme<D>, const Case&>& scheme_registry() {
   static Registry<Scheme<D>, const Case&> r = [] {
     Registry<Scheme<D>, const Case&> reg;
-    reg.add("wcsph", [](const Case& c) { return std::make_unique<WCSPH<D>>(c); });
+    // `integrator: dual` is a scheme of its own under the same type (its keys are WCSPH's)
+    reg.add("wcsph", [](const Case& c) -> std::unique_ptr<Scheme<D>> {
+      if (c.scheme.integrator == Integrator::Dual) return std::make_unique<DualWCSPH<D>>(c);
+      return std::make_unique<WCSPH<D>>(c);
+    });
     reg.add("isph", [](const Case& c) { return std::make_unique<ISPH<D>>(c); });
     return reg;
   }();

@@ -1,4 +1,5 @@
 #include "sphflume/schemes/wcsph.hpp"
+#include "sphflume/schemes/wcsph_common.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,17 +19,13 @@ namespace sph {
 
 template <int D>
 void WCSPH<D>::initialise(System<D>& S) {
-  if (cfg_.integrator == Integrator::Dual && !cfg_.frozen) {
-    dual_initialise(S);
-    return;
-  }
-  update_pressure(S);
+  eos_pressure(S);
   S.update_neighbours();
   rates(S);
 }
 
 template <int D>
-void WCSPH<D>::update_pressure(System<D>& S) const {
+void eos_pressure(System<D>& S) {
   auto& P = S.particles;
   const bool dyn = S.walls->evolves_density();
   const std::size_t n = P.n_owned();
@@ -44,7 +41,7 @@ void WCSPH<D>::update_pressure(System<D>& S) const {
 }
 
 template <int D>
-void WCSPH<D>::check_finite(const System<D>& S) const {
+void check_finite(const System<D>& S) {
   const auto& P = S.particles;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     bool ok = std::isfinite(P.rho[i]) && std::isfinite(P.p[i]) && std::isfinite(P.drho[i]);
@@ -61,11 +58,16 @@ void WCSPH<D>::check_finite(const System<D>& S) const {
 
 template <int D>
 double WCSPH<D>::time_step(const System<D>& S) const {
-  const auto& P = S.particles;
   if (cfg_.frozen) {  // the scalars' limits only (a long step when nothing diffuses or reacts)
     const double dts = S.transport ? S.transport->time_step(S, cfg_.viscous_coefficient) : 1.0;
     return std::min(dts, 1.0);
   }
+  return explicit_time_step(S, cfg_, turb_.on() ? turb_.nu_t_max() : 0.0, max_acc_);
+}
+
+template <int D>
+double explicit_time_step(const System<D>& S, const SchemeConfig& cfg_, double nu_t_max, double max_acc_) {
+  const auto& P = S.particles;
   double umax2 = 0.0, cmax = S.eos.sound_speed(S.eos.rho0);
   const std::size_t n = P.n_owned();
 #pragma omp parallel for schedule(static) reduction(max : umax2, cmax)
@@ -79,8 +81,7 @@ double WCSPH<D>::time_step(const System<D>& S) const {
   if (S.transport) dt = std::min(dt, S.transport->time_step(S, cfg_.viscous_coefficient));
   if (cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0)
     dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / S.nu);
-  if (turb_.on() && turb_.nu_t_max() > 0.0)
-    dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / (S.nu + turb_.nu_t_max()));
+  if (nu_t_max > 0.0) dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / (S.nu + nu_t_max));
   if (max_acc_ > 0.0) dt = std::min(dt, cfg_.force_coefficient * std::sqrt(S.h / max_acc_));
   return dt;
 }
@@ -106,10 +107,6 @@ void WCSPH<D>::step(System<D>& S, double dt) {
     ++S.step;
     return;
   }
-  if (cfg_.integrator == Integrator::Dual) {
-    dual_step(S, dt);
-    return;
-  }
   // shifting: displacements from the state being advanced (its neighbour lists: the Verlet
   // step's are those of its last rates pass; the two-stage steps rebuild theirs first)
   if (shift_.on()) {
@@ -123,7 +120,7 @@ void WCSPH<D>::step(System<D>& S, double dt) {
   S.time += dt;
   ++S.step;
   if (cfg_.shepard_every > 0 && S.step % cfg_.shepard_every == 0) shepard_filter(S);
-  update_pressure(S);
+  eos_pressure(S);
   if (cfg_.integrator == Integrator::Verlet) {
     // the rates of the new state: the next step and its time-step estimate use them
     S.update_neighbours();
@@ -228,7 +225,7 @@ void WCSPH<D>::two_stage_step(System<D>& S, double dt) {
   }
   if (S.transport) S.transport->advance(S, hdt, false);
   move_walls(S, S.time + hdt);
-  update_pressure(S);
+  eos_pressure(S);
   // stage 2: rates at t^{n+1/2}
   S.update_neighbours();
   rates(S);
@@ -300,15 +297,14 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
   for (std::size_t a = 0; a < n; ++a) P.rho[a] = out[a];
 }
 
-template <int D>
-std::size_t WCSPH<D>::bytes() const {
-  // the integrator's state lives in the particle store (x0/v0/rho0 or v_prev/rho_prev); the dual
-  // integrator's passes keep their packed columns
-  return pack_.capacity() * sizeof(float);
-}
-
 template class WCSPH<2>;
 template class WCSPH<3>;
+template void eos_pressure(System<2>&);
+template void eos_pressure(System<3>&);
+template void check_finite(const System<2>&);
+template void check_finite(const System<3>&);
+template double explicit_time_step(const System<2>&, const SchemeConfig&, double, double);
+template double explicit_time_step(const System<3>&, const SchemeConfig&, double, double);
 
 
 }  // namespace sph

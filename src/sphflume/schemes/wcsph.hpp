@@ -13,10 +13,9 @@
 //                        (two neighbour passes per step), second order;
 //   predictor_corrector  Monaghan (1989) as in SPHysics / Kazemi (two passes);
 //   verlet               DualSPHysics' Verlet: one pass per step, an Euler step every
-//                        verlet_steps steps;
-//   dual                 Riemann-solver WCSPH with dual-criteria time stepping (acoustic
-//                        steps of CFL 0.6 inside advection steps, density re-initialised by
-//                        summation at each): two light passes per step (wcsph_dual.cpp).
+//                        verlet_steps steps.
+//  (`integrator: dual`, the Riemann-solver scheme with dual-criteria time stepping, is a
+//  scheme of its own: schemes/dual.hpp.)
 //  The pair loops are branch-free over each cell range (optional terms scaled by 0/1
 //  factors) so that the compiler vectorises them; the store is re-sorted by cell before every
 //  pass, so without images the ranges index the particle arrays directly.
@@ -40,27 +39,24 @@ class WCSPH final : public Scheme<D> {
   const char* integrator() const override {
     switch (cfg_.integrator) {
       case Integrator::Verlet: return "verlet";
-      case Integrator::Dual: return "dual";
       case Integrator::Symplectic: return "symplectic";
       case Integrator::PredictorCorrector: return "predictor_corrector";
+      case Integrator::Dual: break;  // (schemes/dual.hpp)
     }
     return "?";
   }
   void initialise(System<D>& S) override;
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
-  bool needs_wall_surface() const override { return cfg_.integrator == Integrator::Dual; }  // Riemann dissipation at walls
   int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet && !cfg_.frozen ? 1 : 2; }
-  std::size_t bytes() const override;
+  std::size_t bytes() const override { return 0; }  // (the integrator's state is in the particle store)
   std::map<std::string, double> state() const override {
-    return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}, {"nu_t_max", turb_.nu_t_max()},
-            {"advection_left", adv_left_}};
+    return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}, {"nu_t_max", turb_.nu_t_max()}};
   }
   void restore(const std::map<std::string, double>& s) override {
     if (auto it = s.find("max_acc"); it != s.end()) max_acc_ = it->second;
     if (auto it = s.find("nu_t_max"); it != s.end()) turb_.restore_nu_t_max(it->second);
     if (auto it = s.find("verlet_started"); it != s.end()) verlet_started_ = it->second != 0.0;
-    if (auto it = s.find("advection_left"); it != s.end()) adv_left_ = it->second;
   }
 
   /// One rates pass: fills acc and drho of owned particles (exposed for tests).
@@ -71,26 +67,16 @@ class WCSPH final : public Scheme<D> {
   void pair_loop(System<D>& S, const K& kernel);
   template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press = true>
   void sweep(System<D>& S, const K& kernel);
-  template <class K, int Pass>
-  void riemann_sweep(System<D>& S, const K& kernel);
-  void dual_initialise(System<D>& S);
-  void dual_step(System<D>& S, double dt);
-  void reinit_density(System<D>& S);
   void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);
-  void update_pressure(System<D>& S) const;
   void shepard_filter(System<D>& S) const;
-  void check_finite(const System<D>& S) const;
 
   SchemeConfig cfg_;
   Turbulence<D> turb_;
   Shifting<D> shift_;
   bool verlet_started_ = false;
   double max_acc_ = 0.0;
-  double adv_left_ = 0.0;  // dual: what is left of the current advection step
-  double sigma0_ = 0.0;    // dual: Σ W of a full lattice (the summation density's reference)
-  std::vector<float> pack_;  // dual: the per-particle columns of the current pass (riemann_sweep)
 };
 
 }  // namespace sph

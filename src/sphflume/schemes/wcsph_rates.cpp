@@ -13,6 +13,7 @@
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/physics/turbulence.hpp"
 #include "sphflume/schemes/wcsph.hpp"
+#include "sphflume/schemes/wcsph_common.hpp"
 
 namespace sph {
 

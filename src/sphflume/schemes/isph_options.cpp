@@ -1,4 +1,6 @@
-#include "sphflume/io/case_isph.hpp"
+#include "sphflume/schemes/isph_options.hpp"
+
+#include "sphflume/core/errors.hpp"
 #include "sphflume/version.hpp"  // SPHFLUME_HYPRE
 
 #include <fmt/format.h>
@@ -70,6 +72,20 @@ void read_isph_options(Reader& r, IsphConfig& o) {
     q.finish();
   }
   r.finish();
+}
+
+void check_isph_models(const Case& c) {
+  // the shared models this scheme supports (the rest: a clear refusal, not a silent misuse)
+  auto refuse = [&](int line, const std::string& what, const std::string& fix) {
+    throw InputError(fmt::format("{}: {}{} is not supported with scheme.type: isph in this version: {}", c.file,
+                                 line > 0 ? fmt::format("line {}: ", line) : std::string(), what, fix));
+  };
+  if (c.walls.type != "dummy" || c.walls.repulsive)
+    refuse(0, fmt::format("walls.type: {}{}", c.walls.type, c.walls.repulsive ? " with repulsion" : ""),
+           "use walls.type: dummy (the first wall layer carries the PPE's wall pressure, the deeper ones copy it)");
+  if (!c.open_boundaries.empty()) refuse(c.open_boundaries[0].line, "open_boundaries", "use scheme.type: wcsph");
+  if (c.multiphase.on()) refuse(c.multiphase.line, "multiphase", "use scheme.type: wcsph");
+  if (c.transport.on()) refuse(0, "transport", "use scheme.type: wcsph");
 }
 
 }  // namespace sph

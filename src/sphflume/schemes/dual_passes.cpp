@@ -1,4 +1,4 @@
-// The weakly-compressible scheme's dual-criteria integrator (`scheme.integrator: dual`):
+// The dual-criteria Riemann scheme's pair passes (schemes/dual.hpp):
 // Zhang, Hu & Adams (2017, J. Comput. Phys. 335) low-dissipation Riemann-solver WCSPH with the
 // dual-criteria time stepping of Zhang, Zhang & Hu (2020, J. Comput. Phys. 404), the scheme of
 // SPHinXsys's fluid dynamics. Every advection step (advection_cfl h / max(U, |u|, sqrt(4 h |a|)),
@@ -22,7 +22,7 @@
 #include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
-#include "sphflume/schemes/wcsph.hpp"
+#include "sphflume/schemes/dual.hpp"
 
 namespace sph {
 
@@ -34,7 +34,7 @@ constexpr std::size_t kLanes = 16;  // the pair loops' vector width (16 floats: 
 
 template <int D>
 template <class K, int Pass>
-void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
+void DualWCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   // Pass 0: pressure (A), 1: continuity (B), 2: density summation
   auto& P = S.particles;
   const double rho0 = S.eos.rho0, c0 = S.eos.c0;
@@ -357,93 +357,16 @@ void WCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
 }
 
 template <int D>
-void WCSPH<D>::dual_initialise(System<D>& S) {
-  S.update_neighbours();
-  if (cfg_.density_reinit) reinit_density(S);
-  update_pressure(S);
-  // the continuity pass at t = 0: Dρ and the dissipation the first kick adds
-  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 1>(S, K); });
-  adv_left_ = 0.0;  // the first step opens an advection step
+void DualWCSPH<D>::riemann_pass(System<D>& S, int pass) {
+  S.with_kernel([&](const auto& K) {
+    using Ker = std::decay_t<decltype(K)>;
+    if (pass == 0) this->template riemann_sweep<Ker, 0>(S, K);
+    else if (pass == 1) this->template riemann_sweep<Ker, 1>(S, K);
+    else this->template riemann_sweep<Ker, 2>(S, K);
+  });
 }
 
-template <int D>
-void WCSPH<D>::reinit_density(System<D>& S) {
-  // ρ = max(ρ0 Σ W / σ0, ρ0) of every fluid particle, from the current neighbours
-  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 2>(S, K); });
-}
-
-template <int D>
-void WCSPH<D>::dual_step(System<D>& S, double dt) {
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  const double hdt = 0.5 * dt;
-  if (adv_left_ <= 0.0) {  // a new advection step: summation density, its length
-    if (cfg_.density_reinit) {
-      S.refresh_halos();  // (images at the positions the last step ended with)
-      reinit_density(S);
-    }
-    double umax2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : umax2)
-    for (std::size_t i = 0; i < n; ++i)
-      if (P.kind[i] == Kind::Fluid) umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
-    umax2 = S.comm->max(umax2);  // (every rank opens the same advection steps)
-    const double speed = std::sqrt(std::max({umax2, 4.0 * S.h * S.comm->max(max_acc_), 0.01 * S.eos.c0 * S.eos.c0}));
-    adv_left_ += cfg_.advection_cfl * S.h / speed;
-  }
-  // half step of density and position, the pressure of the new density (the walls' comes
-  // from walls->prepare: the case reader allows only dummy walls with this integrator)
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (P.kind[i] != Kind::Fluid) continue;
-    P.rho[i] += hdt * P.drho[i];
-    P.pos[i] += hdt * P.vel[i];
-    P.p[i] = S.eos_of(i).pressure(P.rho[i]);
-  }
-  // pass A: pressure force and acoustic density dissipation; the kick
-  S.update_neighbours();
-  S.walls->prepare(S);
-  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 0>(S, K); });
-  S.walls->add_forces(S);
-  for (auto& f : S.forces) f->add(S);
-  // the owned particles after the re-sort: in a distributed run it also handed the particles
-  // that crossed into another rank's part to that rank
-  const std::size_t na = P.n_owned();
-  double amax = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : amax)
-  for (std::size_t i = 0; i < na; ++i) {
-    if (P.kind[i] != Kind::Fluid) continue;
-    amax = std::max(amax, dot(P.acc[i], P.acc[i]));
-    P.vel[i] += dt * P.acc[i];
-    P.pos[i] += hdt * P.vel[i];
-  }
-  max_acc_ = std::sqrt(amax);
-  if (!finite_bits(max_acc_)) check_finite(S);
-  const std::uint64_t pairs_a = S.pairs_last_pass;
-  // pass B: continuity and the Riemann dissipation of the next kick; the second half of Dρ.
-  // It reuses pass A's cell list: since then particles moved by ½Δt|u| < 0.05 h, so a pair can
-  // only be missed where W' ~ (δ/h)³ < 1e-4 of its peak, and it is then missed by both particles
-  // (the stencils are symmetric and the distance test uses the same positions): momentum stays
-  // exact. (Rebuilding here would cost a second, partly serial, re-sort per step.)
-  S.refresh_halos();  // images (periodic, other ranks') at the kicked velocities and drifted positions
-  S.with_kernel([&](const auto& K) { this->riemann_sweep<std::decay_t<decltype(K)>, 1>(S, K); });
-  // the second half of Dρ; gauges and output see the pressure of the step's end
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < na; ++i) {
-    if (P.kind[i] != Kind::Fluid) continue;
-    P.rho[i] += hdt * P.drho[i];
-    P.p[i] = S.eos_of(i).pressure(P.rho[i]);
-  }
-  S.pairs_last_pass = pairs_a;  // (pass B counts no pairs: it sees the same ones)
-  adv_left_ -= dt;
-  S.time += dt;
-  ++S.step;
-}
-
-template void WCSPH<2>::dual_initialise(System<2>&);
-template void WCSPH<3>::dual_initialise(System<3>&);
-template void WCSPH<2>::dual_step(System<2>&, double);
-template void WCSPH<3>::dual_step(System<3>&, double);
-template void WCSPH<2>::reinit_density(System<2>&);
-template void WCSPH<3>::reinit_density(System<3>&);
+template void DualWCSPH<2>::riemann_pass(System<2>&, int);
+template void DualWCSPH<3>::riemann_pass(System<3>&, int);
 
 }  // namespace sph

@@ -1,0 +1,50 @@
+// The dual-criteria Riemann scheme (`scheme: {type: wcsph, integrator: dual}`): Zhang, Hu &
+// Adams (2017, J. Comput. Phys. 335) low-dissipation Riemann-solver WCSPH with the dual-criteria
+// time stepping of Zhang, Zhang & Hu (2020, J. Comput. Phys. 404), the scheme of SPHinXsys's
+// fluid dynamics. Every advection step the density is re-initialised by summation; inside it,
+// acoustic steps of position Verlet with two light pair passes (dual_passes.cpp). It carries
+// dummy walls, one inviscid phase and no other model yet (dual_check, schemes/wcsph_options.cpp).
+// It shares the equation of state, the time-step rule and the finite check with WCSPH
+// (schemes/wcsph_common.hpp).
+#pragma once
+#include <vector>
+
+#include "sphflume/schemes/scheme.hpp"
+
+namespace sph {
+
+template <int D>
+class DualWCSPH final : public Scheme<D> {
+ public:
+  explicit DualWCSPH(const Case& c) : cfg_(c.scheme) {}
+  const char* name() const override { return "wcsph"; }
+  const char* integrator() const override { return "dual"; }
+  void initialise(System<D>& S) override;
+  double time_step(const System<D>& S) const override;
+  void step(System<D>& S, double dt) override;
+  bool needs_wall_surface() const override { return true; }  // Riemann dissipation at walls
+  int passes_per_step() const override { return 2; }
+  std::size_t bytes() const override { return pack_.capacity() * sizeof(float); }  // the packed columns
+  std::map<std::string, double> state() const override {
+    return {{"max_acc", max_acc_}, {"advection_left", adv_left_}};
+  }
+  void restore(const std::map<std::string, double>& s) override {
+    if (auto it = s.find("max_acc"); it != s.end()) max_acc_ = it->second;
+    if (auto it = s.find("advection_left"); it != s.end()) adv_left_ = it->second;
+  }
+
+ private:
+  /// One pair pass: 0 pressure (A), 1 continuity (B), 2 density summation (dual_passes.cpp).
+  void riemann_pass(System<D>& S, int pass);
+  template <class K, int Pass>
+  void riemann_sweep(System<D>& S, const K& kernel);
+  void reinit_density(System<D>& S);
+
+  SchemeConfig cfg_;
+  double max_acc_ = 0.0;
+  double adv_left_ = 0.0;  // what is left of the current advection step
+  double sigma0_ = 0.0;    // Σ W of a full lattice (the summation density's reference)
+  std::vector<float> pack_;  // the per-particle columns of the current pass (riemann_sweep)
+};
+
+}  // namespace sph

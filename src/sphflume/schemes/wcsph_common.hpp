@@ -1,0 +1,24 @@
+// What the weakly-compressible schemes (schemes/wcsph.hpp, schemes/dual.hpp) share: the
+// equation of state applied to the owned particles, the explicit time-step rule and the
+// non-finite check. Defined once, in wcsph.cpp.
+#pragma once
+#include "sphflume/core/config.hpp"
+#include "sphflume/core/system.hpp"
+
+namespace sph {
+
+/// p = EOS(ρ) of the owned particles; dynamic walls are first clamped to ρ ≥ ρ0 (they push,
+/// never pull: SPHysics/DualSPHysics practice).
+template <int D>
+void eos_pressure(System<D>& S);
+
+/// The explicit step: cfl h/(c_max + |u|_max), the scalars' limit, the viscous limits with ν
+/// and ν_t,max, and force_coefficient sqrt(h/|a|_max) (Federico §3.5; docs/numerics.md).
+template <int D>
+double explicit_time_step(const System<D>& S, const SchemeConfig& cfg, double nu_t_max, double max_acc);
+
+/// Throws a SimulationError naming the first owned particle with a non-finite state.
+template <int D>
+void check_finite(const System<D>& S);
+
+}  // namespace sph
