@@ -41,6 +41,53 @@ bool OpenBoundaries<D>::needs_prepare() const {
 }
 
 template <int D>
+double OpenBoundaries<D>::outflow_level(const System<D>& S) const {
+  const auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double xn = out_->x0 - 0.5 * dx_;
+  double level = out_->bed + out_->depth;
+  double top = -1e300;
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid && std::abs(P.pos[i][0] - xn) < dx_) top = std::max(top, P.pos[i][D - 1]);
+  top = S.comm->max(top);
+  if (top > -1e300) level = top + 0.5 * dx_;
+  return level;
+}
+
+template <int D>
+std::vector<double> OpenBoundaries<D>::node_averages(const System<D>& S, const std::vector<double>& nodes) const {
+  const auto& P = S.particles;
+  constexpr int kW = D + 2;
+  const std::size_t nn = nodes.size() / D;
+  std::vector<double> avg(nn * kW, 0.0);
+  S.with_kernel([&](const auto& K) {
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::size_t q = 0; q < nn; ++q) {
+      Vec<D> x;
+      for (int d = 0; d < D; ++d) x[d] = nodes[q * D + static_cast<std::size_t>(d)];
+      if (!std::isfinite(x[0]) || !S.owns(x)) continue;  // (no such node, or another part's)
+      // Shepard average over fluid particles (not the imposed ones)
+      double sw = 0.0, sr = 0.0;
+      Vec<D> su{};
+      S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
+        if (P.kind[b] != Kind::Fluid) return;
+        const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+        sw += w;
+        sr += w * P.rho[b];
+        su += w * P.vel[b];
+      });
+      if (sw <= 0.0) continue;
+      double* a = &avg[q * kW];
+      a[0] = 1.0;
+      a[1] = sr / sw;
+      const Vec<D> u = (1.0 / sw) * su;
+      for (int d = 0; d < D; ++d) a[2 + d] = u[d];
+    }
+  });
+  return avg;
+}
+
+template <int D>
 void OpenBoundaries<D>::prepare(System<D>& S) const {
   if (!needs_prepare()) return;
   auto& P = S.particles;
@@ -50,16 +97,7 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
   const bool ext_p = out_ && out_->pressure == "extrapolated";
   const bool hyd_p = out_ && out_->pressure == "hydrostatic";
   const bool inlet_p = out_ && in_ && out_->pressure == "inlet";
-  double level = 0.0;  // free surface next to the outflow zone: highest fluid particle + dx/2
-  if (hyd_p) {
-    const double xn = out_->x0 - 0.5 * dx_;
-    level = out_->bed + out_->depth;
-    double top = -1e300;
-    for (std::size_t i = 0; i < n; ++i)
-      if (P.kind[i] == Kind::Fluid && std::abs(P.pos[i][0] - xn) < dx_) top = std::max(top, P.pos[i][D - 1]);
-    top = S.comm->max(top);
-    if (top > -1e300) level = top + 0.5 * dx_;
-  }
+  const double level = hyd_p ? outflow_level(S) : 0.0;
   // The averaging nodes this part of the domain asks for (two per particle: the near node, and
   // the far node of a recycling inflow or the inlet node of an "inlet" outflow pressure; NaN
   // where the particle needs no second node).
@@ -93,32 +131,7 @@ void OpenBoundaries<D>::prepare(System<D>& S) const {
   const std::size_t before = static_cast<std::size_t>(S.comm->exscan(who.size(), asked));
   // per node: found (0/1), rho, u (D); summed over the ranks (only the holder adds)
   constexpr int kW = D + 2;
-  const std::size_t nn = all.size() / D;
-  std::vector<double> avg(nn * kW, 0.0);
-  S.with_kernel([&](const auto& K) {
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::size_t q = 0; q < nn; ++q) {
-      Vec<D> x;
-      for (int d = 0; d < D; ++d) x[d] = all[q * D + static_cast<std::size_t>(d)];
-      if (!std::isfinite(x[0]) || !S.owns(x)) continue;  // (no such node, or another part's)
-      // Shepard average over fluid particles (not the imposed ones)
-      double sw = 0.0, sr = 0.0;
-      Vec<D> su{};
-      S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-        if (P.kind[b] != Kind::Fluid) return;
-        const double w = P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
-        sw += w;
-        sr += w * P.rho[b];
-        su += w * P.vel[b];
-      });
-      if (sw <= 0.0) continue;
-      double* a = &avg[q * kW];
-      a[0] = 1.0;
-      a[1] = sr / sw;
-      const Vec<D> u = (1.0 / sw) * su;
-      for (int d = 0; d < D; ++d) a[2 + d] = u[d];
-    }
-  });
+  std::vector<double> avg = node_averages(S, all);
   S.comm->sum(avg.data(), avg.size());
   auto result = [&](std::size_t q, Vec<D>& u, double& rho) {
     const double* a = &avg[q * kW];

@@ -56,6 +56,12 @@ class OpenBoundaries {
   void prepare(System<D>& S) const;
 
  private:
+  /// The free surface next to the outflow zone: the highest fluid particle within dx of its
+  /// face, + dx/2 (all ranks; the outflow's depth above its bed when none is there).
+  double outflow_level(const System<D>& S) const;
+  /// Shepard averages (found, ρ, u) over the fluid around each of the gathered nodes this part
+  /// holds (D coordinates each; NaN: no node), D + 2 values per node, zero elsewhere.
+  std::vector<double> node_averages(const System<D>& S, const std::vector<double>& nodes) const;
   void impose(System<D>& S, std::size_t i, const OpenBoundaryConfig& b, bool density) const;
   void impose_outflow(System<D>& S, std::size_t i) const;
   const OpenBoundaryConfig* in_ = nullptr;

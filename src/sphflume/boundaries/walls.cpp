@@ -25,36 +25,26 @@ class DummyWalls final : public WallModel<D> {
     auto& P = S.particles;
     // the ghost velocity is only needed for no-slip walls (free-slip walls skip the viscous term)
     if (this->cfg.no_slip) corr_.resize(P.size() * D);
-    float* gv = this->cfg.no_slip ? corr_.data() : nullptr;
-    const std::size_t n = P.n_owned();
-    const bool clamp = this->cfg.clamp_negative_pressure;
     // walls with no fluid within the kernel support keep the background state: skip their
     // neighbour search (most of a tank's walls, most of the time)
     S.cells.mark_near(this->near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
     const auto& cells = S.cells;
-    const std::uint32_t* __restrict sorted = cells.sorted().data();
-    const Vec<D>* __restrict pos = P.pos.data();
-    const Vec<D>* __restrict vel = P.vel.data();
-    const double* __restrict rho = P.rho.data();
-    const double* __restrict prs = P.p.data();
-    const Kind* __restrict kind = P.kind.data();
-    const double rho_bg = S.eos.density(S.eos.background);
-    const Vec<D>* aw = P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr;  // moving walls
-    enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
+    const Pass p{cells.sorted().data(), P.pos.data(), P.vel.data(), P.rho.data(), P.p.data(), P.kind.data(),
+                 P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr,  // moving walls
+                 this->cfg.no_slip ? corr_.data() : nullptr, P.n_owned(), this->cfg.clamp_negative_pressure,
+                 S.eos.density(S.eos.background)};
     S.with_kernel([&](const auto& K) {
-      const double support2 = K.support2;
       // cells with wall particles; those with no fluid within reach keep the background state
       auto needs = [&](std::size_t cell) {
-        const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
         std::size_t walls_here = 0;  // the wall particles with fluid within reach
-        for (std::uint32_t k = c0k; k < c1k; ++k) {
-          const std::uint32_t i = sorted[k];
-          if (i >= n || kind[i] != Kind::Wall) continue;
+        for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) {
+          const std::uint32_t i = p.sorted[k];
+          if (i >= p.n || p.kind[i] != Kind::Wall) continue;
           if (!this->near_[cell]) {  // no fluid within reach: the background state
             P.p[i] = S.eos.background;
-            P.rho[i] = rho_bg;
-            if (gv)
-              for (int d = 0; d < D; ++d) gv[i * D + d] = 0.0f;
+            P.rho[i] = p.rho_bg;
+            if (p.gv)
+              for (int d = 0; d < D; ++d) p.gv[i * D + d] = 0.0f;
             continue;
           }
           ++walls_here;
@@ -66,141 +56,187 @@ class DummyWalls final : public WallModel<D> {
       // and AVX-512); the velocity sums only for no-slip walls. (Packing the fluid candidates
       // alone was 6 % faster on the 3D dam break, but its other summation order tipped the
       // coarse regular-waves check, a marginal run near its paddle, into failure: bench/README.)
-      using F32 = float;
-      constexpr std::size_t L = 16;
-      const F32 fsupport2 = F32(support2);
+      const F32 fsupport2 = F32(K.support2);
       sweep_cells<F32>(cells, NCOL, L, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
-          const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-          const Vec<D> origin = pos[sorted[c0k]];
-          const std::size_t npad = st.padded;
-          {
-            F32* __restrict cx[D]; F32* __restrict cv[D];
-            for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cv[d] = B[V0 + d]; }
-            F32* __restrict cp = B[PRS];
-            F32* __restrict cr = B[RHO];
-            F32* __restrict cf = B[FLUID];
-            // only fluid entries are read: other threads are writing wall pressures meanwhile
-            if (st.identity) {  // contiguous ranges of the cell-ordered store: vector loops
-              st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) {
-                copy_positions<D>(pos, k0, len, origin, cx, m);
-                const double* __restrict vr = vel[k0].c.data();  // (flat, as in copy_positions)
-                const Kind* __restrict kr = kind + k0;
-                const double* __restrict ppr = prs + k0;
-                const double* __restrict rr = rho + k0;
-                F32* __restrict op = cp + m;
-                F32* __restrict orr = cr + m;
-                F32* __restrict of = cf + m;
-                for (std::size_t q = 0; q < len; ++q) {
-                  const bool fl = fluid_like(kr[q]);
-                  op[q] = fl ? F32(ppr[q]) : F32(0);
-                  orr[q] = fl ? F32(rr[q]) : F32(0);
-                  of[q] = fl ? F32(1) : F32(0);
-                }
-                if (gv) {  // (velocities: no-slip walls only; a wall's weight is 0, so its
-                           // velocity, finite and not written by this pass, is copied as it is)
-                  F32* __restrict v0 = cv[0] + m;
-                  F32* __restrict v1 = cv[1] + m;
-                  F32* __restrict v2 = cv[D - 1] + m;
-                  for (std::size_t q = 0; q < len; ++q) {
-                    v0[q] = F32(vr[D * q]);
-                    v1[q] = F32(vr[D * q + 1]);
-                    if constexpr (D == 3) v2[q] = F32(vr[D * q + 2]);
-                  }
-                }
-              });
-            } else {
-              st.for_each([&](std::size_t m, std::uint32_t j) {
-                const bool fl = fluid_like(kind[j]);
-                for (int d = 0; d < D; ++d) { cx[d][m] = F32(pos[j][d] - origin[d]); cv[d][m] = fl ? F32(vel[j][d]) : F32(0); }
-                cp[m] = fl ? F32(prs[j]) : F32(0);
-                cr[m] = fl ? F32(rho[j]) : F32(0);
-                cf[m] = fl ? F32(1) : F32(0);
-              });
-            }
-            for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, no fluid
-              for (int d = 0; d < D; ++d) { cx[d][m] = F32(1.0e3); cv[d][m] = 0; }
-              cp[m] = 0; cr[m] = 0; cf[m] = 0;
-            }
-          }
-          // the blocks of L candidates that hold fluid: a block of walls and padding adds only
-          // zeros (its weights are 0), so the wall particles below skip it (next to a floor, half
-          // the stencil is wall cells)
-          thread_local std::vector<std::uint32_t> blocks;
-          blocks.clear();
-          for (std::size_t k0 = 0; k0 < npad; k0 += L) {
-            const F32* __restrict bf = B[FLUID] + k0;
-            F32 any = 0;
-#pragma omp simd reduction(max : any)
-            for (std::size_t l = 0; l < L; ++l) any = std::max(any, bf[l]);
-            if (any > F32(0)) blocks.push_back(static_cast<std::uint32_t>(k0));
-          }
-          auto walls = [&](auto noslip) {
-            constexpr bool NoSlip = decltype(noslip)::value;
-            const F32 l_support2 = fsupport2;  // (a local: read through the closure, AVX2 loops stay scalar)
-            for (std::uint32_t k = c0k; k < c1k; ++k) {
-              const std::uint32_t i = sorted[k];
-              if (i >= n || kind[i] != Kind::Wall) continue;
-              // Shepard-weighted sums over the fluid neighbours (branch-free, vectorised)
-              alignas(64) F32 vw[L] = {}, vp[L] = {}, vr0[L] = {}, vr1[L] = {}, vr2[L] = {}, vv0[L] = {}, vv1[L] = {}, vv2[L] = {};
-              const F32 xi0 = F32(pos[i][0] - origin[0]), xi1 = F32(pos[i][1] - origin[1]);
-              const F32 xi2 = F32(pos[i][D - 1] - origin[D - 1]);
-              for (const std::uint32_t k0 : blocks) {
-                const F32* __restrict bx0 = B[X0] + k0;
-                const F32* __restrict bx1 = B[X1] + k0;
-                const F32* __restrict bx2 = B[X0 + D - 1] + k0;
-                const F32* __restrict bv0 = B[V0] + k0;
-                const F32* __restrict bv1 = B[V1] + k0;
-                const F32* __restrict bv2 = B[V0 + D - 1] + k0;
-                const F32* __restrict bp = B[PRS] + k0;
-                const F32* __restrict br = B[RHO] + k0;
-                const F32* __restrict bf = B[FLUID] + k0;
-#pragma omp simd
-                for (std::size_t l = 0; l < L; ++l) {
-                  const F32 r0 = xi0 - bx0[l], r1 = xi1 - bx1[l];
-                  const F32 r2c = D == 3 ? xi2 - bx2[l] : F32(0);
-                  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
-                  const F32 w = K.W(std::sqrt(r2)) * ((r2 < l_support2) ? bf[l] : F32(0));
-                  vw[l] += w;
-                  vp[l] += bp[l] * w;
-                  const F32 rw = br[l] * w;
-                  vr0[l] += rw * r0;
-                  vr1[l] += rw * r1;
-                  if constexpr (D == 3) vr2[l] += rw * r2c;
-                  if constexpr (NoSlip) {
-                    vv0[l] += w * bv0[l];
-                    vv1[l] += w * bv1[l];
-                    if constexpr (D == 3) vv2[l] += w * bv2[l];
-                  }
-                }
-              }
-              const double sw = lane_sum<L>(vw), sp = lane_sum<L>(vp);
-              Vec<D> srr, sv;
-              srr[0] = lane_sum<L>(vr0); srr[1] = lane_sum<L>(vr1);
-              sv[0] = lane_sum<L>(vv0); sv[1] = lane_sum<L>(vv1);
-              if constexpr (D == 3) { srr[2] = lane_sum<L>(vr2); sv[2] = lane_sum<L>(vv2); }
-              double pw = S.eos.background;
-              Vec<D> g = vel[i];
-              if (sw > 0.0) {
-                pw = (sp + dot(aw ? S.gravity - aw[i] : S.gravity, srr)) / sw;  // (g − a_w)·Σ ρ r W
-                g = 2.0 * vel[i] - (1.0 / sw) * sv;
-              }
-              if (clamp) pw = std::max(pw, S.eos.background);
-              P.p[i] = pw;
-              P.rho[i] = S.eos.density(pw);
-              if (gv)
-                for (int d = 0; d < D; ++d) gv[i * D + d] = float(vel[i][d] - g[d]);
-            }
-          };
-          if (gv) walls(std::true_type{});
-          else walls(std::false_type{});
-          return std::uint64_t(0);
+        const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+        const Vec<D> origin = p.pos[p.sorted[c0k]];
+        gather(p, st, B, origin);
+        thread_local std::vector<std::uint32_t> blocks;
+        fluid_blocks(B, st.padded, blocks);
+        if (p.gv) wall_states<true>(S, K, p, c0k, c1k, B, origin, blocks, fsupport2);
+        else wall_states<false>(S, K, p, c0k, c1k, B, origin, blocks, fsupport2);
+        return std::uint64_t(0);
       });
     });
     S.refresh_halos();
-    if (gv) S.refresh_halos(gv, D);  // images carry their source's correction (the sweep reads it for any wall candidate)
+    if (p.gv) S.refresh_halos(p.gv, D);  // images carry their source's correction (the sweep reads it for any wall candidate)
   }
 
  private:
+  using F32 = float;
+  static constexpr std::size_t L = 16;  // the lanes of the sums
+  enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
+  /// What one prepare() pass reads: the store's arrays and the constants.
+  struct Pass {
+    const std::uint32_t* sorted;
+    const Vec<D>* pos;
+    const Vec<D>* vel;
+    const double* rho;
+    const double* prs;
+    const Kind* kind;
+    const Vec<D>* aw;  // moving walls' acceleration (none: nullptr)
+    float* gv;         // no-slip: the ghost correction written here (free slip: nullptr)
+    std::size_t n;     // owned particles
+    bool clamp;
+    double rho_bg;
+  };
+
+  /// The candidates' columns of one cell: positions relative to `origin`, and the fluid's
+  /// pressure, density, flag (and velocity for no-slip walls); walls and padding weigh 0.
+  static void gather(const Pass& p, const CellStencil<D>& st, ScratchColumns<F32>& B, const Vec<D>& origin) {
+    const Vec<D>* __restrict pos = p.pos;
+    const Vec<D>* __restrict vel = p.vel;
+    const double* __restrict rho = p.rho;
+    const double* __restrict prs = p.prs;
+    const Kind* __restrict kind = p.kind;
+    const float* gv = p.gv;
+    const std::size_t npad = st.padded;
+    F32* __restrict cx[D]; F32* __restrict cv[D];
+    for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cv[d] = B[V0 + d]; }
+    F32* __restrict cp = B[PRS];
+    F32* __restrict cr = B[RHO];
+    F32* __restrict cf = B[FLUID];
+    // only fluid entries are read: other threads are writing wall pressures meanwhile
+    if (st.identity) {  // contiguous ranges of the cell-ordered store: vector loops
+      st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) {
+        copy_positions<D>(pos, k0, len, origin, cx, m);
+        const double* __restrict vr = vel[k0].c.data();  // (flat, as in copy_positions)
+        const Kind* __restrict kr = kind + k0;
+        const double* __restrict ppr = prs + k0;
+        const double* __restrict rr = rho + k0;
+        F32* __restrict op = cp + m;
+        F32* __restrict orr = cr + m;
+        F32* __restrict of = cf + m;
+        for (std::size_t q = 0; q < len; ++q) {
+          const bool fl = fluid_like(kr[q]);
+          op[q] = fl ? F32(ppr[q]) : F32(0);
+          orr[q] = fl ? F32(rr[q]) : F32(0);
+          of[q] = fl ? F32(1) : F32(0);
+        }
+        if (gv) {  // (velocities: no-slip walls only; a wall's weight is 0, so its
+                   // velocity, finite and not written by this pass, is copied as it is)
+          F32* __restrict v0 = cv[0] + m;
+          F32* __restrict v1 = cv[1] + m;
+          F32* __restrict v2 = cv[D - 1] + m;
+          for (std::size_t q = 0; q < len; ++q) {
+            v0[q] = F32(vr[D * q]);
+            v1[q] = F32(vr[D * q + 1]);
+            if constexpr (D == 3) v2[q] = F32(vr[D * q + 2]);
+          }
+        }
+      });
+    } else {
+      st.for_each([&](std::size_t m, std::uint32_t j) {
+        const bool fl = fluid_like(kind[j]);
+        for (int d = 0; d < D; ++d) { cx[d][m] = F32(pos[j][d] - origin[d]); cv[d][m] = fl ? F32(vel[j][d]) : F32(0); }
+        cp[m] = fl ? F32(prs[j]) : F32(0);
+        cr[m] = fl ? F32(rho[j]) : F32(0);
+        cf[m] = fl ? F32(1) : F32(0);
+      });
+    }
+    for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, no fluid
+      for (int d = 0; d < D; ++d) { cx[d][m] = F32(1.0e3); cv[d][m] = 0; }
+      cp[m] = 0; cr[m] = 0; cf[m] = 0;
+    }
+  }
+
+  /// The offsets of the blocks of L candidates that hold fluid.
+  static void fluid_blocks(ScratchColumns<F32>& B, std::size_t npad, std::vector<std::uint32_t>& blocks) {
+    // the blocks of L candidates that hold fluid: a block of walls and padding adds only
+    // zeros (its weights are 0), so the wall particles below skip it (next to a floor, half
+    // the stencil is wall cells)
+    blocks.clear();
+    for (std::size_t k0 = 0; k0 < npad; k0 += L) {
+      const F32* __restrict bf = B[FLUID] + k0;
+      F32 any = 0;
+#pragma omp simd reduction(max : any)
+      for (std::size_t l = 0; l < L; ++l) any = std::max(any, bf[l]);
+      if (any > F32(0)) blocks.push_back(static_cast<std::uint32_t>(k0));
+    }
+  }
+
+  /// Each wall particle of the cell [c0k, c1k): pressure (and density) from the Shepard-weighted
+  /// fluid pressures plus the hydrostatic part along (g − a_w), and the no-slip ghost velocity.
+  template <bool NoSlip, class Ker>
+  static void wall_states(System<D>& S, const Ker& K_, const Pass& p, std::uint32_t c0k, std::uint32_t c1k,
+                          ScratchColumns<F32>& B, const Vec<D>& origin, const std::vector<std::uint32_t>& blocks,
+                          F32 fsupport2) {
+    auto& P = S.particles;
+    const auto& K = K_;
+    const std::uint32_t* __restrict sorted = p.sorted;
+    const Vec<D>* __restrict pos = p.pos;
+    const Vec<D>* __restrict vel = p.vel;
+    const Kind* __restrict kind = p.kind;
+    const Vec<D>* aw = p.aw;
+    float* gv = p.gv;
+    const std::size_t n = p.n;
+    const bool clamp = p.clamp;
+    const F32 l_support2 = fsupport2;  // (locals, not captures: read through a closure, AVX2 loops stay scalar)
+    for (std::uint32_t k = c0k; k < c1k; ++k) {
+      const std::uint32_t i = sorted[k];
+      if (i >= n || kind[i] != Kind::Wall) continue;
+      // Shepard-weighted sums over the fluid neighbours (branch-free, vectorised)
+      alignas(64) F32 vw[L] = {}, vp[L] = {}, vr0[L] = {}, vr1[L] = {}, vr2[L] = {}, vv0[L] = {}, vv1[L] = {}, vv2[L] = {};
+      const F32 xi0 = F32(pos[i][0] - origin[0]), xi1 = F32(pos[i][1] - origin[1]);
+      const F32 xi2 = F32(pos[i][D - 1] - origin[D - 1]);
+      for (const std::uint32_t k0 : blocks) {
+        const F32* __restrict bx0 = B[X0] + k0;
+        const F32* __restrict bx1 = B[X1] + k0;
+        const F32* __restrict bx2 = B[X0 + D - 1] + k0;
+        const F32* __restrict bv0 = B[V0] + k0;
+        const F32* __restrict bv1 = B[V1] + k0;
+        const F32* __restrict bv2 = B[V0 + D - 1] + k0;
+        const F32* __restrict bp = B[PRS] + k0;
+        const F32* __restrict br = B[RHO] + k0;
+        const F32* __restrict bf = B[FLUID] + k0;
+#pragma omp simd
+        for (std::size_t l = 0; l < L; ++l) {
+          const F32 r0 = xi0 - bx0[l], r1 = xi1 - bx1[l];
+          const F32 r2c = D == 3 ? xi2 - bx2[l] : F32(0);
+          const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
+          const F32 w = K.W(std::sqrt(r2)) * ((r2 < l_support2) ? bf[l] : F32(0));
+          vw[l] += w;
+          vp[l] += bp[l] * w;
+          const F32 rw = br[l] * w;
+          vr0[l] += rw * r0;
+          vr1[l] += rw * r1;
+          if constexpr (D == 3) vr2[l] += rw * r2c;
+          if constexpr (NoSlip) {
+            vv0[l] += w * bv0[l];
+            vv1[l] += w * bv1[l];
+            if constexpr (D == 3) vv2[l] += w * bv2[l];
+          }
+        }
+      }
+      const double sw = lane_sum<L>(vw), sp = lane_sum<L>(vp);
+      Vec<D> srr, sv;
+      srr[0] = lane_sum<L>(vr0); srr[1] = lane_sum<L>(vr1);
+      sv[0] = lane_sum<L>(vv0); sv[1] = lane_sum<L>(vv1);
+      if constexpr (D == 3) { srr[2] = lane_sum<L>(vr2); sv[2] = lane_sum<L>(vv2); }
+      double pw = S.eos.background;
+      Vec<D> g = vel[i];
+      if (sw > 0.0) {
+        pw = (sp + dot(aw ? S.gravity - aw[i] : S.gravity, srr)) / sw;  // (g − a_w)·Σ ρ r W
+        g = 2.0 * vel[i] - (1.0 / sw) * sv;
+      }
+      if (clamp) pw = std::max(pw, S.eos.background);
+      P.p[i] = pw;
+      P.rho[i] = S.eos.density(pw);
+      if (gv)
+        for (int d = 0; d < D; ++d) gv[i * D + d] = float(vel[i][d] - g[d]);
+    }
+  }
+
   std::vector<float> corr_;  // no-slip: v − v_ghost of each wall particle (viscous_correction)
 };
 
@@ -350,9 +386,8 @@ void WallModel<D>::add_backup(System<D>& S) const {
     throw std::logic_error("wall backup: the geometry made no wall surface vectors (wall_to_surface)");
   const auto& to = P.vector(field::wall_to_surface);
   const std::size_t n = P.n_owned();
-  const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
+  const double dx = S.dx;
   const double s0 = 0.25 * dx;  // the fluid's normal distance from the surface is dx/2
-  const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
   const double reach = std::hypot(dx + s0, dx);
   // Found from the first-layer wall particles' side (far fewer than the fluid near walls; owned
   // walls and images alike, pushing only owned fluid, so that a periodic image or another
@@ -441,6 +476,16 @@ void WallModel<D>::add_backup(System<D>& S) const {
       });
   if (hits_.empty()) return;
   std::sort(hits_.begin(), hits_.end());
+  apply_backup(S);
+}
+
+template <int D>
+void WallModel<D>::apply_backup(System<D>& S) const {
+  auto& P = S.particles;
+  const auto& to = P.vector(field::wall_to_surface);
+  const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
+  const double s0 = 0.25 * dx;  // (as add_backup)
+  const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
   for (const auto& [j, k] : hits_) {
     const std::size_t a = j;  // (owned: every part pushes its own fluid, from its walls and its images' walls)
     const double depth = std::sqrt(dot(to[k], to[k]));

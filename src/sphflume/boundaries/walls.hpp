@@ -75,6 +75,7 @@ class WallModel {
   /// Monaghan–Kos strength A5 and tangential weight P. The fluid's normal distance from the
   /// surface is dx/2, so a flow the wall model holds never feels it.
   void add_backup(System<D>& S) const;
+  void apply_backup(System<D>& S) const;  // the force of each (fluid, wall) pair in hits_, in their sorted order
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
 };
 
