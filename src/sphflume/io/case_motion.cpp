@@ -15,37 +15,17 @@
 namespace sph::caseio {
 namespace {
 
-/// Two columns (time [s], displacement [m]) of a CSV file; a first line that does not parse as
-/// numbers is a header; '#' starts a comment.
-void read_table(Reader& r, const std::string& file, MotionConfig& m) {
-  namespace fs = std::filesystem;
-  fs::path p(m.file);
-  if (p.is_relative()) p = fs::path(file).parent_path() / p;
-  std::ifstream in(p);
-  if (!in)
-    r.fail_at(r.get("file"), r.key_path("file"),
-              fmt::format("a readable CSV file of time, displacement (relative to the case file's folder; tried {})", p.string()));
-  std::string line;
-  int ln = 0;
-  bool header_seen = false;
-  while (std::getline(in, line)) {
-    ++ln;
-    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-    for (char& ch : line)
-      if (ch == ',' || ch == ';' || ch == '\t') ch = ' ';
-    if (line.find_first_not_of(' ') == std::string::npos) continue;  // blank or comment
-    std::istringstream ss(line);
-    double t, x;
-    if (!(ss >> t >> x) || !std::isfinite(t) || !std::isfinite(x)) {
-      if (m.table_t.empty() && !header_seen) { header_seen = true; continue; }  // the header
-      r.fail_at(r.get("file"), r.key_path("file"), fmt::format("rows of two finite numbers (time, displacement); {} line {} is not", p.string(), ln));
-    }
+/// Two columns (time [s], displacement [m]) of a CSV file (read_csv_numbers), times strictly increasing.
+void read_table(Reader& r, MotionConfig& m) {
+  const CsvNumbers csv = read_csv_numbers(r, "file", m.file, 2, "time, displacement");
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    const double t = csv.rows[i][0], x = csv.rows[i][1];
     if (!m.table_t.empty() && !(t > m.table_t.back()))
-      r.fail_at(r.get("file"), r.key_path("file"), fmt::format("strictly increasing times; {} line {} goes back to t = {}", p.string(), ln, t));
+      r.fail_at(r.get("file"), r.key_path("file"), fmt::format("strictly increasing times; {} line {} goes back to t = {}", csv.path, csv.lines[i], t));
     m.table_t.push_back(t);
     m.table_x.push_back(x);
   }
-  if (m.table_t.size() < 2) r.fail_at(r.get("file"), r.key_path("file"), fmt::format("at least two rows of time, displacement in {}", p.string()));
+  if (m.table_t.size() < 2) r.fail_at(r.get("file"), r.key_path("file"), fmt::format("at least two rows of time, displacement in {}", csv.path));
 }
 
 MotionConfig read_motion(const Node& n, const std::string& file, const std::string& path, const Case& c) {
@@ -90,7 +70,7 @@ MotionConfig read_motion(const Node& n, const std::string& file, const std::stri
     }
   } else {  // table
     m.file = r.required<std::string>("file", "a CSV file of time [s], displacement [m]");
-    read_table(r, file, m);
+    read_table(r, m);
   }
   r.finish();
   return m;

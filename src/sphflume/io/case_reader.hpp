@@ -12,10 +12,27 @@ namespace sph::caseio {
 using sph::Reader;
 using sph::edit_distance;
 
-/// [x, z] vertices of a polygon under the key `vertices`.
+/// Rows of `ncol` finite numbers of a CSV file (io/case_csv.cpp), with their line numbers.
+struct CsvNumbers {
+  std::string path;  // as opened (relative names: from the case file's folder)
+  std::vector<std::vector<double>> rows;
+  std::vector<int> lines;
+};
+/// The CSV file `name`, the value of `key` of r: a first line that does not parse is a header, '#'
+/// starts a comment, ',' ';' or tabs separate; an unreadable file or a bad row is an InputError
+/// at `key` naming the file and its line (`what` names the columns, e.g. "x, z").
+CsvNumbers read_csv_numbers(Reader& r, const std::string& key, const std::string& name, int ncol, const std::string& what);
+/// `vertices: {file: F.csv}` (the polygon's x, z vertices in order) or `vertices: {file: F.csv,
+/// base: Z}` (a survey line of chainage x strictly increasing and elevation z, closed down to
+/// z = Z: the polygon of the bed or structure under it).
+std::vector<std::array<double, 2>> read_vertices_file(Reader& r, const Node& n);
+
+/// [x, z] vertices of a polygon under the key `vertices`: a list of points, or a CSV file
+/// (read_vertices_file).
 inline std::vector<std::array<double, 2>> read_vertices(Reader& r, const Node& n) {
   if (!r.has("vertices")) r.misspelt("vertices");
   const Node& v = r.get("vertices");
+  if (v.is_map()) return read_vertices_file(r, n);
   if (!v.is_sequence() || v.size() < 3) r.fail_at(v.defined() ? v : n, r.key_path("vertices"), "a list of at least 3 [x, z] points");
   std::vector<std::array<double, 2>> out;
   for (const auto& [unused, p] : v.entries()) {
