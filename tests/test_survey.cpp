@@ -94,7 +94,10 @@ TEST(Survey, BadFilesAreNamedWithTheirLine) {
   const std::string ok = write_file("ok.csv", "0.3,0.03\n1.2,0.26\n");
   e = error_of(beach_case("vertices: {file: " + ok + ", base: 0.1}"));
   EXPECT_HAS(e, "geometry.1.vertices.base");
-  EXPECT_HAS(e, "below every point");
+  EXPECT_HAS(e, "at or below every point");
+  const std::string flat = write_file("flat.csv", "0.3,0.0\n1.2,0.0\n");
+  e = error_of(beach_case("vertices: {file: " + flat + ", base: 0.0}"));
+  EXPECT_HAS(e, "encloses nothing");
   e = error_of(beach_case("vertices: {file: " + ok + ", bas: 0.0}"));
   EXPECT_HAS(e, "'geometry.1.vertices.bas' (did you mean 'geometry.1.vertices.base'?)");
   e = error_of(beach_case("vertices: {file: " + ok + "}"));  // two points are no polygon

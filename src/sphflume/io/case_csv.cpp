@@ -69,18 +69,22 @@ std::vector<std::array<double, 2>> read_vertices_file(Reader& r, const Node& n) 
   }
   // a survey line (chainage, elevation), closed down to z = base: the bed or structure under it
   if (csv.rows.size() < 2) q.fail_at(q.get("file"), q.key_path("file"), fmt::format("at least 2 rows of x, z in {}", csv.path));
-  out.push_back({csv.rows.front()[0], base});
+  // (an end of the line on the base itself, a beach's toe on the bed, is one corner, not two)
+  if (csv.rows.front()[1] > base) out.push_back({csv.rows.front()[0], base});
+  bool above = false;
   for (std::size_t i = 0; i < csv.rows.size(); ++i) {
     const auto& row = csv.rows[i];
     if (i > 0 && !(row[0] > csv.rows[i - 1][0]))
       q.fail_at(q.get("file"), q.key_path("file"),
                 fmt::format("a survey line with x strictly increasing; {} line {} goes back to x = {}", csv.path, csv.lines[i], row[0]));
-    if (!(row[1] > base))
+    if (row[1] < base)
       q.fail_at(q.get("base"), q.key_path("base"),
-                fmt::format("a base below every point of the line; {} line {} has z = {} <= base {}", csv.path, csv.lines[i], row[1], base));
+                fmt::format("a base at or below every point of the line; {} line {} has z = {} < base {}", csv.path, csv.lines[i], row[1], base));
+    above = above || row[1] > base;
     out.push_back({row[0], row[1]});
   }
-  out.push_back({csv.rows.back()[0], base});
+  if (!above) q.fail_at(q.get("base"), q.key_path("base"), fmt::format("a base below the line of {} (it encloses nothing)", csv.path));
+  if (csv.rows.back()[1] > base) out.push_back({csv.rows.back()[0], base});
   (void)n;
   return out;
 }
