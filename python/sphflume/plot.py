@@ -47,6 +47,15 @@ def _draw(ax, run, snap, field, vmin=None, vmax=None):
     return sc
 
 
+def _save(plt, fig, out):
+    """Writes the figure as the PNG `out` (its folder made if needed), closes it, returns the path."""
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return out
+
+
 def plot_snapshot(run, index=-1, field="pressure", out=None, time=None):
     """Draws one snapshot (by index, or the one nearest `time`) into the PNG `out`; returns its path.
     3D runs are drawn as their x-z projection."""
@@ -56,12 +65,7 @@ def plot_snapshot(run, index=-1, field="pressure", out=None, time=None):
     sc = _draw(ax, run, snap, field)
     unit = UNITS.get(field, "")
     fig.colorbar(sc, ax=ax, label=f"{field} ({unit})" if unit else field)
-    fig.tight_layout()
-    out = out or os.path.join(run.folder, "plots", f"snapshot_{snap['step']:08d}_{field}.png")
-    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
-    return out
+    return _save(plt, fig, out or os.path.join(run.folder, "plots", f"snapshot_{snap['step']:08d}_{field}.png"))
 
 
 def plot_gauge(run, name, out=None):
@@ -76,12 +80,7 @@ def plot_gauge(run, name, out=None):
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("t (s)")
     axes[0, 0].set_title(f"{run.summary.get('case', '')}: gauge {name}")
-    fig.tight_layout()
-    out = out or os.path.join(run.folder, "plots", f"gauge_{name}.png")
-    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
-    return out
+    return _save(plt, fig, out or os.path.join(run.folder, "plots", f"gauge_{name}.png"))
 
 
 def animate(run, field="pressure", out=None, fps=10):
