@@ -31,6 +31,7 @@ VARIANTS = [
     ("dambreak_2d", "isph_hybrid", ["scheme.type=isph"]),
     ("dambreak_2d", "isph_split", ["scheme.type=isph", "scheme.source.type=split"]),
     ("dambreak_2d", "dual", ["scheme.integrator=dual", "fluid.viscosity=0"]),
+    ("dambreak_3d", "dual", ["scheme.integrator=dual", "fluid.viscosity=0"]),
 ]
 MPI_CASES = ["dambreak_2d", "porous_dambreak_liu", "dambreak_3d"]
 

@@ -8,6 +8,7 @@
 #endif
 #include <set>
 
+#include "sphflume/core/pair_pass.hpp"
 #include "sphflume/core/periodic.hpp"
 #include "sphflume/core/cell_list.hpp"
 #include "sphflume/core/particles.hpp"

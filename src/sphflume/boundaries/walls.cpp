@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "sphflume/core/interpolate.hpp"
+#include "sphflume/core/pair_pass.hpp"
 
 namespace sph {
 namespace {
@@ -91,63 +92,25 @@ class DummyWalls final : public WallModel<D> {
     double rho_bg;
   };
 
-  /// The candidates' columns of one cell: positions relative to `origin`, and the fluid's
-  /// pressure, density, flag (and velocity for no-slip walls); walls and padding weigh 0.
+  /// The candidates' columns of one cell (column descriptors): positions relative to `origin`,
+  /// and the fluid's pressure, density and flag (0 for walls), the velocity for no-slip walls
+  /// (a wall's weight is 0, so its velocity, finite and not written by this pass, is copied as
+  /// it is); padding far away, no fluid. Only fluid pressures and densities are read: other
+  /// threads are writing wall pressures meanwhile.
   static void gather(const Pass& p, const CellStencil<D>& st, ScratchColumns<F32>& B, const Vec<D>& origin) {
-    const Vec<D>* __restrict pos = p.pos;
     const Vec<D>* __restrict vel = p.vel;
     const double* __restrict rho = p.rho;
     const double* __restrict prs = p.prs;
     const Kind* __restrict kind = p.kind;
-    const float* gv = p.gv;
-    const std::size_t npad = st.padded;
-    F32* __restrict cx[D]; F32* __restrict cv[D];
-    for (int d = 0; d < D; ++d) { cx[d] = B[X0 + d]; cv[d] = B[V0 + d]; }
-    F32* __restrict cp = B[PRS];
-    F32* __restrict cr = B[RHO];
-    F32* __restrict cf = B[FLUID];
-    // only fluid entries are read: other threads are writing wall pressures meanwhile
-    if (st.identity) {  // contiguous ranges of the cell-ordered store: vector loops
-      st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) {
-        copy_positions<D>(pos, k0, len, origin, cx, m);
-        const double* __restrict vr = vel[k0].c.data();  // (flat, as in copy_positions)
-        const Kind* __restrict kr = kind + k0;
-        const double* __restrict ppr = prs + k0;
-        const double* __restrict rr = rho + k0;
-        F32* __restrict op = cp + m;
-        F32* __restrict orr = cr + m;
-        F32* __restrict of = cf + m;
-        for (std::size_t q = 0; q < len; ++q) {
-          const bool fl = fluid_like(kr[q]);
-          op[q] = fl ? F32(ppr[q]) : F32(0);
-          orr[q] = fl ? F32(rr[q]) : F32(0);
-          of[q] = fl ? F32(1) : F32(0);
-        }
-        if (gv) {  // (velocities: no-slip walls only; a wall's weight is 0, so its
-                   // velocity, finite and not written by this pass, is copied as it is)
-          F32* __restrict v0 = cv[0] + m;
-          F32* __restrict v1 = cv[1] + m;
-          F32* __restrict v2 = cv[D - 1] + m;
-          for (std::size_t q = 0; q < len; ++q) {
-            v0[q] = F32(vr[D * q]);
-            v1[q] = F32(vr[D * q + 1]);
-            if constexpr (D == 3) v2[q] = F32(vr[D * q + 2]);
-          }
-        }
-      });
-    } else {
-      st.for_each([&](std::size_t m, std::uint32_t j) {
-        const bool fl = fluid_like(kind[j]);
-        for (int d = 0; d < D; ++d) { cx[d][m] = F32(pos[j][d] - origin[d]); cv[d][m] = fl ? F32(vel[j][d]) : F32(0); }
-        cp[m] = fl ? F32(prs[j]) : F32(0);
-        cr[m] = fl ? F32(rho[j]) : F32(0);
-        cf[m] = fl ? F32(1) : F32(0);
-      });
-    }
-    for (std::size_t m = st.count; m < npad; ++m) {  // padding: far away, no fluid
-      for (int d = 0; d < D; ++d) { cx[d][m] = F32(1.0e3); cv[d][m] = 0; }
-      cp[m] = 0; cr[m] = 0; cf[m] = 0;
-    }
+    const auto fluid = column(FLUID, F32(0), [kind](std::uint32_t j) { return fluid_like(kind[j]) ? F32(1) : F32(0); });
+    const auto pressure = column(PRS, F32(0), [kind, prs](std::uint32_t j) { return fluid_like(kind[j]) ? F32(prs[j]) : F32(0); });
+    const auto density = column(RHO, F32(0), [kind, rho](std::uint32_t j) { return fluid_like(kind[j]) ? F32(rho[j]) : F32(0); });
+    auto velocity = [vel](int d, int index) {
+      return column(index, F32(0), [vel, d](std::uint32_t j) { return F32(vel[j][d]); });
+    };
+    if (!p.gv) gather_columns(st, B, p.pos, origin, pressure, density, fluid);
+    else gather_columns(st, B, p.pos, origin, pressure, density, fluid, velocity(0, V0), velocity(1, V1),
+                        only_if<D == 3>(velocity(D - 1, V2)));
   }
 
   /// The offsets of the blocks of L candidates that hold fluid.
@@ -185,8 +148,9 @@ class DummyWalls final : public WallModel<D> {
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t i = sorted[k];
       if (i >= n || kind[i] != Kind::Wall) continue;
-      // Shepard-weighted sums over the fluid neighbours (branch-free, vectorised)
-      alignas(64) F32 vw[L] = {}, vp[L] = {}, vr0[L] = {}, vr1[L] = {}, vr2[L] = {}, vv0[L] = {}, vv1[L] = {}, vv2[L] = {};
+      // Shepard-weighted sums over the fluid neighbours (branch-free, vectorised): W, p W,
+      // ρ W r (D) and, no-slip, W u (D)
+      LaneSums<L, NoSlip ? 2 * D + 2 : D + 2> v;
       const F32 xi0 = F32(pos[i][0] - origin[0]), xi1 = F32(pos[i][1] - origin[1]);
       const F32 xi2 = F32(pos[i][D - 1] - origin[D - 1]);
       for (const std::uint32_t k0 : blocks) {
@@ -199,30 +163,31 @@ class DummyWalls final : public WallModel<D> {
         const F32* __restrict bp = B[PRS] + k0;
         const F32* __restrict br = B[RHO] + k0;
         const F32* __restrict bf = B[FLUID] + k0;
-#pragma omp simd
-        for (std::size_t l = 0; l < L; ++l) {
+        v.add([&](std::size_t l, auto&& acc) {
           const F32 r0 = xi0 - bx0[l], r1 = xi1 - bx1[l];
           const F32 r2c = D == 3 ? xi2 - bx2[l] : F32(0);
           const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
-          const F32 w = K.W(std::sqrt(r2)) * ((r2 < l_support2) ? bf[l] : F32(0));
-          vw[l] += w;
-          vp[l] += bp[l] * w;
+          // (the mask as a factor: a select of a column load left this loop scalar)
+          const F32 w = K.W(std::sqrt(r2)) * (((r2 < l_support2) ? F32(1) : F32(0)) * bf[l]);
+          acc[0][l] += w;
+          acc[1][l] += bp[l] * w;
           const F32 rw = br[l] * w;
-          vr0[l] += rw * r0;
-          vr1[l] += rw * r1;
-          if constexpr (D == 3) vr2[l] += rw * r2c;
+          acc[2][l] += rw * r0;
+          acc[3][l] += rw * r1;
+          if constexpr (D == 3) acc[4][l] += rw * r2c;
           if constexpr (NoSlip) {
-            vv0[l] += w * bv0[l];
-            vv1[l] += w * bv1[l];
-            if constexpr (D == 3) vv2[l] += w * bv2[l];
+            acc[D + 2][l] += w * bv0[l];
+            acc[D + 3][l] += w * bv1[l];
+            if constexpr (D == 3) acc[D + 4][l] += w * bv2[l];
           }
-        }
+        });
       }
-      const double sw = lane_sum<L>(vw), sp = lane_sum<L>(vp);
-      Vec<D> srr, sv;
-      srr[0] = lane_sum<L>(vr0); srr[1] = lane_sum<L>(vr1);
-      sv[0] = lane_sum<L>(vv0); sv[1] = lane_sum<L>(vv1);
-      if constexpr (D == 3) { srr[2] = lane_sum<L>(vr2); sv[2] = lane_sum<L>(vv2); }
+      const auto s = v.sums();
+      const double sw = s[0], sp = s[1];
+      Vec<D> srr{}, sv{};
+      for (int d = 0; d < D; ++d) srr[d] = s[2 + d];
+      if constexpr (NoSlip)
+        for (int d = 0; d < D; ++d) sv[d] = s[D + 2 + d];
       double pw = S.eos.background;
       Vec<D> g = vel[i];
       if (sw > 0.0) {

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sphflume/core/pair_pass.hpp"
 #include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sphflume/core/pair_pass.hpp"
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/core/cell_list.hpp"
 #include "sphflume/physics/porous.hpp"

@@ -49,7 +49,7 @@ class WCSPH final : public Scheme<D> {
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
   int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet && !cfg_.frozen ? 1 : 2; }
-  std::size_t bytes() const override { return 0; }  // (the integrator's state is in the particle store)
+  std::size_t bytes() const override { return pack_.capacity() * sizeof(float); }  // the packed columns of the rates pass
   std::map<std::string, double> state() const override {
     return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}, {"nu_t_max", turb_.nu_t_max()}};
   }
@@ -77,6 +77,7 @@ class WCSPH final : public Scheme<D> {
   Shifting<D> shift_;
   bool verlet_started_ = false;
   double max_acc_ = 0.0;
+  std::vector<float> pack_;  // the per-particle columns of the rates pass (wcsph_rates.cpp)
 };
 
 }  // namespace sph

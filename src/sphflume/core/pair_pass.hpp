@@ -1,0 +1,447 @@
+// The pair-pass seam (docs/architecture.md §3): every vectorised pair loop of the engine runs
+// over a cell's 3^D stencil of candidates, copied once per cell into unit-stride columns.
+//  - CellStencil / ScratchColumns: a cell's candidates and the columns they are copied into;
+//  - Column descriptors (column, second_part) and gather_columns / gather_split: what a pass
+//    reads of each candidate, in which precision, and the copy that fills the columns;
+//  - lane_sums: a per-pair functor summed over the candidates in fixed lanes (the same bits on
+//    AVX2 and AVX-512 builds);
+//  - sweep_cells: the threads' partition of the cells and the per-cell skeleton.
+#pragma once
+#include <array>
+#include <tuple>
+#include <type_traits>
+#include <cstdint>
+#include <utility>
+#include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "sphflume/core/cell_list.hpp"
+
+namespace sph {
+
+/// The candidate neighbours shared by all particles of one cell, for vectorised pair loops:
+/// the loop copies each field it needs into a unit-stride column (for_each), padded to a
+/// multiple of the vector width with entries it masks out, so the loop over them has no
+/// remainder and no indirection; the copy is paid once per cell, not per particle.
+template <int D>
+struct CellStencil {
+  std::uint32_t rg[CellList<D>::kMaxRanges][2];
+  int nr = 0;
+  std::size_t count = 0, padded = 0;
+  const std::uint32_t* sorted = nullptr;
+  bool identity = false;
+
+  /// The stencil of `cell`; `padded` = count rounded up to a multiple of `lanes`.
+  void set(const CellList<D>& cells, std::size_t cell, std::size_t lanes) {
+    nr = cells.cell_ranges(cell, rg);
+    count = 0;
+    for (int r = 0; r < nr; ++r) count += rg[r][1] - rg[r][0];
+    padded = (count + lanes - 1) / lanes * lanes;
+    sorted = cells.sorted().data();
+    identity = cells.identity();
+  }
+  /// fn(m, j) for the m-th candidate j (m = 0 .. count-1): fill all columns in one pass
+  /// (the caller pads m = count .. padded-1).
+  template <class Fn>
+  void for_each(Fn&& fn) const {
+    std::size_t m = 0;
+    if (identity) {  // the cell-ordered store: each range is contiguous
+      for (int r = 0; r < nr; ++r)
+        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) fn(m++, k);
+    } else {
+      for (int r = 0; r < nr; ++r)
+        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) fn(m++, sorted[k]);
+    }
+  }
+  /// For a cell-ordered store (identity): fn(k0, len, m) for each non-empty contiguous range
+  /// [k0, k0 + len) of the candidates, m its first column entry, so that a pass copies its
+  /// columns in vector loops (k0 of an empty range may be the end of the store: skipped).
+  template <class Fn>
+  void for_ranges(Fn&& fn) const {
+    std::size_t m = 0;
+    for (int r = 0; r < nr; ++r) {
+      const std::uint32_t k0 = rg[r][0];
+      const std::size_t len = rg[r][1] - k0;
+      if (len > 0) fn(k0, len, m);
+      m += len;
+    }
+  }
+};
+
+/// The positions of store entries [k0, k0 + len) relative to `origin`, into the float columns
+/// x[0..D) at offset m: the stencil copies of the vectorised pair loops. The positions are read
+/// as a flat array of doubles (through Vec's operator[] GCC 12 left such loops scalar, "no
+/// vectype"); len > 0 (k0 may otherwise be the end of the store). T: float or double columns.
+template <int D, class T = float>
+inline void copy_positions(const Vec<D>* pos, std::uint32_t k0, std::size_t len, const Vec<D>& origin,
+                           T* __restrict const* x, std::size_t m) {
+  const double* __restrict pr = pos[k0].c.data();
+  const double o0 = origin[0], o1 = origin[1], o2 = origin[D - 1];
+  T* __restrict x0 = x[0] + m;
+  T* __restrict x1 = x[1] + m;
+  T* __restrict x2 = x[D - 1] + m;
+  for (std::size_t i = 0; i < len; ++i) {
+    x0[i] = T(pr[D * i + 0] - o0);
+    x1[i] = T(pr[D * i + 1] - o1);
+    if constexpr (D == 3) x2[i] = T(pr[D * i + D - 1] - o2);
+  }
+}
+
+/// The sum of L lane-wise partial sums (a pair loop's accumulators, L apart), pairwise in a fixed
+/// order: the order of the additions does not depend on the vector width, so AVX2 and AVX-512
+/// builds give bitwise the same sums. Overwrites v.
+template <std::size_t L, class T>
+inline T lane_sum(T* v) {
+  // (fully unrolled: left as loops, the reduction of a pass's accumulators cost as much as
+  // a quarter of the pair loop)
+#pragma GCC unroll 8
+  for (std::size_t w = L / 2; w >= 1; w /= 2)
+#pragma GCC unroll 32
+    for (std::size_t l = 0; l < w; ++l) v[l] += v[l + w];
+  return v[0];
+}
+
+/// Growable per-thread scratch columns for the CellStencil copies.
+template <class T = double>
+struct ScratchColumns {
+  std::vector<std::vector<T>> col;
+  explicit ScratchColumns(int ncol) : col(static_cast<std::size_t>(ncol)) {}
+  void reserve(std::size_t n) {
+    if (!col.empty() && col[0].size() >= n) return;
+    for (auto& c : col) c.resize(n + n / 2);
+  }
+  T* operator[](int i) { return col[static_cast<std::size_t>(i)].data(); }
+};
+
+/// A column descriptor: what a pass reads of each candidate. `get(j)` is the value of store entry
+/// j in the column's precision T, written into scratch column `index`; the padding entries hold
+/// `pad`. `Second`: written only into the second part of a split gather (gather_split), for
+/// values only that part reads. only_if<On>(c) is c or, when On is false, NoColumn (a column the
+/// pass does not read in this instantiation: a vector's third component in 2D, a model that is
+/// off). A pass lists its descriptors once; the gathers below do the copy (all columns of a
+/// contiguous range of a cell-ordered store in one vector loop, other stores candidate by
+/// candidate), so the copy code is written once for every pass.
+template <class T, class Get, bool Second = false>
+struct Column {
+  static constexpr bool kSecond = Second, kNone = false;
+  int index;
+  T pad;
+  Get get;
+};
+struct NoColumn {
+  static constexpr bool kSecond = false, kNone = true;
+};
+template <class T, class Get>
+Column<T, Get> column(int index, T pad, Get get) {
+  return {index, pad, get};
+}
+template <class T, class Get>
+Column<T, Get, true> second_part(int index, T pad, Get get) {
+  return {index, pad, get};
+}
+template <bool On, class C>
+auto only_if(const C& c) {
+  if constexpr (On) return c;
+  else return NoColumn{};
+}
+
+/// How far away the padding entries sit (outside every support, so they weigh nothing).
+constexpr double kPaddingDistance = 1.0e3;
+
+namespace detail {
+/// The descriptors of one part (Second) as a tuple, NoColumn left out.
+template <bool Second, class C>
+auto select(const C& c) {
+  if constexpr (!C::kNone && C::kSecond == Second) return std::tuple<C>(c);
+  else return std::tuple<>();
+}
+/// Store entries [k0, k0 + len) into entry m on of the columns of one part, all columns in one
+/// loop (`omp simd` keeps plain copies from becoming memcpy calls, slower for ranges of ~30
+/// entries; the positions have their own loop, copy_positions: fused with these GCC 12 left the
+/// loop scalar). The column pointers are taken once per cell, not per range.
+template <class T, class Tup, std::size_t... I>
+struct RangeCopier {
+  T* o[sizeof...(I) + 1];
+  Tup cs;
+  RangeCopier(ScratchColumns<T>& B, const Tup& c) : o{B[std::get<I>(c).index]..., nullptr}, cs(c) {}
+  [[gnu::always_inline]] void operator()([[maybe_unused]] std::uint32_t k0, [[maybe_unused]] std::size_t len,
+                                         [[maybe_unused]] std::size_t m) const {
+    if constexpr (sizeof...(I) > 0) {
+      T* __restrict out[sizeof...(I)] = {(o[I] + m)...};
+#pragma omp simd
+      for (std::size_t q = 0; q < len; ++q) ((out[I][q] = std::get<I>(cs).get(k0 + static_cast<std::uint32_t>(q))), ...);
+    }
+  }
+};
+template <class T, class Tup, std::size_t... I>
+RangeCopier<T, Tup, I...> make_copier(ScratchColumns<T>& B, const Tup& cs, std::index_sequence<I...>) {
+  return RangeCopier<T, Tup, I...>(B, cs);
+}
+/// The copier of the columns of part Second.
+template <bool Second, class T, class... Cols>
+auto copier(ScratchColumns<T>& B, const Cols&... cols) {
+  const auto cs = std::tuple_cat(select<Second>(cols)...);
+  return make_copier(B, cs, std::make_index_sequence<std::tuple_size_v<decltype(cs)>>{});
+}
+/// Candidate j into entry m of every column (of both parts), the column pointers taken once.
+template <class T, class Tup, std::size_t... I>
+struct Putter {
+  T* o[sizeof...(I) + 1];
+  Tup cs;
+  Putter(ScratchColumns<T>& B, const Tup& c) : o{B[std::get<I>(c).index]..., nullptr}, cs(c) {}
+  void operator()([[maybe_unused]] std::size_t m, [[maybe_unused]] std::uint32_t j) const {
+    ((o[I][m] = std::get<I>(cs).get(j)), ...);
+  }
+};
+template <class T, class Tup, std::size_t... I>
+Putter<T, Tup, I...> make_putter(ScratchColumns<T>& B, const Tup& cs, std::index_sequence<I...>) {
+  return Putter<T, Tup, I...>(B, cs);
+}
+template <class T, class... Cols>
+auto putter(ScratchColumns<T>& B, const Cols&... cols) {
+  const auto cs = std::tuple_cat(select<false>(cols)..., select<true>(cols)...);
+  return make_putter(B, cs, std::make_index_sequence<std::tuple_size_v<decltype(cs)>>{});
+}
+template <class T, class C>
+inline void pad_column(const C& c, ScratchColumns<T>& B, std::size_t m0, std::size_t m1) {
+  if constexpr (!C::kNone) {
+    T* o = B[c.index];
+    for (std::size_t m = m0; m < m1; ++m) o[m] = c.pad;
+  }
+}
+/// Entries [m0, m1) as padding: far away, every column its pad value.
+template <int D, class T, class... Cols>
+inline void pad_entries(ScratchColumns<T>& B, std::size_t m0, std::size_t m1, const Cols&... cols) {
+  for (int d = 0; d < D; ++d)
+    for (std::size_t m = m0; m < m1; ++m) B[d][m] = T(kPaddingDistance);
+  (pad_column(cols, B, m0, m1), ...);
+}
+}  // namespace detail
+
+/// Fill the scratch columns of a cell's stencil: the candidates' positions relative to `origin`
+/// into columns [0, D) (small differences keep their digits in float), then each descriptor's
+/// column; the entries from st.count to st.padded are padding (far away, each column's pad).
+template <int D, class T, class... Cols>
+[[gnu::always_inline]] inline void gather_columns(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
+                    const Cols&... cols) {
+  T* __restrict x[D];
+  for (int d = 0; d < D; ++d) x[d] = B[d];
+  if (st.identity) {  // the stencil's contiguous ranges of the cell-ordered store
+    const auto first = detail::copier<false>(B, cols...);
+    const auto second = detail::copier<true>(B, cols...);
+    st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t m) __attribute__((always_inline)) {
+      copy_positions<D, T>(pos, k0, len, origin, x, m);
+      first(k0, len, m);
+      second(k0, len, m);
+    });
+  } else {
+    const auto put = detail::putter(B, cols...);
+    st.for_each([&](std::size_t m, std::uint32_t j) __attribute__((always_inline)) {
+      for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
+      put(m, j);
+    });
+  }
+  detail::pad_entries<D>(B, st.count, st.padded, cols...);
+}
+
+/// gather_columns candidate by candidate, every column of a candidate at once (for short ranges
+/// and many columns, as the rates pass's, one loop beats a vector loop per range). The same
+/// entries as gather_columns.
+template <int D, class T, class... Cols>
+[[gnu::always_inline]] inline void gather_each(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
+                 const Cols&... cols) {
+  T* __restrict x[D];
+  for (int d = 0; d < D; ++d) x[d] = B[d];
+  const auto put = detail::putter(B, cols...);
+  st.for_each([&](std::size_t m, std::uint32_t j) __attribute__((always_inline)) {
+    for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
+    put(m, j);
+  });
+  detail::pad_entries<D>(B, st.count, st.padded, cols...);
+}
+
+/// A gather in two parts: the candidates j with first(j) from entry 0, padded to a multiple of
+/// `lanes` (first_end), then the `n_second` others, padded again (end); columns made with
+/// second_part() only in the second part. A pass whose second part needs more work per pair
+/// (the walls among a fluid particle's candidates) runs it only where it is. B must hold
+/// st.padded + lanes entries. The order within each part is the stencil's.
+struct SplitEnds {
+  std::size_t first_end, end;
+};
+template <int D, class T, class First, class... Cols>
+[[gnu::always_inline]] inline SplitEnds gather_split(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
+                       std::size_t lanes, std::size_t n_second, First&& first, const Cols&... cols) {
+  T* __restrict x[D];
+  for (int d = 0; d < D; ++d) x[d] = B[d];
+  const std::size_t first_end = (st.count - n_second + lanes - 1) / lanes * lanes;
+  std::size_t mf = 0, ms = first_end;
+  const auto copy_first = detail::copier<false>(B, cols...);
+  const auto copy_second = detail::copier<true>(B, cols...);
+  auto copy_run = [&](std::uint32_t k0, std::size_t len, std::size_t m, bool second) __attribute__((always_inline)) {
+    copy_positions<D, T>(pos, k0, len, origin, x, m);
+    copy_first(k0, len, m);
+    if (second) copy_second(k0, len, m);
+  };
+  if (st.identity) {
+    // the runs of one part in each range (a cell's particles keep their order, so the parts come
+    // in a few runs): a vector copy per run, no branch per candidate
+    st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t) __attribute__((always_inline)) {
+      for (std::size_t q = 0; q < len;) {
+        const bool f = first(k0 + static_cast<std::uint32_t>(q));
+        std::size_t e = q + 1;
+        while (e < len && first(k0 + static_cast<std::uint32_t>(e)) == f) ++e;
+        std::size_t& m = f ? mf : ms;
+        copy_run(k0 + static_cast<std::uint32_t>(q), e - q, m, !f);
+        m += e - q;
+        q = e;
+      }
+    });
+  } else {
+    const auto put_cols = detail::putter(B, cols...);
+    auto put = [&](std::size_t m, std::uint32_t j) {
+      for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
+      put_cols(m, j);
+    };
+    st.for_each([&](std::size_t, std::uint32_t j) __attribute__((always_inline)) { if (first(j)) put(mf++, j); });
+    st.for_each([&](std::size_t, std::uint32_t j) __attribute__((always_inline)) { if (!first(j)) put(ms++, j); });
+  }
+  const std::size_t end = (ms + lanes - 1) / lanes * lanes;
+  detail::pad_entries<D>(B, mf, first_end, cols...);
+  detail::pad_entries<D>(B, ms, end, cols...);
+  return {first_end, end};
+}
+
+/// A per-pair functor summed in fixed lanes: add(terms) runs terms(l, v) for the L lanes of one
+/// block of candidates; the functor reads its columns through pointers offset to the block (an
+/// index k0 + l was a "complicated access pattern" to GCC's AVX2 vectoriser) and adds each of
+/// its N terms into lane l of its accumulator, v[i][l] += term. sums() then adds the lanes in
+/// a fixed order (lane_sum), so that AVX2 and AVX-512 builds give bitwise the same sums. The
+/// functor has no branches (masks as factors), so the block's loop vectorises. (Terms added in
+/// place, not returned as an array or through a callback: each accumulation stays one
+/// expression, which the compiler contracts to a fused multiply-add as the hand-written loops
+/// did, and the loop vectorises.)
+template <std::size_t L, std::size_t N, class T = float>
+struct LaneSums {
+  alignas(64) T v[N][L] = {};
+  template <class Terms>
+  void add(Terms&& terms) {
+#pragma omp simd
+    for (std::size_t l = 0; l < L; ++l) terms(l, v);
+  }
+  /// The N sums (overwrites the lanes).
+  std::array<T, N> sums() {
+    std::array<T, N> s;
+#pragma GCC unroll 16
+    for (std::size_t i = 0; i < N; ++i) s[i] = lane_sum<L>(v[i]);
+    return s;
+  }
+};
+
+/// The skeleton every vectorised pair loop shares (the WCSPH sweep, the dual integrator's passes,
+/// the dummy walls' extrapolation, the walls' backup): needs(cell), evaluated once per occupied
+/// cell, returns how many of its particles the pass runs (0: the cell is skipped); for each
+/// other cell the stencil of its 3^D cells is set with `lanes` padding and the scratch columns
+/// are reserved, then body(cell, st, B) gathers its columns and runs the cell's particles.
+/// Returns the sum of what body returns (pair counts). Must not be called inside a parallel
+/// region.
+///
+/// Each thread runs one contiguous run of cells. The store is in cell order, so a thread then
+/// reads mostly the particles that it wrote itself in the static particle loops between the
+/// passes. Handing out cells a few at a time (dynamic) interleaved the threads' cells: every
+/// core fetched half of what it read from the other's cache, and on 2 threads each cell of the
+/// 2D passes took 1.27x as long as on 1 (bench/README.md). The runs are balanced by a cell's
+/// work, (particles + 1) x candidates, each thread's share scaled by the rate (work per
+/// second) it ran at in the last calls of the same pass (the passes' costs per candidate vary
+/// across the tank, with the walls among them). The results do not depend on the partition:
+/// a cell's sums are its own, and the pair counts are integers.
+template <class T, int D, class Need, class Body>
+std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes, Need&& needs, Body&& body) {
+  const auto& occupied = cells.occupied();
+  const std::size_t nocc = occupied.size();
+  int maxt = 1;
+#ifdef _OPENMP
+  maxt = omp_get_max_threads();
+#endif
+  // each thread's rate in the last calls of this pass (each body is its own instantiation)
+  static std::vector<double> rate;
+  auto& work = cells.sweep_work();  // the cells' work, then its running sums
+  if (maxt > 1) work.resize(nocc + 1);
+  std::uint64_t* __restrict wk = work.data();
+  std::vector<std::size_t> first(static_cast<std::size_t>(maxt) + 1, nocc);  // each thread's first cell
+  std::vector<double> took(static_cast<std::size_t>(maxt), 0.0);
+  int team = 1;
+  std::uint64_t total = 0;
+#pragma omp parallel reduction(+ : total)
+  {
+    int t = 0, nt = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    CellStencil<D> st;
+    ScratchColumns<T> B(ncol);
+    auto run = [&](std::size_t cell) {
+      st.set(cells, cell, lanes);
+      B.reserve(st.padded);
+      total += body(cell, st, B);
+    };
+    if (nt == 1) {  // (one thread: no partition to weigh)
+      for (std::size_t oc = 0; oc < nocc; ++oc)
+        if (needs(occupied[oc]) > 0) run(occupied[oc]);
+    } else {  // (the same branch for the whole team: nt is the team's size)
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        const std::size_t cell = occupied[oc];
+        const std::size_t m = needs(cell);
+        wk[oc + 1] = 0;
+        if (m > 0) {
+          st.set(cells, cell, lanes);
+          wk[oc + 1] = (m + 1) * st.padded;  // (the + 1: the stencil's copy)
+        }
+      }
+#pragma omp single
+      {
+        team = nt;
+        wk[0] = 0;
+        for (std::size_t oc = 0; oc < nocc; ++oc) wk[oc + 1] += wk[oc];
+        if (rate.size() != static_cast<std::size_t>(nt)) rate.assign(static_cast<std::size_t>(nt), 0.0);
+        bool measured = true;
+        double rsum = 0.0;
+        for (const double r : rate) {
+          measured = measured && r > 0.0;
+          rsum += r;
+        }
+        first[0] = 0;
+        double before = 0.0;  // the rates of the threads before q
+        for (int q = 1; q < nt; ++q) {
+          before += rate[static_cast<std::size_t>(q - 1)];
+          const double share = measured ? before / rsum : static_cast<double>(q) / nt;
+          const auto goal = static_cast<std::uint64_t>(share * static_cast<double>(wk[nocc]));
+          first[static_cast<std::size_t>(q)] = static_cast<std::size_t>(std::lower_bound(wk, wk + nocc + 1, goal) - wk);
+        }
+      }
+#ifdef _OPENMP
+      const double t0 = omp_get_wtime();
+#endif
+      const std::size_t u = static_cast<std::size_t>(t);
+      for (std::size_t oc = first[u]; oc < first[u + 1]; ++oc)
+        if (wk[oc + 1] > wk[oc]) run(occupied[oc]);
+#ifdef _OPENMP
+      took[u] = omp_get_wtime() - t0;
+#endif
+    }
+  }
+  // the rates for the next call (smoothed: one call's timing is noisy; a thread that had no work
+  // or a run too short to time keeps its rate)
+  for (int q = 0; q < team && team > 1; ++q) {
+    const std::size_t u = static_cast<std::size_t>(q);
+    const double w = static_cast<double>(wk[first[u + 1]] - wk[first[u]]);
+    if (w <= 0.0 || took[u] <= 1.0e-6) continue;
+    const double r = w / took[u];
+    rate[u] = rate[u] > 0.0 ? 0.75 * rate[u] + 0.25 * r : r;
+  }
+  return total;
+}
+}  // namespace sph
