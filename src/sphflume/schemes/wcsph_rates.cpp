@@ -163,6 +163,70 @@ RatesColumns rates_columns(ScratchColumns<F32>& B, std::size_t npad) {
           B[T0 + (D == 3 ? 5 : 0)], B[PHI], B[IPHI], B[REF], B[PHS], npad};
 }
 
+/// Particle a as its pair loop reads it (positions relative to the cell's origin; τ_a/ρ_a²;
+/// porous φ_a; a dynamic wall takes continuity from fluid only: wa = 0).
+struct RatesRow {
+  F32 xa0, xa1, xa2, va0, va1, va2, deva, rhoa, pa, ca, ca2, pha, pa_r2, inv_rhoa, wa;
+  F32 ta0, ta1, ta2, ta3, ta4, ta5, phia, iphia;
+  double rhoa_d, phia_d;
+};
+template <int D, bool Turb, bool Porous, bool Multi>
+[[gnu::always_inline]] inline RatesRow rates_row(const RatesPass<D>& q, const Vec<D>& origin, std::uint32_t a) {
+  constexpr int NT = Turbulence<D>::kStress;
+  RatesRow r;
+  const Vec<D>& x = q.pos[a];
+  const Vec<D>& v = q.vel[a];
+  r.xa0 = F32(x[0] - origin[0]); r.xa1 = F32(x[1] - origin[1]); r.xa2 = F32(x[D - 1] - origin[D - 1]);
+  r.va0 = F32(v[0]); r.va1 = F32(v[1]); r.va2 = F32(v[D - 1]);
+  const double rhoa_d = q.rho[a];
+  r.rhoa_d = rhoa_d;
+  r.deva = F32(rhoa_d - q.ref_of(a));
+  r.rhoa = F32(rhoa_d);
+  r.pa = F32(q.p_of(a));
+  r.ca = F32(q.sound_of(a, rhoa_d));
+  r.ca2 = r.ca * r.ca;
+  r.pha = Multi ? F32(q.phase[a]) : F32(0);
+  r.pa_r2 = F32(q.prs[a] / (rhoa_d * rhoa_d));
+  r.inv_rhoa = F32(1.0 / rhoa_d);
+  r.wa = q.kind[a] == Kind::Wall ? F32(0) : F32(1);
+  F32 ta[6] = {0, 0, 0, 0, 0, 0};
+  if constexpr (Turb)
+    for (int t = 0; t < NT; ++t) ta[t] = F32(q.tau[t][a] / rhoa_d);
+  r.ta0 = ta[0]; r.ta1 = ta[1]; r.ta2 = ta[2]; r.ta3 = ta[3]; r.ta4 = ta[4]; r.ta5 = ta[5];
+  r.phia_d = Porous ? q.phi[a] : 1.0;
+  r.phia = F32(r.phia_d);
+  r.iphia = F32(1.0 / r.phia_d);
+  return r;
+}
+
+/// Particle a's pair sums, as the loop leaves them.
+struct RatesSums {
+  F32 a0, a1, a2, s0, s1, s2, dr, dd;
+  F32 g[9];  // the velocity gradient (turbulence; 2D: xx, xz, zx, zz)
+};
+/// Particle a's rates from its sums: the density rate (continuity, δ-SPH's diffusion), the
+/// acceleration with gravity, XSPH's velocity, the turbulence's velocity gradient; a dynamic
+/// wall only its density rate.
+template <int D, bool Turb>
+[[gnu::always_inline]] inline void store_rates(const RatesPass<D>& q, std::uint32_t a, const RatesRow& r,
+                                                const RatesSums& s) {
+  if constexpr (Turb) {
+    double* G = q.grad + std::size_t(a) * D * D;
+    for (int i = 0; i < D * D; ++i) G[i] = s.g[i];
+  }
+  if (q.kind[a] == Kind::Wall) {
+    q.drho[a] = r.rhoa_d * double(s.dr);
+    q.acc[a] = Vec<D>{};
+    return;
+  }
+  q.drho[a] = r.rhoa_d / r.phia_d * double(s.dr) + q.fdiff * q.dcoef * double(s.dd);
+  Vec<D> acc, sx;
+  for (int d = 0; d < D; ++d) acc[d] = double(d == 0 ? s.a0 : d == 1 ? s.a1 : s.a2) + q.g[d];
+  for (int d = 0; d < D; ++d) sx[d] = q.xsph * double(d == 0 ? s.s0 : d == 1 ? s.s1 : s.s2);
+  q.acc[a] = acc;
+  if (q.xs) q.xs[a] = sx;
+}
+
 /// Particle a's pair sums over its cell's candidates (the fused, vectorised loop: every term of
 /// the momentum and continuity equations in one pass) and its rates; returns its pair count.
 template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press>
@@ -172,18 +236,7 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
   // them in registers and left the loop scalar)
   const F32 l_fsupport2 = q.support2, l_feta2 = q.eta2, l_fh = q.h, l_flam = q.lam, l_falpha = q.alpha;
   const F32 l_ffour = q.four, l_fsym = q.sym, l_fvisc_wall = q.visc_wall, l_fwall_in = q.wall_in, l_fchi = q.chi;
-  const F32 l_fg0 = F32(q.g[0]), l_fg1 = F32(q.g[1]), l_fg2 = F32(q.g[2]);
-  const double g[3] = {q.g[0], q.g[1], q.g[2]}, rho0 = q.rho0, xsph = q.xsph, fdiff = q.fdiff, dcoef = q.dcoef;
-  constexpr int NT = Turbulence<D>::kStress;
-  const Vec<D>* __restrict pos = q.pos;
-  const Vec<D>* __restrict vel = q.vel;
-  const double* __restrict rho = q.rho;
-  const double* __restrict prs = q.prs;
-  const double* __restrict phi = q.phi;
-  const double* __restrict phase = q.phase;
-  auto ref_of = [&](std::size_t b) { return q.ref_of(b); };
-  auto sound_of = [&](std::size_t b, double rh) { return q.sound_of(b, rh); };
-  auto p_of = [&](std::size_t b) { return q.p_of(b); };
+  const F32 l_fg0 = F32(q.g[0]), l_fg1 = F32(q.g[1]), l_fg2 = F32(q.g[2]), frho0 = F32(q.rho0);
   const std::size_t npad = c.npad;
   const F32* __restrict bx0 = c.x0; const F32* __restrict bx1 = c.x1; const F32* __restrict bx2 = c.x2;
   const F32* __restrict bu0 = c.u0; const F32* __restrict bu1 = c.u1; const F32* __restrict bu2 = c.u2;
@@ -194,44 +247,26 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
   const F32* __restrict bt3 = c.t3; const F32* __restrict bt4 = c.t4; const F32* __restrict bt5 = c.t5;
   const F32* __restrict bphi = c.phi; const F32* __restrict biphi = c.iphi;
   const F32* __restrict bref = c.ref; const F32* __restrict bphs = c.phs;
-  std::uint64_t pairs = 0;
-  const Kind ka = q.kind[a];
-  const F32 xa0 = F32(pos[a][0] - origin[0]), xa1 = F32(pos[a][1] - origin[1]);
-  const F32 xa2 = F32(pos[a][D - 1] - origin[D - 1]);
-  const F32 va0 = F32(vel[a][0]), va1 = F32(vel[a][1]), va2 = F32(vel[a][D - 1]);
-  const double rhoa_d = rho[a];
-  const F32 frho0 = F32(rho0), deva = F32(rhoa_d - ref_of(a));
-  const F32 rhoa = F32(rhoa_d), pa = F32(p_of(a));
-  const F32 ca = F32(sound_of(a, rhoa_d)), ca2 = ca * ca;
-  const F32 pha = Multi ? F32(phase[a]) : F32(0);
-  const F32 pa_r2 = F32(prs[a] / (rhoa_d * rhoa_d));
-  const F32 inv_rhoa = F32(1.0 / rhoa_d);
-  const F32 wa = ka == Kind::Wall ? F32(0) : F32(1);  // a dynamic wall: continuity from fluid only
-  F32 ta[6] = {0, 0, 0, 0, 0, 0};  // τ_a/ρ_a²
-  if constexpr (Turb)
-    for (int t = 0; t < NT; ++t) ta[t] = F32(q.tau[t][a] / rhoa_d);
-  const F32 ta0 = ta[0], ta1 = ta[1], ta2 = ta[2], ta3 = ta[3], ta4 = ta[4], ta5 = ta[5];
-  const double phia_d = Porous ? phi[a] : 1.0;
-  const F32 phia = F32(phia_d), iphia = F32(1.0 / phia_d);
+  const RatesRow ra = rates_row<D, Turb, Porous, Multi>(q, origin, a);
   F32 a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
   F32 g00 = 0, g01 = 0, g02 = 0, g10 = 0, g11 = 0, g12 = 0, g20 = 0, g21 = 0, g22 = 0;
 #pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt, g00, g01, g02, g10, g11, g12, g20, g21, g22)
   for (std::size_t k = 0; k < npad; ++k) {
-    const F32 r0 = xa0 - bx0[k], r1 = xa1 - bx1[k], r2c = D == 3 ? xa2 - bx2[k] : F32(0);
+    const F32 r0 = ra.xa0 - bx0[k], r1 = ra.xa1 - bx1[k], r2c = D == 3 ? ra.xa2 - bx2[k] : F32(0);
     const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
     const F32 fb = bf[k];
     // in: a neighbour within the support (not a itself); a wall a only sees fluid
     // (purely repulsive walls are in no sum: l_fwall_in = 0)
-    const F32 in = ((r2 < l_fsupport2) & (r2 > F32(0))) ? (wa + (F32(1) - wa) * fb) * (fb + (F32(1) - fb) * l_fwall_in) : F32(0);
+    const F32 in = ((r2 < l_fsupport2) & (r2 > F32(0))) ? (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * l_fwall_in) : F32(0);
     const F32 r = std::sqrt(r2);
     const F32 Fk = kl.F(r) * in;
     const F32 gw0 = Fk * r0, gw1 = Fk * r1, gw2 = Fk * r2c;
     const F32 devb = brho[k], rhob = (Multi ? bref[k] : frho0) + devb, mb = bm[k], pb = bp[k];
     const F32 cb = bcs[k];
-    const F32 u0 = va0 - bu0[k], u1 = va1 - bu1[k], u2 = D == 3 ? va2 - bu2[k] : F32(0);
+    const F32 u0 = ra.va0 - bu0[k], u1 = ra.va1 - bu1[k], u2 = D == 3 ? ra.va2 - bu2[k] : F32(0);
     // one division for the four reciprocals this pair needs
     const F32 cb2 = cb * cb;
-    const F32 r2e = r2 + l_feta2, rsum = rhoa + rhob, csum = ca2 + cb2;
+    const F32 r2e = r2 + l_feta2, rsum = ra.rhoa + rhob, csum = ra.ca2 + cb2;
     const F32 p1 = rhob * r2e, p2 = rsum * csum;
     const F32 inv = F32(1) / (p1 * p2);
     const F32 inv_rhob = inv * r2e * p2;
@@ -246,21 +281,21 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
     const F32 Vb = mbp * inv_rhob;
     F32 phf = F32(1);
     if constexpr (Porous) {
-      const F32 sel = fb * wa;
-      phf = sel * bphi[k] + (F32(1) - sel) * (wa * phia + (F32(1) - wa));
+      const F32 sel = fb * ra.wa;
+      phf = sel * bphi[k] + (F32(1) - sel) * (ra.wa * ra.phia + (F32(1) - ra.wa));
     }
-    const F32 pa_c = Porous ? wa * phia + (F32(1) - wa) : F32(1);
-    const F32 uc0 = Porous ? pa_c * va0 - phf * bu0[k] : u0;
-    const F32 uc1 = Porous ? pa_c * va1 - phf * bu1[k] : u1;
-    const F32 uc2 = Porous ? (D == 3 ? pa_c * va2 - phf * bu2[k] : F32(0)) : u2;
+    const F32 pa_c = Porous ? ra.wa * ra.phia + (F32(1) - ra.wa) : F32(1);
+    const F32 uc0 = Porous ? pa_c * ra.va0 - phf * bu0[k] : u0;
+    const F32 uc1 = Porous ? pa_c * ra.va1 - phf * bu1[k] : u1;
+    const F32 uc2 = Porous ? (D == 3 ? pa_c * ra.va2 - phf * bu2[k] : F32(0)) : u2;
     dr += (uc0 * gw0 + uc1 * gw1 + uc2 * gw2) * Vb;
     const F32 fr = Fk * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
     // δ-SPH: Fourtakas removes the hydrostatic density difference ρ g·r / c² (pair means)
     const F32 gr = l_fg0 * r0 + l_fg1 * r1 + l_fg2 * r2c;
     // (phases: within a phase only; the density jump between phases is no error to diffuse)
-    const F32 same = Multi ? (bphs[k] == pha ? F32(1) : F32(0)) : F32(1);
-    dd += same * fb * (deva - devb - l_ffour * rsum * inv_csum * gr) * fr * Vb;
-    const F32 pterm = Press ? l_fsym * mbp * (pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - l_fsym) * (pa + pb) * Vb * inv_rhoa
+    const F32 same = Multi ? (bphs[k] == ra.pha ? F32(1) : F32(0)) : F32(1);
+    dd += same * fb * (ra.deva - devb - l_ffour * rsum * inv_csum * gr) * fr * Vb;
+    const F32 pterm = Press ? l_fsym * mbp * (ra.pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - l_fsym) * (ra.pa + pb) * Vb * ra.inv_rhoa
                             : F32(0);
     // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
     const F32 mv = fb + (F32(1) - fb) * l_fvisc_wall;
@@ -268,20 +303,20 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
     // (a value select, not std::min: its reference result kept GCC's AVX2 code scalar)
     const F32 wr = w0 * r0 + w1 * r1 + w2 * r2c;
     const F32 vr = wr < F32(0) ? wr : F32(0);
-    const F32 pi_ab = -l_falpha * (ca + cb) * l_fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
+    const F32 pi_ab = -l_falpha * (ra.ca + cb) * l_fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
     F32 gcoef = pterm + mv * mbp * pi_ab;
     if constexpr (Multi) {  // interface repulsion −(χ/ρ_a) Σ_{b∉X} (|p_a|/Γ_a + |p_b|/Γ_b) ∇W V_b
-      const F32 other = fb * (bphs[k] != pha ? F32(1) : F32(0));
-      gcoef += l_fchi * other * (std::abs(pa) + std::abs(pb)) * Vb * inv_rhoa;
+      const F32 other = fb * (bphs[k] != ra.pha ? F32(1) : F32(0));
+      gcoef += l_fchi * other * (std::abs(ra.pa) + std::abs(pb)) * Vb * ra.inv_rhoa;
     }
     if constexpr (Porous) {
       // Kazemi eq 4.57: μ m_b/(φ_a φ_b) [2 (φu)_ab + φ_ab u_ab] ... = the plain term on
       // (φ_a − φ_b) u_a + (φ_a + φ_b)/2 (u_a − u_b), φ_b the flow porosity above
-      const F32 lamf = mv * l_flam * mbp * fr * inv_rsum * iphia;
-      const F32 dphi = phia - phf, mphi = F32(0.5) * (phia + phf);
-      a0 += lamf * (dphi * va0 + mphi * w0) - gcoef * gw0;
-      a1 += lamf * (dphi * va1 + mphi * w1) - gcoef * gw1;
-      a2 += lamf * (dphi * (D == 3 ? va2 : F32(0)) + mphi * w2) - gcoef * gw2;
+      const F32 lamf = mv * l_flam * mbp * fr * inv_rsum * ra.iphia;
+      const F32 dphi = ra.phia - phf, mphi = F32(0.5) * (ra.phia + phf);
+      a0 += lamf * (dphi * ra.va0 + mphi * w0) - gcoef * gw0;
+      a1 += lamf * (dphi * ra.va1 + mphi * w1) - gcoef * gw1;
+      a2 += lamf * (dphi * (D == 3 ? ra.va2 : F32(0)) + mphi * w2) - gcoef * gw2;
     } else {
       const F32 lamf = mv * l_flam * mb * fr * inv_rsum;
       a0 += lamf * w0 - gcoef * gw0;
@@ -300,13 +335,13 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
       }
       // stress divergence Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W; walls carry no modelled stress;
       // porous: Σ m_b/(φ_a φ_b) (φ_a τ_a/ρ_a² + φ_b τ_b/ρ_b²)·∇W (Kazemi eq 4.57)
-      const F32 fa = mbp, fbm = Porous ? mb * iphia : mb;
+      const F32 fa = mbp, fbm = Porous ? mb * ra.iphia : mb;
       if constexpr (D == 2) {  // (xx, xz, zz)
-        a0 += (fa * ta0 + fbm * bt0[k]) * gw0 + (fa * ta1 + fbm * bt1[k]) * gw1;
-        a1 += (fa * ta1 + fbm * bt1[k]) * gw0 + (fa * ta2 + fbm * bt2[k]) * gw1;
+        a0 += (fa * ra.ta0 + fbm * bt0[k]) * gw0 + (fa * ra.ta1 + fbm * bt1[k]) * gw1;
+        a1 += (fa * ra.ta1 + fbm * bt1[k]) * gw0 + (fa * ra.ta2 + fbm * bt2[k]) * gw1;
       } else {  // (xx, yy, zz, xy, xz, yz)
-        const F32 txx = fa * ta0 + fbm * bt0[k], tyy = fa * ta1 + fbm * bt1[k], tzz = fa * ta2 + fbm * bt2[k];
-        const F32 txy = fa * ta3 + fbm * bt3[k], txz = fa * ta4 + fbm * bt4[k], tyz = fa * ta5 + fbm * bt5[k];
+        const F32 txx = fa * ra.ta0 + fbm * bt0[k], tyy = fa * ra.ta1 + fbm * bt1[k], tzz = fa * ra.ta2 + fbm * bt2[k];
+        const F32 txy = fa * ra.ta3 + fbm * bt3[k], txz = fa * ra.ta4 + fbm * bt4[k], tyz = fa * ra.ta5 + fbm * bt5[k];
         a0 += txx * gw0 + txy * gw1 + txz * gw2;
         a1 += txy * gw0 + tyy * gw1 + tyz * gw2;
         a2 += txz * gw0 + tyz * gw1 + tzz * gw2;
@@ -320,28 +355,9 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
     }
     cnt += in;
   }
-  pairs += static_cast<std::uint64_t>(cnt + F32(0.5));
-  if constexpr (Turb) {
-    double* G = q.grad + std::size_t(a) * D * D;
-    G[0] = g00; G[1] = g01;
-    if constexpr (D == 2) { G[2] = g10; G[3] = g11; }
-    else { G[2] = g02; G[3] = g10; G[4] = g11; G[5] = g12; G[6] = g20; G[7] = g21; G[8] = g22; }
-  }
-  if (ka == Kind::Wall) {
-    q.drho[a] = rhoa_d * double(dr);
-    q.acc[a] = Vec<D>{};
-    return pairs;
-  }
-  q.drho[a] = rhoa_d / phia_d * double(dr) + fdiff * dcoef * double(dd);
-  Vec<D> acc, sx;
-  acc[0] = double(a0) + g[0];
-  acc[1] = double(a1) + g[1];
-  sx[0] = xsph * double(s0);
-  sx[1] = xsph * double(s1);
-  if constexpr (D == 3) { acc[2] = double(a2) + g[2]; sx[2] = xsph * double(s2); }
-  q.acc[a] = acc;
-  if (q.xs) q.xs[a] = sx;
-  return pairs;
+  if constexpr (D == 2) store_rates<D, Turb>(q, a, ra, {a0, a1, a2, s0, s1, s2, dr, dd, {g00, g01, g10, g11}});
+  else store_rates<D, Turb>(q, a, ra, {a0, a1, a2, s0, s1, s2, dr, dd, {g00, g01, g02, g10, g11, g12, g20, g21, g22}});
+  return static_cast<std::uint64_t>(cnt + F32(0.5));
 }
 
 }  // namespace
