@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/boundaries/walls.hpp"
 #include "sphflume/io/case_reader.hpp"
 #include "sphflume/schemes/scheme_options.hpp"
 
@@ -131,7 +132,8 @@ void read_scheme(const Node& n, const std::string& file, Case& c) {
 
 void read_walls(const Node& n, const std::string& file, Case& c) {
   Reader r(n, file, "walls");
-  c.walls.type = r.choice("type", "dummy", {"dummy", "dynamic", "fixed_ghost", "repulsive"});
+  // the choices are the registered wall models (one line in wall_registry() adds one here)
+  c.walls.type = r.choice("type", "dummy", wall_registry<2>().names());
   c.walls.no_slip = r.choice("slip", "no_slip", {"no_slip", "free_slip"}) == "no_slip";
   c.walls.layers = r.scalar<int>("layers", 0);
   if (c.walls.layers < 0 || c.walls.layers > 10) r.fail_at(r.get("layers"), "walls.layers", "an integer in [0, 10] (0 = from the kernel support)");
