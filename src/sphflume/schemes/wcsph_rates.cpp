@@ -78,7 +78,6 @@ struct RatesPass {
   // the loop's float constants; chi: interface repulsion
   F32 support2, eta2, h, lam, alpha, four, sym, visc_wall, wall_in, chi;
 
-  bool multi() const { return phase != nullptr; }
   [[gnu::always_inline]] double ref_of(std::size_t b) const { return phase ? peos[static_cast<std::size_t>(phase[b])].rho0 : rho0; }
   [[gnu::always_inline]] double sound_of(std::size_t b, double rh) const {
     return phase ? peos[static_cast<std::size_t>(phase[b])].sound_speed(rh) : eos.sound_speed(rh);
