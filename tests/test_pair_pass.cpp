@@ -1,6 +1,7 @@
 // The pair-pass seam (core/pair_pass.hpp): the column descriptors' gathers put every candidate of
 // a cell's stencil, and only those, into the columns in the stencil's order, with the padding far
-// away; the split gather puts each part in its own padded range; LaneSums adds in its documented
+// away; the split gather puts each part in its own padded range, the filtered gather only the
+// kept candidates; LaneSums adds in its documented
 // fixed order.
 #include <gtest/gtest.h>
 
@@ -73,8 +74,8 @@ void check_gather(bool cell_ordered, Gather&& gather) {
   EXPECT_GT(checked, 9u * 3000u / 2u);  // (every particle is a candidate of ~9 cells)
 }
 
-auto id_column() { return column(ID, -1.0f, [](std::uint32_t j) { return float(j); }); }
-auto half_column() { return column(HALF, 7.0f, [](std::uint32_t j) { return 0.5f * float(j); }); }
+auto id_column() { return column(ID, -1.0f, [](std::size_t j) { return float(j); }); }
+auto half_column() { return column(HALF, 7.0f, [](std::size_t j) { return 0.5f * float(j); }); }
 
 }  // namespace
 
@@ -85,7 +86,7 @@ TEST(PairPass, GatherColumnsCopiesEachCandidateInStencilOrder) {
       // a NoColumn is neither written nor padded: its column keeps what it held
       std::fill(B[NONE_IN_2D], B[NONE_IN_2D] + st.padded, 42.0f);
       gather_columns(st, B, pos.data(), o, id_column(), half_column(),
-                     only_if<false>(column(NONE_IN_2D, 0.0f, [](std::uint32_t) { return 1.0f; })));
+                     only_if<false>(column(NONE_IN_2D, 0.0f, [](std::size_t) { return 1.0f; })));
       for (std::size_t m = 0; m < st.padded; ++m) ASSERT_EQ(B[NONE_IN_2D][m], 42.0f);
     });
 }
@@ -113,7 +114,7 @@ TEST(PairPass, GatherSplitPutsEachPartInItsPaddedRange) {
       std::vector<std::uint32_t> a, b;
       for (const auto j : cand) (first(j) ? a : b).push_back(j);
       const SplitEnds e = gather_split(st, B, pos.data(), origin, 16, b.size(), first, id_column(),
-                                       second_part(HALF, 7.0f, [](std::uint32_t j) { return 0.5f * float(j); }));
+                                       second_part(HALF, 7.0f, [](std::size_t j) { return 0.5f * float(j); }));
       ASSERT_EQ(e.first_end, (a.size() + 15) / 16 * 16);
       ASSERT_EQ(e.end, e.first_end + (b.size() + 15) / 16 * 16);
       for (std::size_t m = 0; m < a.size(); ++m) ASSERT_EQ(B[ID][m], float(a[m]));
@@ -124,6 +125,35 @@ TEST(PairPass, GatherSplitPutsEachPartInItsPaddedRange) {
         ASSERT_EQ(B[X1][e.first_end + m], float(pos[b[m]][1] - origin[1]));
       }
       for (std::size_t m = e.first_end + b.size(); m < e.end; ++m) ASSERT_EQ(B[HALF][m], 7.0f);
+    }
+  }
+}
+
+// gather_if: only the candidates with keep(j), in stencil order, padded to a block far away.
+TEST(PairPass, GatherIfKeepsOnlyTheKeptInStencilOrder) {
+  for (const bool ordered : {true, false}) {
+    CellList<2> cells;
+    const auto pos = positions(2000, 7, ordered, cells);
+    ScratchColumns<float> B(NCOL);
+    CellStencil<2> st;
+    auto keep = [](std::uint32_t j) { return j % 5 == 1; };
+    for (const auto cell : cells.occupied()) {
+      st.set(cells, cell, 16);
+      B.reserve(st.padded);
+      const Vec<2> origin = pos[cells.sorted()[cells.cell_begin(cell)]];
+      std::vector<std::uint32_t> kept;
+      for (const auto j : candidates(st))
+        if (keep(j)) kept.push_back(j);
+      const std::size_t n = gather_if(st, B, pos.data(), origin, 16, keep, id_column());
+      ASSERT_EQ(n, kept.size());
+      for (std::size_t m = 0; m < n; ++m) {
+        ASSERT_EQ(B[ID][m], float(kept[m]));
+        ASSERT_EQ(B[X0][m], float(pos[kept[m]][0] - origin[0]));
+      }
+      for (std::size_t m = n; m < (n + 15) / 16 * 16; ++m) {
+        ASSERT_EQ(B[X1][m], float(kPaddingDistance));
+        ASSERT_EQ(B[ID][m], -1.0f);
+      }
     }
   }
 }

@@ -102,11 +102,11 @@ class DummyWalls final : public WallModel<D> {
     const double* __restrict rho = p.rho;
     const double* __restrict prs = p.prs;
     const Kind* __restrict kind = p.kind;
-    const auto fluid = column(FLUID, F32(0), [kind](std::uint32_t j) { return fluid_like(kind[j]) ? F32(1) : F32(0); });
-    const auto pressure = column(PRS, F32(0), [kind, prs](std::uint32_t j) { return fluid_like(kind[j]) ? F32(prs[j]) : F32(0); });
-    const auto density = column(RHO, F32(0), [kind, rho](std::uint32_t j) { return fluid_like(kind[j]) ? F32(rho[j]) : F32(0); });
+    const auto fluid = column(FLUID, F32(0), [kind](std::size_t j) { return fluid_like(kind[j]) ? F32(1) : F32(0); });
+    const auto pressure = column(PRS, F32(0), [kind, prs](std::size_t j) { return fluid_like(kind[j]) ? F32(prs[j]) : F32(0); });
+    const auto density = column(RHO, F32(0), [kind, rho](std::size_t j) { return fluid_like(kind[j]) ? F32(rho[j]) : F32(0); });
     auto velocity = [vel](int d, int index) {
-      return column(index, F32(0), [vel, d](std::uint32_t j) { return F32(vel[j][d]); });
+      return column(index, F32(0), [vel, d](std::size_t j) { return F32(vel[j][d]); });
     };
     if (!p.gv) gather_columns(st, B, p.pos, origin, pressure, density, fluid);
     else gather_columns(st, B, p.pos, origin, pressure, density, fluid, velocity(0, V0), velocity(1, V1),
@@ -344,6 +344,41 @@ void WallModel<D>::add_forces(System<D>& S) const {
   }
 }
 
+namespace {
+/// The walls' backup's float pre-test of first-layer wall k (xk: its position relative to the
+/// cell's first particle; nk: its unit normal) against the fluid candidates gathered in B (their
+/// positions in columns [0, D), nf of them, padded far away): 16 lanes at a time, a slightly
+/// wider test than the exact one (the float round-off ~1e-7 against a relative widening of
+/// 1e-3); found(m) for each candidate entry m that passes, in order.
+struct BackupTest {
+  float reach2, dx2, s0, abs_tol;  // (widened)
+};
+template <int D, class Found>
+void backup_candidates(ScratchColumns<float>& B, const float* xk, const float* nk, float depth, const BackupTest& t,
+                       std::size_t nf, Found&& found) {
+  constexpr std::size_t L = 16;
+  const float lim = depth + t.s0 + t.abs_tol;
+  for (std::size_t k0 = 0; k0 < nf; k0 += L) {
+    alignas(64) int pass[L];
+    const float* __restrict bx0 = B[0] + k0;
+    const float* __restrict bx1 = B[1] + k0;
+    const float* __restrict bx2 = B[D - 1] + k0;
+    int any = 0;
+#pragma omp simd reduction(| : any)
+    for (std::size_t l = 0; l < L; ++l) {
+      const float r0 = xk[0] - bx0[l], r1 = xk[1] - bx1[l], r2c = D == 3 ? xk[2] - bx2[l] : 0.0f;
+      const float r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+      const float rn = -(r0 * nk[0] + r1 * nk[1] + r2c * nk[2]);
+      pass[l] = (r2 < t.reach2) & (rn < lim) & (r2 - rn * rn < t.dx2);
+      any |= pass[l];
+    }
+    if (!any) continue;
+    for (std::size_t l = 0; l < L && k0 + l < nf; ++l)
+      if (pass[l]) found(k0 + l);
+  }
+}
+}  // namespace
+
 template <int D>
 void WallModel<D>::add_backup(System<D>& S) const {
   auto& P = S.particles;
@@ -356,12 +391,11 @@ void WallModel<D>::add_backup(System<D>& S) const {
   const double reach = std::hypot(dx + s0, dx);
   // Found from the first-layer wall particles' side (far fewer than the fluid near walls; owned
   // walls and images alike, pushing only owned fluid, so that a periodic image or another
-  // rank's wall pushes this part's fluid exactly once), in
-  // cells with fluid within reach (reach < the cell size): the stencil's fluid positions are
-  // packed in float columns relative to the cell's first particle and tested 16 lanes at a
-  // time with a slightly wider float test; the few candidates it passes are tested again in
-  // double, as the force uses them. The rare pairs found are applied serially, sorted, so the
-  // sums do not depend on the threads.
+  // rank's wall pushes this part's fluid exactly once), in cells with fluid within reach
+  // (reach < the cell size): the stencil's owned fluid is gathered in float columns relative to
+  // the cell's first particle (gather_if) and pre-tested in float (backup_candidates); the few
+  // candidates it passes are tested again in double, as the force uses them. The rare pairs
+  // found are applied serially, sorted, so the sums do not depend on the threads.
   S.cells.mark_near(this->near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
   hits_.clear();
   const auto& cells = S.cells;
@@ -372,7 +406,6 @@ void WallModel<D>::add_backup(System<D>& S) const {
     return depth2 > 0.0 && depth2 < dx * dx;  // a corner's own point has no normal
   };
   const auto hit = [&](std::uint32_t j, std::size_t k) {  // the exact test
-    if (P.kind[j] != Kind::Fluid) return false;
     const Vec<D> r = P.pos[k] - P.pos[j];
     const double r2 = dot(r, r);
     if (!(r2 < reach * reach)) return false;
@@ -380,13 +413,12 @@ void WallModel<D>::add_backup(System<D>& S) const {
     const double rn = -dot(r, (1.0 / depth) * to[k]);
     return rn - depth < s0 && r2 - rn * rn < dx * dx;  // a's distance from the surface; tangential
   };
-  constexpr std::size_t L = 16;
-  constexpr int X0 = 0, IDX = D;
-  const float slack = 1.0e-3f;  // relative widening of the float test (float round-off ~1e-7)
-  const float fs0 = float(s0) * (1 + slack), fdx2 = float(dx * dx) * (1 + slack), freach2 = float(reach * reach) * (1 + slack);
-  const float fabs_tol = float(dx) * slack;
+  constexpr int IDX = D;  // the candidates' store indices, bit-cast (after the positions)
+  const float w = 1.0f + 1.0e-3f;  // the float test's relative widening
+  const BackupTest test{float(reach * reach) * w, float(dx * dx) * w, float(s0) * w, float(dx) * 1.0e-3f};
+  const auto index = column(IDX, 0.0f, [](std::size_t j) { return std::bit_cast<float>(static_cast<std::uint32_t>(j)); });
   sweep_cells<float>(
-      cells, D + 1, L,
+      cells, D + 1, 16,
       [&](std::size_t cell) {  // the first-layer walls of a cell with fluid within reach
         std::size_t m = 0;
         if (near_[cell])
@@ -396,46 +428,21 @@ void WallModel<D>::add_backup(System<D>& S) const {
       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<float>& B) {
         const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
         const Vec<D> origin = P.pos[sorted[c0k]];
-        std::size_t nf = 0;
-        st.for_each([&](std::size_t, std::uint32_t j) {
-          if (j >= n || P.kind[j] != Kind::Fluid) return;  // each part pushes its own fluid
-          for (int d = 0; d < D; ++d) B[X0 + d][nf] = float(P.pos[j][d] - origin[d]);
-          B[IDX][nf] = std::bit_cast<float>(j);
-          ++nf;
-        });
-        const std::size_t npad = (nf + L - 1) / L * L;
-        for (std::size_t m = nf; m < npad; ++m)
-          for (int d = 0; d < D; ++d) B[X0 + d][m] = 1.0e3f;  // far away: fails the test
+        // each part pushes its own fluid
+        const std::size_t nf = gather_if(st, B, P.pos.data(), origin, 16,
+                                         [&](std::uint32_t j) { return j < n && P.kind[j] == Kind::Fluid; }, index);
         for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
           const std::size_t k = sorted[kk];
           if (!first_layer(k)) continue;
           const double depth = std::sqrt(dot(to[k], to[k]));
           float xk[3] = {0, 0, 0}, nk[3] = {0, 0, 0};
           for (int d = 0; d < D; ++d) { xk[d] = float(P.pos[k][d] - origin[d]); nk[d] = float(to[k][d] / depth); }
-          const float lim = float(depth) + fs0 + fabs_tol;
-          for (std::size_t k0 = 0; k0 < npad; k0 += L) {
-            alignas(64) int pass[L];
-            const float* __restrict bx0 = B[X0] + k0;
-            const float* __restrict bx1 = B[X0 + 1] + k0;
-            const float* __restrict bx2 = B[X0 + D - 1] + k0;
-            int any = 0;
-#pragma omp simd reduction(| : any)
-            for (std::size_t l = 0; l < L; ++l) {
-              const float r0 = xk[0] - bx0[l], r1 = xk[1] - bx1[l], r2c = D == 3 ? xk[2] - bx2[l] : 0.0f;
-              const float r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-              const float rn = -(r0 * nk[0] + r1 * nk[1] + r2c * nk[2]);
-              pass[l] = (r2 < freach2) & (rn < lim) & (r2 - rn * rn < fdx2);
-              any |= pass[l];
-            }
-            if (!any) continue;
-            for (std::size_t l = 0; l < L; ++l) {
-              if (!pass[l] || k0 + l >= nf) continue;
-              const std::uint32_t j = std::bit_cast<std::uint32_t>(B[IDX][k0 + l]);
-              if (!hit(j, k)) continue;
+          backup_candidates<D>(B, xk, nk, float(depth), test, nf, [&](std::size_t m) {
+            const std::uint32_t j = std::bit_cast<std::uint32_t>(B[IDX][m]);
+            if (!hit(j, k)) return;
 #pragma omp critical(sphflume_wall_backup)
-              hits_.emplace_back(j, static_cast<std::uint32_t>(k));
-            }
-          }
+            hits_.emplace_back(j, static_cast<std::uint32_t>(k));
+          });
         }
         return std::uint64_t(0);
       });

@@ -115,8 +115,10 @@ struct ScratchColumns {
   T* operator[](int i) { return col[static_cast<std::size_t>(i)].data(); }
 };
 
-/// A column descriptor: what a pass reads of each candidate. `get(j)` is the value of store entry
-/// j in the column's precision T, written into scratch column `index`; the padding entries hold
+/// A column descriptor: what a pass reads of each candidate. `get(j)` (j a std::size_t: a 32-bit
+/// index k0 + q may wrap, so GCC 12 could not see a range's loads as contiguous and copied
+/// element by element, a third of the dual passes' gathers) is the value of store entry j in the
+/// column's precision T, written into scratch column `index`; the padding entries hold
 /// `pad`. `Second`: written only into the second part of a split gather (gather_split), for
 /// values only that part reads. only_if<On>(c) is c or, when On is false, NoColumn (a column the
 /// pass does not read in this instantiation: a vector's third component in 2D, a model that is
@@ -171,7 +173,7 @@ struct RangeCopier {
     if constexpr (sizeof...(I) > 0) {
       T* __restrict out[sizeof...(I)] = {(o[I] + m)...};
 #pragma omp simd
-      for (std::size_t q = 0; q < len; ++q) ((out[I][q] = std::get<I>(cs).get(k0 + static_cast<std::uint32_t>(q))), ...);
+      for (std::size_t q = 0; q < len; ++q) ((out[I][q] = std::get<I>(cs).get(static_cast<std::size_t>(k0) + q)), ...);
     }
   }
 };
@@ -311,6 +313,25 @@ template <int D, class T, class First, class... Cols>
   detail::pad_entries<D>(B, mf, first_end, cols...);
   detail::pad_entries<D>(B, ms, end, cols...);
   return {first_end, end};
+}
+
+/// The candidates j with keep(j) only, in stencil order, from entry 0, padded to a multiple of
+/// `lanes` (a pass that runs a few particles over a filtered stencil: the walls' backup runs the
+/// first-layer walls over the fluid); returns how many were kept.
+template <int D, class T, class Keep, class... Cols>
+std::size_t gather_if(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
+                      std::size_t lanes, Keep&& keep, const Cols&... cols) {
+  T* __restrict x[D];
+  for (int d = 0; d < D; ++d) x[d] = B[d];
+  const auto put = detail::putter(B, cols...);
+  std::size_t m = 0;
+  st.for_each([&](std::size_t, std::uint32_t j) {
+    if (!keep(j)) return;
+    for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
+    put(m++, j);
+  });
+  detail::pad_entries<D>(B, m, (m + lanes - 1) / lanes * lanes, cols...);
+  return m;
 }
 
 /// A per-pair functor summed in fixed lanes: add(terms) runs terms(l, v) for the L lanes of one

@@ -136,7 +136,7 @@ template <int D, bool Turb, bool Porous, bool Multi>
 void gather_rates(const RatesPass<D>& q, const F32* pk, std::size_t np, const CellStencil<D>& st,
                   ScratchColumns<F32>& B, const Vec<D>& origin) {
   auto packed = [pk, np](int c, F32 pad = F32(0)) {
-    return column(c, pad, [p = pk + static_cast<std::size_t>(c - U0) * np](std::uint32_t j) { return p[j]; });
+    return column(c, pad, [p = pk + static_cast<std::size_t>(c - U0) * np](std::size_t j) { return p[j]; });
   };
   constexpr int NT = Turbulence<D>::kStress;
   gather_each(st, B, q.pos, origin, packed(U0), packed(U1), only_if<D == 3>(packed(U2)), packed(W0), packed(W1),

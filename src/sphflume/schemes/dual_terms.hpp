@@ -1,0 +1,115 @@
+// The dual-criteria Riemann scheme's per-pair terms (schemes/dual_passes.cpp runs them over each
+// cell's gathered candidates, 16 lanes at a time, core/pair_pass.hpp's LaneSums): Zhang, Hu &
+// Adams (2017) as in the scheme's description, docs/numerics.md. In a header of their own so
+// that each term is unit-tested on its own (tests/test_dual_terms.cpp).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+
+#include "sphflume/core/pair_pass.hpp"
+
+namespace sph::dual {
+
+using F32 = float;
+/// The scratch columns of the passes: positions, velocities (pass B), wall normals (pass B's
+/// wall part), p (sym: p/ρ²) (pass A) and V = m/ρ (sym: m).
+enum { X0, X1, X2, U0, U1, U2, N0, N1, N2, PRS, VOL, NCOL };
+
+/// The columns of one block of kLanes candidates from k0 (pointers offset to the block: an index
+/// k0 + l was a "complicated access pattern" to GCC's AVX2 vectoriser; x2 = x1 etc. in 2D).
+struct Block {
+  const F32* __restrict x0; const F32* __restrict x1; const F32* __restrict x2;
+  const F32* __restrict u0; const F32* __restrict u1; const F32* __restrict u2;
+  const F32* __restrict n0; const F32* __restrict n1; const F32* __restrict n2;
+  const F32* __restrict p; const F32* __restrict v;
+};
+template <int D>
+Block columns_of(ScratchColumns<F32>& B) {
+  return {B[X0], B[X1], B[X0 + D - 1], B[U0], B[U1], B[U0 + D - 1], B[N0], B[N1], B[N0 + D - 1], B[PRS], B[VOL]};
+}
+inline Block block_at(const Block& c, std::size_t k0) {
+  return {c.x0 + k0, c.x1 + k0, c.x2 + k0, c.u0 + k0, c.u1 + k0, c.u2 + k0,
+          c.n0 + k0, c.n1 + k0, c.n2 + k0, c.p + k0, c.v + k0};
+}
+
+/// Particle a of a Riemann pass: its position relative to the cell's origin, velocity and
+/// pressure term (sym: p/ρ²).
+struct Row {
+  F32 xa0, xa1, xa2, va0, va1, va2, pa;
+};
+
+/// The per-pair terms of the three passes: each adds one pair's terms (particle a against lane l
+/// of block b) into its accumulators acc[i][l] in place, branch-free (in place, not returned:
+/// each accumulation stays one expression, so GCC contracts it to a fused multiply-add).
+/// Accumulators: density acc[0] Σ W, acc[1] the count; pressure acc[0..D) the pressure sum,
+/// acc[D] the acoustic dissipation, acc[D+1] the count; continuity acc[0..D) the dissipation,
+/// acc[D] (ua − ub)·∇W V_b. (The 2D terms spell out no third component: x * 0 and x + 0 are not folded away
+/// under IEEE semantics, they would cost an operation each.)
+/// Pass 2, the density summation: W(r) and the neighbour count (the self term apart).
+template <int D, class K, class Acc>
+[[gnu::always_inline]] inline void density_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
+  const F32 r0 = a.xa0 - b.x0[l], r1 = a.xa1 - b.x1[l];
+  const F32 r2c = D == 3 ? a.xa2 - b.x2[l] : F32(0);
+  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
+  const F32 r = std::sqrt(r2);
+  const F32 in = ((r2 < support2) & (r2 > F32(0))) ? F32(1) : F32(0);
+  acc[0][l] += ker.W(r) * in;
+  acc[1][l] += in;
+}
+/// Pass A, pressure: (pa + pb) F r V_b (sym: m_b), the acoustic dissipation's W'(r) V_b (pa − pb)
+/// and the neighbour count. No mask: F is 0 from the support on (the padding sits far away) and
+/// the self pair's terms carry r = 0.
+template <int D, class K, class Acc>
+[[gnu::always_inline]] inline void pressure_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
+  const F32 r0 = a.xa0 - b.x0[l], r1 = a.xa1 - b.x1[l];
+  const F32 r2c = D == 3 ? a.xa2 - b.x2[l] : F32(0);
+  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
+  const F32 r = std::sqrt(r2);
+  acc[D + 1][l] += ((r2 < support2) & (r2 > F32(0))) ? F32(1) : F32(0);  // the count
+  const F32 Fv = ker.F(r) * b.v[l];  // W'(r)/r V_b (sym: m_b)
+  const F32 pp = (a.pa + b.p[l]) * Fv;
+  acc[0][l] += pp * r0;
+  acc[1][l] += pp * r1;
+  if constexpr (D == 3) acc[2][l] += pp * r2c;
+  acc[D][l] += (a.pa - b.p[l]) * Fv * r;  // W'(r) V_b (pa − pb)
+}
+/// Pass B, continuity and dissipation: (ua − ub)·r F V_b and β U F V_b d, U = −(ua − ub)·e the
+/// approach speed and d the dissipation's direction times r: r itself for fluid b; against a wall
+/// (WallBlock) twice the speed along n', its normal turned towards a, and d = r n' (the
+/// padding's n = 0 adds nothing).
+template <int D, bool WallBlock, class K, class Acc>
+[[gnu::always_inline]] inline void continuity_terms(const K& ker, F32 fk, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
+  const F32 r0 = a.xa0 - b.x0[l], r1 = a.xa1 - b.x1[l];
+  const F32 r2c = D == 3 ? a.xa2 - b.x2[l] : F32(0);
+  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
+  const F32 r = std::sqrt(r2);
+  const F32 Fv = ker.F(r) * b.v[l];
+  const F32 u0 = a.va0 - b.u0[l], u1 = a.va1 - b.u1[l];
+  const F32 u2 = D == 3 ? a.va2 - b.u2[l] : F32(0);
+  const F32 ur = D == 3 ? u0 * r0 + u1 * r1 + u2 * r2c : u0 * r0 + u1 * r1;  // (ua − ub)·r
+  acc[D][l] += ur * Fv;
+  F32 d0 = r0, d1 = r1, d2 = r2c, U;
+  if constexpr (WallBlock) {
+    const F32 n0 = b.n0[l], n1 = b.n1[l], n2 = D == 3 ? b.n2[l] : F32(0);
+    const F32 rn = D == 3 ? r0 * n0 + r1 * n1 + r2c * n2 : r0 * n0 + r1 * n1;
+    const F32 sn = (rn < F32(0) ? F32(-1) : F32(1)) * r;
+    d0 = sn * n0;
+    d1 = sn * n1;
+    if constexpr (D == 3) d2 = sn * n2;
+    const F32 ud = D == 3 ? u0 * d0 + u1 * d1 + u2 * d2 : u0 * d0 + u1 * d1;
+    U = F32(-2) * ud / (r + F32(1e-30));
+  } else {
+    U = -ur / (r + F32(1e-30));
+  }
+  // max(U, 0) as (U + |U|)/2 (exact in float) and min as a value select: GCC 12 left this loop
+  // scalar on AVX2 with std::max or a select here (AVX-512 was fine)
+  const F32 bu = fk * F32(0.5) * (U + std::abs(U));
+  const F32 beta = bu < F32(1) ? bu : F32(1);
+  const F32 q = beta * U * Fv;
+  acc[0][l] += q * d0;
+  acc[1][l] += q * d1;
+  if constexpr (D == 3) acc[2][l] += q * d2;
+}
+
+}  // namespace sph::dual
