@@ -91,12 +91,6 @@ TEST(PairPass, GatherColumnsCopiesEachCandidateInStencilOrder) {
     });
 }
 
-TEST(PairPass, GatherEachGivesTheSameColumns) {
-  for (const bool ordered : {true, false})
-    check_gather(ordered, [](const CellStencil<2>& st, ScratchColumns<float>& B, const std::vector<Vec<2>>& pos,
-                             const Vec<2>& o) { gather_each(st, B, pos.data(), o, id_column(), half_column()); });
-}
-
 // gather_split: the candidates with first(j) from entry 0 in stencil order, padded to a block;
 // then the others, padded; a second_part column is written for the second part.
 TEST(PairPass, GatherSplitPutsEachPartInItsPaddedRange) {

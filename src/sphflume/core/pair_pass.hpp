@@ -248,22 +248,6 @@ template <int D, class T, class... Cols>
   detail::pad_entries<D>(B, st.count, st.padded, cols...);
 }
 
-/// gather_columns candidate by candidate, every column of a candidate at once (for short ranges
-/// and many columns, as the rates pass's, one loop beats a vector loop per range). The same
-/// entries as gather_columns.
-template <int D, class T, class... Cols>
-[[gnu::always_inline]] inline void gather_each(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
-                 const Cols&... cols) {
-  T* __restrict x[D];
-  for (int d = 0; d < D; ++d) x[d] = B[d];
-  const auto put = detail::putter(B, cols...);
-  st.for_each([&](std::size_t m, std::uint32_t j) __attribute__((always_inline)) {
-    for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
-    put(m, j);
-  });
-  detail::pad_entries<D>(B, st.count, st.padded, cols...);
-}
-
 /// A gather in two parts: the candidates j with first(j) from entry 0, padded to a multiple of
 /// `lanes` (first_end), then the `n_second` others, padded again (end); columns made with
 /// second_part() only in the second part. A pass whose second part needs more work per pair

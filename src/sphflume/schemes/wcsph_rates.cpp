@@ -139,7 +139,7 @@ void gather_rates(const RatesPass<D>& q, const F32* pk, std::size_t np, const Ce
     return column(c, pad, [p = pk + static_cast<std::size_t>(c - U0) * np](std::size_t j) { return p[j]; });
   };
   constexpr int NT = Turbulence<D>::kStress;
-  gather_each(st, B, q.pos, origin, packed(U0), packed(U1), only_if<D == 3>(packed(U2)), packed(W0), packed(W1),
+  gather_columns(st, B, q.pos, origin, packed(U0), packed(U1), only_if<D == 3>(packed(U2)), packed(W0), packed(W1),
               only_if<D == 3>(packed(W2)), packed(RHO), packed(PRS), packed(MASS), packed(FLUID), packed(CS, F32(q.c0)),
               only_if<Turb>(packed(T0)), only_if<Turb>(packed(T0 + 1)), only_if<Turb>(packed(T0 + 2)),
               only_if<(Turb && NT > 3)>(packed(T0 + 3)), only_if<(Turb && NT > 4)>(packed(T0 + 4)),
