@@ -15,6 +15,7 @@
 #include "sphflume/physics/turbulence.hpp"
 #include "sphflume/schemes/wcsph.hpp"
 #include "sphflume/schemes/wcsph_common.hpp"
+#include "sphflume/schemes/wcsph_terms.hpp"
 
 namespace sph {
 
@@ -50,11 +51,7 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
 }
 
 namespace {
-// The pair loop runs in single precision (16 lanes of AVX-512, fast division and square root), as
-// DualSPHysics does on GPUs: positions are stored relative to the cell's first particle (|r| < 3
-// supports, so float keeps ~1e-7 relative accuracy in r), the pair sums are converted back to
-// double per particle. Particle state and time integration stay in double precision.
-using F32 = float;
+using namespace rates;  // (single precision: schemes/wcsph_terms.hpp)
 enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, REF, PHS, NCOL };
 
 /// What the rates pass reads and writes, and its constants. Every optional term is on the same
@@ -162,13 +159,6 @@ RatesColumns rates_columns(ScratchColumns<F32>& B, std::size_t npad) {
           B[T0 + (D == 3 ? 5 : 0)], B[PHI], B[IPHI], B[REF], B[PHS], npad};
 }
 
-/// Particle a as its pair loop reads it (positions relative to the cell's origin; τ_a/ρ_a²;
-/// porous φ_a; a dynamic wall takes continuity from fluid only: wa = 0).
-struct RatesRow {
-  F32 xa0, xa1, xa2, va0, va1, va2, deva, rhoa, pa, ca, ca2, pha, pa_r2, inv_rhoa, wa;
-  F32 ta0, ta1, ta2, ta3, ta4, ta5, phia, iphia;
-  double rhoa_d, phia_d;
-};
 template <int D, bool Turb, bool Porous, bool Multi>
 [[gnu::always_inline]] inline RatesRow rates_row(const RatesPass<D>& q, const Vec<D>& origin, std::uint32_t a) {
   constexpr int NT = Turbulence<D>::kStress;
@@ -233,8 +223,9 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
                                                           const Vec<D>& origin, std::uint32_t a) {
   // the loop's constants as locals (read through a pointer, GCC's AVX2 vectoriser could not keep
   // them in registers and left the loop scalar)
-  const F32 l_fsupport2 = q.support2, l_feta2 = q.eta2, l_fh = q.h, l_flam = q.lam, l_falpha = q.alpha;
-  const F32 l_ffour = q.four, l_fsym = q.sym, l_fvisc_wall = q.visc_wall, l_fwall_in = q.wall_in, l_fchi = q.chi;
+  const F32 l_fsupport2 = q.support2, l_feta2 = q.eta2, l_flam = q.lam;
+  const F32 l_ffour = q.four, l_fwall_in = q.wall_in;
+  const MomentumConstants mk{q.sym, q.visc_wall, q.alpha, q.h, q.chi};
   const F32 l_fg0 = F32(q.g[0]), l_fg1 = F32(q.g[1]), l_fg2 = F32(q.g[2]), frho0 = F32(q.rho0);
   const std::size_t npad = c.npad;
   const F32* __restrict bx0 = c.x0; const F32* __restrict bx1 = c.x1; const F32* __restrict bx2 = c.x2;
@@ -251,108 +242,76 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
   F32 g00 = 0, g01 = 0, g02 = 0, g10 = 0, g11 = 0, g12 = 0, g20 = 0, g21 = 0, g22 = 0;
 #pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt, g00, g01, g02, g10, g11, g12, g20, g21, g22)
   for (std::size_t k = 0; k < npad; ++k) {
-    const F32 r0 = ra.xa0 - bx0[k], r1 = ra.xa1 - bx1[k], r2c = D == 3 ? ra.xa2 - bx2[k] : F32(0);
-    const F32 r2 = r0 * r0 + r1 * r1 + r2c * r2c;
     const F32 fb = bf[k];
-    // in: a neighbour within the support (not a itself); a wall a only sees fluid
-    // (purely repulsive walls are in no sum: l_fwall_in = 0)
-    const F32 in = ((r2 < l_fsupport2) & (r2 > F32(0))) ? (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * l_fwall_in) : F32(0);
-    const F32 r = std::sqrt(r2);
-    const F32 Fk = kl.F(r) * in;
-    const F32 gw0 = Fk * r0, gw1 = Fk * r1, gw2 = Fk * r2c;
+    const PairGeometry g = pair_geometry<D>(kl, ra, bx0[k], bx1[k], bx2[k], fb, l_fsupport2, l_fwall_in);
     const F32 devb = brho[k], rhob = (Multi ? bref[k] : frho0) + devb, mb = bm[k], pb = bp[k];
     const F32 cb = bcs[k];
     const F32 u0 = ra.va0 - bu0[k], u1 = ra.va1 - bu1[k], u2 = D == 3 ? ra.va2 - bu2[k] : F32(0);
-    // one division for the four reciprocals this pair needs
-    const F32 cb2 = cb * cb;
-    const F32 r2e = r2 + l_feta2, rsum = ra.rhoa + rhob, csum = ra.ca2 + cb2;
-    const F32 p1 = rhob * r2e, p2 = rsum * csum;
-    const F32 inv = F32(1) / (p1 * p2);
-    const F32 inv_rhob = inv * r2e * p2;
-    const F32 inv_r2e = inv * rhob * p2;
-    const F32 inv_rsum = inv * p1 * csum;
-    const F32 inv_csum = inv * p1 * rsum;
-    // porous: b's volume m/(φ_b ρ_b); continuity of the porosity-weighted velocity
-    // (φ_a u_a − φ_b u_b), where a wall takes the porosity of the fluid it faces (it is no
-    // porosity interface) and a wall a sees its fluid neighbours as plain fluid
+    const PairInverses iv = pair_inverses(ra, g.r2, l_feta2, rhob, cb);
+    // porous: b's volume m/(φ_b ρ_b); continuity of the porosity-weighted velocity (φ_a u_a − φ_b u_b)
     const F32 ivb = Porous ? biphi[k] : F32(1);
     const F32 mbp = mb * ivb;
-    const F32 Vb = mbp * inv_rhob;
-    F32 phf = F32(1);
-    if constexpr (Porous) {
-      const F32 sel = fb * ra.wa;
-      phf = sel * bphi[k] + (F32(1) - sel) * (ra.wa * ra.phia + (F32(1) - ra.wa));
-    }
+    const F32 Vb = mbp * iv.rhob;
+    const F32 phf = Porous ? flow_porosity(ra, fb, bphi[k]) : F32(1);
     const F32 pa_c = Porous ? ra.wa * ra.phia + (F32(1) - ra.wa) : F32(1);
     const F32 uc0 = Porous ? pa_c * ra.va0 - phf * bu0[k] : u0;
     const F32 uc1 = Porous ? pa_c * ra.va1 - phf * bu1[k] : u1;
     const F32 uc2 = Porous ? (D == 3 ? pa_c * ra.va2 - phf * bu2[k] : F32(0)) : u2;
-    dr += (uc0 * gw0 + uc1 * gw1 + uc2 * gw2) * Vb;
-    const F32 fr = Fk * r2 * inv_r2e;  // regularised F (r·∇W/(r²+η²))
+    dr += (uc0 * g.gw0 + uc1 * g.gw1 + uc2 * g.gw2) * Vb;
+    const F32 fr = g.Fk * g.r2 * iv.r2e;  // regularised F (r·∇W/(r²+η²))
     // δ-SPH: Fourtakas removes the hydrostatic density difference ρ g·r / c² (pair means)
-    const F32 gr = l_fg0 * r0 + l_fg1 * r1 + l_fg2 * r2c;
+    const F32 gr = l_fg0 * g.r0 + l_fg1 * g.r1 + l_fg2 * g.r2c;
     // (phases: within a phase only; the density jump between phases is no error to diffuse)
     const F32 same = Multi ? (bphs[k] == ra.pha ? F32(1) : F32(0)) : F32(1);
-    dd += same * fb * (ra.deva - devb - l_ffour * rsum * inv_csum * gr) * fr * Vb;
-    const F32 pterm = Press ? l_fsym * mbp * (ra.pa_r2 + pb * inv_rhob * inv_rhob) + (F32(1) - l_fsym) * (ra.pa + pb) * Vb * ra.inv_rhoa
-                            : F32(0);
-    // viscous velocity difference: fluid b its velocity, wall b the wall model's (ghost) one
-    const F32 mv = fb + (F32(1) - fb) * l_fvisc_wall;
-    const F32 w0 = u0 + bw0[k], w1 = u1 + bw1[k], w2 = D == 3 ? u2 + bw2[k] : F32(0);
-    // (a value select, not std::min: its reference result kept GCC's AVX2 code scalar)
-    const F32 wr = w0 * r0 + w1 * r1 + w2 * r2c;
-    const F32 vr = wr < F32(0) ? wr : F32(0);
-    const F32 pi_ab = -l_falpha * (ra.ca + cb) * l_fh * vr * inv_r2e * inv_rsum;  // Monaghan Π_ab
-    F32 gcoef = pterm + mv * mbp * pi_ab;
-    if constexpr (Multi) {  // interface repulsion −(χ/ρ_a) Σ_{b∉X} (|p_a|/Γ_a + |p_b|/Γ_b) ∇W V_b
-      const F32 other = fb * (bphs[k] != ra.pha ? F32(1) : F32(0));
-      gcoef += l_fchi * other * (std::abs(ra.pa) + std::abs(pb)) * Vb * ra.inv_rhoa;
-    }
+    dd += same * fb * (ra.deva - devb - l_ffour * iv.rho_sum * iv.csum * gr) * fr * Vb;
+    const MomentumCoefficient mc = momentum_coefficient<D, Press, Multi>(
+        mk, ra, g, iv, u0, u1, u2, bw0[k], bw1[k], bw2[k], fb, pb, cb, mbp, Vb, Multi ? bphs[k] : F32(0));
     if constexpr (Porous) {
       // Kazemi eq 4.57: μ m_b/(φ_a φ_b) [2 (φu)_ab + φ_ab u_ab] ... = the plain term on
       // (φ_a − φ_b) u_a + (φ_a + φ_b)/2 (u_a − u_b), φ_b the flow porosity above
-      const F32 lamf = mv * l_flam * mbp * fr * inv_rsum * ra.iphia;
+      const F32 lamf = mc.mv * l_flam * mbp * fr * iv.rsum * ra.iphia;
       const F32 dphi = ra.phia - phf, mphi = F32(0.5) * (ra.phia + phf);
-      a0 += lamf * (dphi * ra.va0 + mphi * w0) - gcoef * gw0;
-      a1 += lamf * (dphi * ra.va1 + mphi * w1) - gcoef * gw1;
-      a2 += lamf * (dphi * (D == 3 ? ra.va2 : F32(0)) + mphi * w2) - gcoef * gw2;
+      a0 += lamf * (dphi * ra.va0 + mphi * mc.w0) - mc.gcoef * g.gw0;
+      a1 += lamf * (dphi * ra.va1 + mphi * mc.w1) - mc.gcoef * g.gw1;
+      a2 += lamf * (dphi * (D == 3 ? ra.va2 : F32(0)) + mphi * mc.w2) - mc.gcoef * g.gw2;
     } else {
-      const F32 lamf = mv * l_flam * mb * fr * inv_rsum;
-      a0 += lamf * w0 - gcoef * gw0;
-      a1 += lamf * w1 - gcoef * gw1;
-      a2 += lamf * w2 - gcoef * gw2;
+      const F32 lamf = mc.mv * l_flam * mb * fr * iv.rsum;
+      a0 += lamf * mc.w0 - mc.gcoef * g.gw0;
+      a1 += lamf * mc.w1 - mc.gcoef * g.gw1;
+      a2 += lamf * mc.w2 - mc.gcoef * g.gw2;
     }
     if constexpr (Turb) {
       // velocity gradient (∂u_i/∂x_j)_a = Σ V_b (u_b − u_a)_i ∂_j W, walls through the
       // wall model's velocity as in the viscous term
-      const F32 gv = mv * Vb;
-      g00 -= w0 * gw0 * gv; g01 -= w0 * gw1 * gv;
-      g10 -= w1 * gw0 * gv; g11 -= w1 * gw1 * gv;
+      const F32 gv = mc.mv * Vb;
+      g00 -= mc.w0 * g.gw0 * gv; g01 -= mc.w0 * g.gw1 * gv;
+      g10 -= mc.w1 * g.gw0 * gv; g11 -= mc.w1 * g.gw1 * gv;
       if constexpr (D == 3) {
-        g02 -= w0 * gw2 * gv; g12 -= w1 * gw2 * gv;
-        g20 -= w2 * gw0 * gv; g21 -= w2 * gw1 * gv; g22 -= w2 * gw2 * gv;
+        g02 -= mc.w0 * g.gw2 * gv; g12 -= mc.w1 * g.gw2 * gv;
+        g20 -= mc.w2 * g.gw0 * gv; g21 -= mc.w2 * g.gw1 * gv; g22 -= mc.w2 * g.gw2 * gv;
       }
       // stress divergence Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W; walls carry no modelled stress;
-      // porous: Σ m_b/(φ_a φ_b) (φ_a τ_a/ρ_a² + φ_b τ_b/ρ_b²)·∇W (Kazemi eq 4.57)
+      // porous: Σ m_b/(φ_a φ_b) (φ_a τ_a/ρ_a² + φ_b τ_b/ρ_b²)·∇W (Kazemi eq 4.57). (In the loop:
+      // returned from a function, the terms were added in another order, the bits changed)
       const F32 fa = mbp, fbm = Porous ? mb * ra.iphia : mb;
       if constexpr (D == 2) {  // (xx, xz, zz)
-        a0 += (fa * ra.ta0 + fbm * bt0[k]) * gw0 + (fa * ra.ta1 + fbm * bt1[k]) * gw1;
-        a1 += (fa * ra.ta1 + fbm * bt1[k]) * gw0 + (fa * ra.ta2 + fbm * bt2[k]) * gw1;
+        a0 += (fa * ra.ta0 + fbm * bt0[k]) * g.gw0 + (fa * ra.ta1 + fbm * bt1[k]) * g.gw1;
+        a1 += (fa * ra.ta1 + fbm * bt1[k]) * g.gw0 + (fa * ra.ta2 + fbm * bt2[k]) * g.gw1;
       } else {  // (xx, yy, zz, xy, xz, yz)
         const F32 txx = fa * ra.ta0 + fbm * bt0[k], tyy = fa * ra.ta1 + fbm * bt1[k], tzz = fa * ra.ta2 + fbm * bt2[k];
         const F32 txy = fa * ra.ta3 + fbm * bt3[k], txz = fa * ra.ta4 + fbm * bt4[k], tyz = fa * ra.ta5 + fbm * bt5[k];
-        a0 += txx * gw0 + txy * gw1 + txz * gw2;
-        a1 += txy * gw0 + tyy * gw1 + tyz * gw2;
-        a2 += txz * gw0 + tyz * gw1 + tzz * gw2;
+        a0 += txx * g.gw0 + txy * g.gw1 + txz * g.gw2;
+        a1 += txy * g.gw0 + tyy * g.gw1 + tyz * g.gw2;
+        a2 += txz * g.gw0 + tyz * g.gw1 + tzz * g.gw2;
       }
     }
     if constexpr (Xsph) {
-      const F32 xw = fb * F32(2) * mb * inv_rsum * kl.W(r) * in;
+      const F32 xw = fb * F32(2) * mb * iv.rsum * kl.W(g.r) * g.in;
       s0 -= xw * u0;
       s1 -= xw * u1;
       s2 -= xw * u2;
     }
-    cnt += in;
+    cnt += g.in;
   }
   if constexpr (D == 2) store_rates<D, Turb>(q, a, ra, {a0, a1, a2, s0, s1, s2, dr, dd, {g00, g01, g10, g11}});
   else store_rates<D, Turb>(q, a, ra, {a0, a1, a2, s0, s1, s2, dr, dd, {g00, g01, g02, g10, g11, g12, g20, g21, g22}});
