@@ -16,35 +16,15 @@ namespace sph {
 namespace {
 
 constexpr std::size_t kLanes = 8;  // padding: 8 doubles (one AVX-512 vector, two AVX2 ones)
-constexpr double kFar = 1.0e3;     // padding entries: 1 km away, outside every support
 
-/// The stencil's positions relative to the cell's first particle (small differences keep their digits),
-/// copied into columns X0 .. X0 + D - 1 and padded far away; the read pointers of the pair loops (x2 = x1 in
-/// 2D) and a particle's own relative position.
+/// Particle p's position relative to the cell's origin (the gathered columns' frame: small
+/// differences keep their digits).
 template <int D>
-struct RelativePositions {
-  Vec<D> origin;
-  const double* __restrict x0;
-  const double* __restrict x1;
-  const double* __restrict x2;
-  RelativePositions(const CellStencil<D>& st, const Vec<D>* pos, const Vec<D>& first, ScratchColumns<double>& B, int X0)
-      : origin(first) {
-    double* c[3] = {B[X0], B[X0 + 1], B[X0 + D - 1]};
-    st.for_each([&](std::size_t m, std::uint32_t b) {
-      for (int d = 0; d < D; ++d) c[d][m] = pos[b][d] - origin[d];
-    });
-    for (std::size_t m = st.count; m < st.padded; ++m)
-      for (int d = 0; d < D; ++d) c[d][m] = kFar;
-    x0 = c[0];
-    x1 = c[1];
-    x2 = c[D - 1];
-  }
-  void of(const Vec<D>& p, double& a0, double& a1, double& a2) const {
-    a0 = p[0] - origin[0];
-    a1 = p[1] - origin[1];
-    a2 = p[D - 1] - origin[D - 1];
-  }
-};
+[[gnu::always_inline]] inline void relative(const Vec<D>& p, const Vec<D>& origin, double& a0, double& a1, double& a2) {
+  a0 = p[0] - origin[0];
+  a1 = p[1] - origin[1];
+  a2 = p[D - 1] - origin[D - 1];
+}
 
 /// A PPE row's entries with its diagonal in place, the columns ascending and repeated columns (the dummies
 /// standing in for one foot) summed.
@@ -171,13 +151,11 @@ void ISPH<D>::kernel_density(System<D>& S, const K& ker) {
     const K kl = ker;
     const double sup2 = kl.support2, w0 = kl.W(0.0);
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-    const RelativePositions<D> rp(st, pos, pos[sorted[c0k]], B, X0);
-    double* cm = B[MV];
-    st.for_each([&](std::size_t m, std::uint32_t b) { cm[m] = phi ? mass[b] / phi[b] : mass[b]; });
-    for (std::size_t m = st.count; m < st.padded; ++m) cm[m] = 0.0;
-    const double* __restrict bx0 = rp.x0;
-    const double* __restrict bx1 = rp.x1;
-    const double* __restrict bx2 = rp.x2;
+    const Vec<D> origin = pos[sorted[c0k]];
+    gather_columns(st, B, pos, origin, column(MV, 0.0, [phi, mass](std::size_t b) { return phi ? mass[b] / phi[b] : mass[b]; }));
+    const double* __restrict bx0 = B[X0];
+    const double* __restrict bx1 = B[X1];
+    const double* __restrict bx2 = B[X0 + D - 1];
     const double* __restrict bm = B[MV];
     const std::size_t npad = st.padded;
     std::uint64_t pairs = 0;
@@ -185,7 +163,7 @@ void ISPH<D>::kernel_density(System<D>& S, const K& ker) {
       const std::uint32_t a = sorted[k];
       if (a >= n_owned || (kind[a] != Kind::Fluid && kind[a] != Kind::Wall)) continue;
       double xa0, xa1, xa2;
-      rp.of(pos[a], xa0, xa1, xa2);
+      relative<D>(pos[a], origin, xa0, xa1, xa2);
       double s = 0.0;
 #pragma omp simd reduction(+ : s)
       for (std::size_t m = 0; m < npad; ++m) {
@@ -238,25 +216,19 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   }, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
     const K kl = ker;
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-    const RelativePositions<D> rp(st, pos, pos[sorted[c0k]], B, X0);
-    st.for_each([&](std::size_t m, std::uint32_t b) {
-      for (int d = 0; d < D; ++d) B[U0 + d][m] = vel[b][d];
-      const Kind kb = kind[b];
-      B[RHO][m] = rho[b];
-      B[MASS][m] = mass[b];
-      B[FL][m] = kb == Kind::Fluid ? 1.0 : 0.0;
-      B[IN][m] = kb == Kind::Fluid || kb == Kind::Wall ? 1.0 : 0.0;
-      B[PHI][m] = phi && kb == Kind::Fluid ? phi[b] : 1.0;
-      B[MOB][m] = mob && kb == Kind::Fluid ? mob[b] : 1.0;
-      B[COL][m] = col_[b];
-      B[OFF][m] = off_[b];
-    });
-    for (std::size_t m = st.count; m < st.padded; ++m) {
-      for (int d = 0; d < D; ++d) B[U0 + d][m] = 0.0;
-      B[RHO][m] = rr; B[MASS][m] = 0.0; B[FL][m] = 0.0; B[IN][m] = 0.0; B[PHI][m] = 1.0; B[MOB][m] = 1.0;
-      B[COL][m] = -1.0; B[OFF][m] = 0.0;
-    }
-    const PpeColumns cols{rp.x0, rp.x1, rp.x2, B[U0], B[U1], B[D == 3 ? U2 : U1], B[RHO], B[MASS], B[FL], B[IN], B[PHI],
+    const Vec<D> origin = pos[sorted[c0k]];
+    auto velocity = [vel](int d) { return [vel, d](std::size_t b) { return vel[b][d]; }; };
+    auto fluid = [kind](std::size_t b) { return kind[b] == Kind::Fluid; };
+    gather_columns(st, B, pos, origin, column(U0, 0.0, velocity(0)), column(U1, 0.0, velocity(1)),
+                   only_if<D == 3>(column(U2, 0.0, velocity(D - 1))), column(RHO, rr, [rho](std::size_t b) { return rho[b]; }),
+                   column(MASS, 0.0, [mass](std::size_t b) { return mass[b]; }),
+                   column(FL, 0.0, [fluid](std::size_t b) { return fluid(b) ? 1.0 : 0.0; }),
+                   column(IN, 0.0, [kind](std::size_t b) { return kind[b] == Kind::Fluid || kind[b] == Kind::Wall ? 1.0 : 0.0; }),
+                   column(PHI, 1.0, [phi, fluid](std::size_t b) { return phi && fluid(b) ? phi[b] : 1.0; }),
+                   column(MOB, 1.0, [mob, fluid](std::size_t b) { return mob && fluid(b) ? mob[b] : 1.0; }),
+                   column(COL, -1.0, [c = col_.data()](std::size_t b) { return c[b]; }),
+                   column(OFF, 0.0, [o = off_.data()](std::size_t b) { return o[b]; }));
+    const PpeColumns cols{B[X0], B[X1], B[X0 + D - 1], B[U0], B[U1], B[D == 3 ? U2 : U1], B[RHO], B[MASS], B[FL], B[IN], B[PHI],
                           B[MOB], B[COL], B[OFF], B[C], st.padded};
     const double* __restrict bcol = B[COL];
     const double* __restrict cc = B[C];
@@ -268,7 +240,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       auto& e = rows_[static_cast<std::size_t>(unknown_[i])];
       e.clear();
       PpeRow row;
-      rp.of(pos[i], row.xa0, row.xa1, row.xa2);
+      relative<D>(pos[i], origin, row.xa0, row.xa1, row.xa2);
       row.va0 = vel[i][0];
       row.va1 = vel[i][1];
       row.va2 = vel[i][D - 1];
@@ -331,18 +303,15 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
     const K kl = ker;
     const double sup2 = kl.support2;
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-    const RelativePositions<D> rp(st, pos, pos[sorted[c0k]], B, X0);
-    st.for_each([&](std::size_t m, std::uint32_t b) {
-      const Kind kb = kind[b];
-      const double r2i = 1.0 / (rho[b] * rho[b]);
-      B[MV][m] = kb == Kind::Fluid ? (phi ? mass[b] / phi[b] : mass[b]) : kb == Kind::Wall ? mass[b] : 0.0;
-      B[PR][m] = prs[b] * r2i;
-      B[PS][m] = psi ? psi[b] * r2i : 0.0;
-    });
-    for (std::size_t m = st.count; m < st.padded; ++m) { B[MV][m] = 0.0; B[PR][m] = 0.0; B[PS][m] = 0.0; }
-    const double* __restrict bx0 = rp.x0;
-    const double* __restrict bx1 = rp.x1;
-    const double* __restrict bx2 = rp.x2;
+    const Vec<D> origin = pos[sorted[c0k]];
+    gather_columns(st, B, pos, origin, column(MV, 0.0, [kind, mass, phi](std::size_t b) {
+                     return kind[b] == Kind::Fluid ? (phi ? mass[b] / phi[b] : mass[b]) : kind[b] == Kind::Wall ? mass[b] : 0.0;
+                   }),
+                   column(PR, 0.0, [prs, rho](std::size_t b) { return prs[b] * (1.0 / (rho[b] * rho[b])); }),
+                   column(PS, 0.0, [psi, rho](std::size_t b) { return psi ? psi[b] * (1.0 / (rho[b] * rho[b])) : 0.0; }));
+    const double* __restrict bx0 = B[X0];
+    const double* __restrict bx1 = B[X1];
+    const double* __restrict bx2 = B[X0 + D - 1];
     const double* __restrict bmv = B[MV];
     const double* __restrict bpr = B[PR];
     const double* __restrict bps = B[PS];
@@ -352,7 +321,7 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
       const std::uint32_t i = sorted[k];
       if (i >= n_owned || kind[i] != Kind::Fluid) continue;
       double xa0, xa1, xa2;
-      rp.of(pos[i], xa0, xa1, xa2);
+      relative<D>(pos[i], origin, xa0, xa1, xa2);
       const double ri2 = 1.0 / (rho[i] * rho[i]);
       const double pi = prs[i] * ri2, si = psi ? psi[i] * ri2 : 0.0;
       // the symmetric gradient (eq 3.4.51): Σ m_j (P_i/ρ_i² + P_j/ρ_j²) F r_ij
