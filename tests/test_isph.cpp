@@ -183,7 +183,7 @@ TEST(ISPH, GradientMomentIsTheLatticeSum) {
   EXPECT_LT(b.isph.gradient_moment(), 1.0);
 }
 
-// Digest §19 U1/U2: the PPE's Laplacian (eq 3.4.53, with η² = 0.01 h²) of Φ = x² + y² is 4 at an
+// Tsurudome §3.4.4: the PPE's Laplacian (eq 3.4.53, with η² = 0.01 h²) of Φ = x² + y² is 4 at an
 // interior particle of the lattice, and the symmetric gradient (eq 3.4.51) of a linear field is
 // κ ∇Φ (κ the lattice moment, 0.997 at h/dx 1.5). Tolerances: on a square lattice the Laplacian
 // of a quadratic is exact up to the kernel's lattice moment (|κ − 1| = 0.3 %) and the η² term

@@ -1,4 +1,4 @@
-// Paddle laws (digest §19 U3) and the prescribed wall motion that carries them (issue 21's moving
+// Paddle laws (Tsurudome §3.5) and the prescribed wall motion that carries them (issue 21's moving
 // walls, issue 22's piston wave maker).
 #include <gtest/gtest.h>
 
@@ -29,7 +29,7 @@ MotionConfig solitary(double H, double h0, const std::string& theory) {
 }  // namespace
 
 // The implicit Rayleigh law spans the stroke S_R = 4 sqrt(H (H + h0)/3) (Tsurudome eq 3.5.15;
-// 0.2903 m for H = 0.0588, h0 = 0.21, digest §9.2). The law is odd about the crest's passage
+// 0.2903 m for H = 0.0588, h0 = 0.21, the wave of his Fig. 3.4). The law is odd about the crest's passage
 // (t' = 0, at start + t_s), so X(∞) = S/2 − X_raw(−t_s) and X(start + 2 t_s) = −2 X_raw(−t_s):
 // S = 2 X(∞) − X(start + 2 t_s), from the Newton solution at three times, to 1e-6 of S.
 TEST(Paddle, RayleighStrokeIsSR) {
@@ -42,7 +42,7 @@ TEST(Paddle, RayleighStrokeIsSR) {
     const double S = 2.0 * law->displacement(60.0) - law->displacement(2.0 * ts);
     EXPECT_NEAR(S, SR, 1e-6 * SR) << "H = " << H;
     if (H == 0.0588) {
-      EXPECT_NEAR(SR, 0.2903, 5e-5);  // the digest's table
+      EXPECT_NEAR(SR, 0.2903, 5e-5);  // eq 3.5.15 by hand
     }
     // Goring's law: S_B = 4 ε / β_B with β_B = sqrt(3 ε)/h0 (eq 3.5.11)
     const auto gor = make_paddle_law(solitary(H, h0, "goring"), "test.yaml");
@@ -78,9 +78,10 @@ TEST(Paddle, SolitaryMonotoneFromRest) {
 
 // The linearised explicit form (eq 3.5.14) against the implicit law with the same crest time: both
 // reach the peak speed c ε/(1 + ε) as the crest passes, and both are odd about it, so the explicit
-// paddle trails before the crest and leads after it. (The digest's U3 reads Tsurudome's Fig. 3.4 as
-// "explicit leads early"; with a common crest time the formulas give the opposite before the crest,
-// and the difference is small: 0.58 % of S at most at H/h0 = 0.28, bounded here by 1 %.)
+// paddle trails before the crest and leads after it. (Tsurudome §3.5 reads his Fig. 3.4 as the
+// explicit paddle "faster ... at the initial phase"; with a common crest time the formulas give the
+// opposite before the crest, and the difference is small: 0.58 % of S at most at H/h0 = 0.28,
+// bounded here by 1 %.)
 TEST(Paddle, ExplicitAgainstImplicit) {
   const double H = 0.0588, h0 = 0.21, eps = H / h0;
   const auto imp = make_paddle_law(solitary(H, h0, "rayleigh"), "test.yaml");

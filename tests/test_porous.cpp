@@ -1,8 +1,8 @@
-// Porous media (SPHAM, Kazemi ch. 4-6; Tsurudome ch. 4): drag closures against hand values and
-// the digest's table, the porosity fields (smoothed layer one grain thick, porous-particle sums
-// and their two normalisations, prescribed profiles), the fill spacing dx/phi^(1/D), the exact
-// reduction to plain WCSPH at phi = 1, and the point-implicit drag (digest kazemi.md §12 B0,
-// tsurudome.md §11.1).
+// Porous media (SPHAM, Kazemi ch. 4-6; Tsurudome ch. 4): drag closures against hand values of
+// Kazemi eq 4.29 and Tsurudome eq 4.1.2, the porosity fields (smoothed layer one grain thick,
+// porous-particle sums and their two normalisations, prescribed profiles), the fill spacing
+// dx/phi^(1/D) (Kazemi eq 5.1), the exact reduction to plain WCSPH at phi = 1, and the
+// point-implicit drag (docs/porous-closures.md; Tsurudome §4.1.1 leaves R's integration open).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,7 +38,7 @@ PorousConfig box_region(const std::string& field, double phi0, double d, std::ve
 
 }  // namespace
 
-// Kazemi eq 4.29, φ = 0.49, d_s = 15.9 mm, u = 0.1 m/s, ν = 1e-6 (digest B0 hand calculation):
+// Kazemi eq 4.29, φ = 0.49, d_s = 15.9 mm, u = 0.1 m/s, ν = 1e-6 (by hand):
 // a = 150 (0.51/0.49)² 1e-6 / 0.0159² = 0.64276 1/s, b|u| = 1.75 (0.51/0.49) 0.1 / 0.0159 = 11.4555 1/s.
 TEST(PorousClosure, ErgunAgainstHandCalculation) {
   const auto [K, M] = PorousMedia<2>::closure(closure("ergun"), 0.49, 0.1, 1e-6, 0.0159);
@@ -48,9 +48,9 @@ TEST(PorousClosure, ErgunAgainstHandCalculation) {
   EXPECT_EQ(PorousMedia<2>::closure(closure("ergun"), 1.0, 0.1, 1e-6, 0.0159).first, 0.0);
 }
 
-// Tsurudome eq 4.1.2 in the ν/Kp form: the digest's table for φ = 0.49 (A = ν/Kp, B in 1/m),
-// given to 3-4 digits there.
-TEST(PorousClosure, TsurudomeFormMatchesTheDigestTable) {
+// Tsurudome eq 4.1.2 in the ν/Kp form for φ = 0.49: A = ν/Kp, B = 1.75/(√150 √Kp φ^1.5) in 1/m,
+// by hand to 3-4 digits.
+TEST(PorousClosure, TsurudomeFormAgainstHandCalculation) {
   struct Row { double d, A, B; };
   for (const Row r : {Row{0.25e-3, 5306.0, 30344.0}, Row{15.9e-3, 1.31, 477.1}, Row{50e-3, 0.13, 151.7}}) {
     const double A = PorousMedia<2>::closure(closure("tsurudome"), 0.49, 0.0, 1e-6, r.d).first;
@@ -129,9 +129,9 @@ TEST(PorousField, SmoothedHalfLevelOnEveryFaceOfABox) {
   }
 }
 
-// Tsurudome eq 4.2.1 from porous particles on the lattice dx/sqrt(φ0): with the digest's
+// Tsurudome eq 4.2.1 from porous particles on the lattice dx/sqrt(φ0): with the full-block
 // normalisation φ = φ0 inside; as printed (ρ_p/ρ_w) φ = 1 - (1 - φ0) φ0 = 0.75 inside (the
-// inconsistency the digest points out), to the lattice-sum accuracy of the kernel (2 %).
+// inconsistency of docs/numerics.md, Errata), to the lattice-sum accuracy of the kernel (2 %).
 TEST(PorousField, PorousParticleSumAndItsTwoNormalisations) {
   const double phi0 = 0.49, dx = 0.005, h = 1.5 * dx;
   PorousConfig c = box_region("particles", phi0, 0.0159, {0.0, 0.0}, {0.3, 0.3});

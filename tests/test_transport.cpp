@@ -1,4 +1,4 @@
-// Transported scalars and phases (Federico ch. 4, 8, 9; digest federico.md §3, §13 B0): the
+// Transported scalars and phases (Federico ch. 4, 8, 9; docs/numerics.md, Errata): the
 // diffusion operators' Laplacian on a lattice (the consistent one and Federico's (4.8) give
 // D∇²C, (4.7) twice that, (4.10) D/ρ ∇²C), exact conservation of the pollutant mass Σ m C/ρ on
 // a disordered two-phase cloud, the reaction term, the conservative −C∇·u correction, wall
@@ -52,7 +52,7 @@ double centre_rate(test::Setup<2>& s) {
 
 }  // namespace
 
-// D ∇²(x² + z²) = 4D: consistent and Zhu–Fox within 3 % (digest B0), Federico's (4.7) 8D
+// D ∇²(x² + z²) = 4D: consistent and Zhu–Fox (Federico §4.2.1) within 3 %, Federico's (4.7) 8D
 // (the documented factor 2), Monaghan's (4.10) 4D/ρ (the factor 1/ρ).
 TEST(Transport, LaplacianOfEachOperatorOnALattice) {
   const double D = 1.0e-3, rho = 1000.0;

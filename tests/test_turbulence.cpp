@@ -1,7 +1,7 @@
 // Turbulence closures and the rough-bed drag (Kazemi ch. 3 and 6): the eddy viscosity from the
 // SPH strain rate of a linear shear flow, the stress divergence of a given stress field, the
 // diffusive sign of the whole model on a sinusoidal shear layer, the mixing-length profiles and
-// the rough-bed shape function (digest §12, B0).
+// the rough-bed shape function (Kazemi eqs 3.7-3.8, 6.7, 3.17).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -143,8 +143,8 @@ TEST(Turbulence, NezuRodiMixingLength) {
               1.0 - std::exp(-zp / 26.0), 1e-12);
 }
 
-// Kazemi eq 6.7 with Table 6-3: l_m(z_c) = 10.4 mm (bed B1) and 13.55 mm (B2) (digest §5.4, B0);
-// continuous at z_0 and z_c.
+// Kazemi eq 6.7 with Table 6-3 (§6.2.3; z_t, z_c of Table 6-2): l_m(z_c) = 10.4 mm (bed B1) and
+// 13.55 mm (B2); continuous at z_0 and z_c.
 TEST(Turbulence, ThreeLayerMixingLength) {
   TurbulenceConfig c;
   c.model = "mixing_length";
@@ -171,9 +171,9 @@ TEST(Turbulence, ColumnSurfaceOfFlatBlock) {
   for (std::size_t i = 0; i < s.S.particles.n_owned(); ++i) EXPECT_NEAR(zs[i], 0.3, 1e-12);
 }
 
-// Rough-bed shape function W_d (digest §2.4, B0): the layer average of the point form over
-// [crest - d_s/2, crest] is π/4; the fragment form tends to the point form as l0 -> 0, lies in
-// [0, 1], and is 0 above the crest.
+// Rough-bed shape function W_d (Kazemi eq 3.17, §3.1.4.2): the layer average of the point form over
+// [crest - d_s/2, crest] is π/4 (the thesis's mean C_d W_d = 0.785 for R_d = 0.5 d_s); the fragment
+// form tends to the point form as l0 -> 0, lies in [0, 1], and is 0 above the crest.
 TEST(RoughBed, ShapeFunction) {
   const double ds = 0.024, crest = 0.0106, centre = crest - 0.5 * ds;
   const int n = 20000;

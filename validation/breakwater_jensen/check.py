@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Solitary-wave run-up on smooth, rough and porous 1:1.5 breakwaters: Jensen et al. (2015), Kazemi's test case III
-(issue 22, validation 7; cases/breakwater_jensen_{smooth,rough,porous}.yaml; digest kazemi.md §4.3 and B6).
+(issue 22, validation 7; cases/breakwater_jensen_{smooth,rough,porous}.yaml; Kazemi §5.4).
 
 h0 = 0.40 m, H = 0.14 m, the breakwater's toe 13.55 m from the paddle, front slope 1:1.5. Smooth: an impermeable
 slope. Rough: a porous armour one grain (38 mm) thick, porosity 0.4, on the impermeable slope. Porous: armour and core

@@ -1,17 +1,17 @@
 #!/usr/bin/python3
 """Advective diffusion of a pollutant carried by a rising bubble (cases/bubble_advective_diffusion.yaml): issue 6
-(transported scalars), validation 6; Federico §9.3; digest federico.md §8.5 and §13 B11.
+(transported scalars), validation 6; Federico §9.3.
 
 Set-up: a tank 2.4 m x 2.4 m full of water; a circular bubble of a lighter pollutant phase, radius r = 0.2 m,
 centred at (x0, z0) = (1.2, 1.2), density ratio rho2/rho1 = 0.5 (the case) and 0.3
 (--set multiphase.phases.0.density=300); the bubble carries C(0) = exp(-r^2 / (4 D t0)) about its centre
 (Federico 9.3), D = 1e-3 m2/s, t0 = 1 s. System 1 of the thesis (Tait gamma 7, equal B, c0 = 10 sqrt(g h),
 alpha 0.01, XSPH 0.1). The scalar is carried as C = rho Y (Y the specific content): transport.advection =
-conservative (default) is Federico's advective-diffusion model (4.12) with the digest's sign, exactly
-conservative; transport.advection = none is his "pure diffusion" model (DC/Dt = diffusion only). Both run to
+conservative (default) is Federico's advective-diffusion model (4.12) with the sign of docs/numerics.md, Errata,
+exactly conservative; transport.advection = none is his "pure diffusion" model (DC/Dt = diffusion only). Both run to
 t = 0.5 s with the consistent diffusion operator.
 
-Metrics (issue 6 validation 6; digest B11 "hard checks"), per density ratio, on the conservative run:
+Metrics (issue 6 validation 6), per density ratio, on the conservative run:
   (a) total pollutant mass sum m C / rho (gauge pollutant_mass, column mass, every output): max over the outputs of
       |mass / mass(0) - 1| <= 1e-10;
   (b) the concentration tracks the bubble: its mass centroid (pollutant_mass x, z) within 2 dx, at every output
@@ -25,15 +25,15 @@ Metrics (issue 6 validation 6; digest B11 "hard checks"), per density ratio, on 
       the pollutant then fills the bubble, and its C centroid must stay within 2 dx of the bubble's area centroid
       (gauge bubble x, z) at every output: the literal "concentration centroid tracks the bubble";
   (c) min C >= -1e-3 at every output (gauge min column and the snapshots).
-Information (not gated; digest B11 "report", the thesis's own claim):
+Information (not gated; the thesis's own claim, Federico §9.3):
   - e_RMS (Federico 9.8) = sqrt(1/(N - 1) sum (C_a - C_n)^2) over the particles with C > 1e-3 at t = 0.2 and
     0.5 s against the heuristic (9.6)
         C = c0 / sqrt(t + t0) exp[-((x - x0)^2 + (z - z0 - V t)^2) / (4 D (t + t0))],
         V = 1/2 sqrt(g (rho1 - rho2) r / rho1) (9.7), c0 = 1, t0 = 1, D = 1e-3,
     for advection conservative and none. The thesis claims e_RMS(4.12) < e_RMS(pure diffusion) for
     rho2/rho1 <= 0.5 at t = 0.5 s (its Fig. 55). (9.6) is not an exact solution: a rigidly translating Gaussian
-    with the 1D decay factor 1/sqrt(t + t0) (digest §12 no. 22; the exact 2D peak decays as t0/(t + t0)) and
-    Batchelor's speed for a bubble that deforms into an umbrella;
+    with the 1D decay factor 1/sqrt(t + t0) (of (9.4), Federico §9.1.3; the exact 2D peak decays as t0/(t + t0))
+    and Batchelor's speed for a bubble that deforms into an umbrella;
   - the distance between the concentration centroid and the Lagrangian centroid of the initial pollutant,
     sum m_a Y_a(0) x_a(t) / sum m_a Y_a(0) (Y = C / rho at t = 0, particles tracked by id through the snapshots):
     advection alone moves the C centroid with that point, so the distance isolates what diffusion moves;
@@ -41,7 +41,7 @@ Information (not gated; digest B11 "report", the thesis's own claim):
 Figure: the particles' C at t = 0, 0.2, 0.5 s for both ratios with the bubble's outline (the phase indicator's
 0.5 contour), the centroid tracks (bubble area, C, Lagrangian, (9.6)'s z0 + V t), and the C profile along x = 1.2
 against (9.6).
-Modes: coarse (CTest) dx = 0.03 (the thesis's and digest B11's; 7,174 particles, ~45 s per run single-threaded):
+Modes: coarse (CTest) dx = 0.03 (the thesis's, §9.1.3; 7,174 particles, ~45 s per run single-threaded):
 per ratio the Gaussian and the uniform bubble, conservative advection (4 runs); fine dx = 0.015 (half; ~8x the
 work) adds the advection = none runs for the e_RMS information (6 runs). Same thresholds.
 Usage: /usr/bin/python3 validation/bubble_advective_diffusion/check.py [--mode coarse|fine] [--sphflume PATH]
@@ -74,7 +74,7 @@ UNIFORM = "[{type: region, shape: circle, center: [1.2, 1.2], radius: 0.2, value
 ERMS_TIMES = (0.2, 0.5)
 FIG_TIMES = (0.0, 0.2, 0.5)
 MODES = {"coarse": {"dx": 0.03}, "fine": {"dx": 0.015}}
-SRC = "issue 6 validation 6; digest federico.md §13 B11"
+SRC = "issue 6 validation 6; Federico §9.3"
 
 
 def rise_speed(ratio):
@@ -225,13 +225,13 @@ def main():
                      f"with C > 1e-3", f"{e:.4e} ({100 * e:.2f} % of c0); peak C {s['C'].max():.4f} vs (9.6) "
                      f"{C0 / math.sqrt(t + T0):.4f} (1D decay), 2D diffusion alone {cmax0 * T0 / (t + T0):.4f}",
                      True, "-",
-                     "Federico (9.8), Fig. 55; digest B11 (report)")
+                     "Federico (9.8), Fig. 55 (report)")
         for t in ERMS_TIMES:
             if ("conservative", t) in errs and ("none", t) in errs:
                 ec, en = errs[("conservative", t)], errs[("none", t)]
                 info(f"rho2/rho1 = {ratio}, t = {t:g} s: thesis's claim e_RMS(conservative, 4.12) < e_RMS(none)",
                      f"{ec:.4e} vs {en:.4e} (ratio {ec / en:.4f})", ec < en, "conservative < none",
-                     "Federico Fig. 55, digest B11")
+                     "Federico §9.3, Fig. 55")
 
     draw(a, dx, data)
     print("\nrun wall times: " + ", ".join(f"{k} {v:.1f} s" for k, v in walls.items())

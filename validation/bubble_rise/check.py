@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Rising pollutant bubble, rho2/rho1 = 0.5 (cases/bubble_pollutant.yaml): issue 6 (transported scalars and
-phases), validation 5; Federico §8.1; digest federico.md §7 and §13 B9.
+phases), validation 5; Federico §8.1.
 
 Set-up: a tank 1.44 m x 2.4 m full of water (1000 kg/m3); a circular bubble of a lighter pollutant phase
 (500 kg/m3, Tait gamma 7 in both phases, equal B), radius R = 0.24 m, centred at (0.72, 0.48), so its top starts at
@@ -8,15 +8,15 @@ z_s = 0.72 m. Artificial viscosity alpha = 0.01, XSPH 0.3, free-slip dummy walls
 the water (the case's default; the thesis's 14 sqrt(g R) = 21.48 m/s lets the pollutant expand by ~1 % as it
 rises, see the case file). The run goes to t = 1.5 s.
 
-Reference: Batchelor's law for a (2D, cylindrical) cap bubble, Federico (8.1) with the root corrected (digest
-§7, §12 no. 21: R inside the root):
+Reference: Batchelor's law for a (2D, cylindrical) cap bubble, Federico (8.1) with R inside the root (as his
+(9.7) has it):
     z_top(t) = z_s + V t,   V = 1/2 sqrt(g (rho1 - rho2) R / rho1) = 0.5425 m/s,   z_top(1.5 s) = 1.534 m.
 The law describes the steady rise of a developed cap; the thesis reports the simulated top "underestimated at
 first, then progressively" in agreement, so the speed is judged late in the run.
 
 Data: gauge `bubble` (type phase): area = sum m/rho of the pollutant particles, top = the highest pollutant
 particle's z (a particle centre: it starts dx/2 below z_s), area centroid x, z; every 0.05 s.
-Metrics (issue 6 validation 5, digest B9):
+Metrics (issue 6 validation 5):
   (a) mean rise speed of the top over t in [0.75, 1.5] s, the least-squares slope of `top` over the output rows
       in that window, within +-15 % of V;
   (b) pollutant area conserved: max over the outputs of |area / area(0) - 1| <= 1 %;
@@ -24,21 +24,21 @@ Metrics (issue 6 validation 5, digest B9):
   (a) is gated in the fine mode (dx = 0.01, R = 24 dx, the thesis's resolution); in the coarse mode (R = 12 dx) the
       cap splits into two lobes by about 1 s and then slows (slope -18 % of V), so there it is printed as
       information and the coarse run gates (b) and (c).
-Air bubble (issue 6 validation 5, second part; Federico §8.2, digest B10), cases/bubble_air.yaml: rho2/rho1 =
+Air bubble (issue 6 validation 5, second part; Federico §8.2), cases/bubble_air.yaml: rho2/rho1 =
 0.001 (air 1 kg/m3, Tait gamma 1.4, c0 = 304 m/s with equal B), Grenier's formulation with chi = 0.08:
   (d) it runs stably to t = 0.7 s (exit code 0, t = 0.7 s).
-  Information: the top's rise speed over [0.2, 0.5] s against V = 1/2 sqrt(g R) = 0.767 m/s (digest: +-20 %),
+  Information: the top's rise speed over [0.2, 0.5] s against V = 1/2 sqrt(g R) = 0.767 m/s (+-20 %),
   z_top(0.7 s) against z_s + 0.7 V, and the air area (it expands by ~5 % as it rises: (1 + p/B)^(1/1.4) with
   B = 66 kPa and 5 kPa less hydrostatic pressure at the end).
-Information (not gated): z_top(1.5 s) against 1.534 m (digest B9: within 10 %, an early lag allowed), the same
+Information (not gated): z_top(1.5 s) against 1.534 m (within 10 %, an early lag allowed: Federico §8.1), the same
 with the top particle's half spacing added (the bubble's surface); the rise speed of the area centroid over the
 same window against V; the bubble's width and height at 1.5 s (the umbrella).
 Figure: top and centroid z against t with Batchelor's line (and the centroid line z_c(0) + V t), and the particles
 at t = 0, 0.5, 1.0, 1.5 s (the thesis's snapshots) coloured by phase.
-Modes: coarse (CTest) dx = 0.02 (digest B9's resolution, 9,654 particles, ~2 min single-threaded); fine
-dx = 0.01 (the thesis's, 36,570 particles, ~20 min single-threaded). Same thresholds in both modes (they are the
-digest's for its coarse run).
-Air bubble: coarse dx = 0.03 (~1.5 min on 2 threads), fine dx = 0.02 (digest B10's, ~5 min on 2 threads).
+Modes: coarse (CTest) dx = 0.02 (twice the thesis's dx, 9,654 particles, ~2 min single-threaded); fine
+dx = 0.01 (the thesis's, 36,570 particles, ~20 min single-threaded). Same thresholds in both modes (set for the
+coarse run).
+Air bubble: coarse dx = 0.03 (~1.5 min on 2 threads), fine dx = 0.02 (twice the thesis's dx, ~5 min on 2 threads).
 Usage: /usr/bin/python3 validation/bubble_rise/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
        [--threads N] [--reuse] [--set KEY=VALUE]
 """
@@ -69,7 +69,7 @@ MODES = {"coarse": {"dx": 0.02, "air_dx": 0.03}, "fine": {"dx": 0.01, "air_dx": 
 AIR_CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "bubble_air.yaml"))
 AIR_END, AIR_WINDOW = 0.7, (0.2, 0.5)
 V_AIR = 0.5 * math.sqrt(G * (RHO1 - 1.0) * R_B / RHO1)
-SRC = "issue 6 validation 5; Federico (8.1), digest federico.md §7, §13 B9"
+SRC = "issue 6 validation 5; Federico (8.1)"
 
 
 def snapshot_at(out, t):
@@ -119,10 +119,10 @@ def main():
     zt_ref = Z_S + V * END
     zt = float(np.interp(END, t, top))
     info("z_top(1.5 s), top particle centre", f"{zt:.4f} m vs {zt_ref:.4f} m ({100 * (zt / zt_ref - 1):+.1f} %)",
-         abs(zt / zt_ref - 1) <= 0.10, "|.| <= 10 %", "digest B9 (early lag allowed)")
+         abs(zt / zt_ref - 1) <= 0.10, "|.| <= 10 %", "Federico §8.1 (early lag allowed)")
     zs = zt + dx / 2
     info("z_top(1.5 s) + dx/2 (the bubble's surface)", f"{zs:.4f} m ({100 * (zs / zt_ref - 1):+.1f} %)",
-         abs(zs / zt_ref - 1) <= 0.10, "|.| <= 10 %", "digest B9")
+         abs(zs / zt_ref - 1) <= 0.10, "|.| <= 10 %", "Federico §8.1")
     cslope = np.polyfit(t[w], zc[w], 1)[0]
     info(f"rise speed of the area centroid over t = {WINDOW[0]}..{WINDOW[1]} s",
          f"{cslope:.4f} m/s ({100 * (cslope / V - 1):+.1f} % of V); centroid rise by 1.5 s {zc[-1] - zc[0]:.4f} m "
@@ -200,7 +200,7 @@ def run_air(a, rep):
     rep.metric("(d) air bubble (rho2/rho1 = 0.001, Grenier, chi 0.08) runs stably to 0.7 s",
                f"exit code {rc}" + (f", t = {s['simulated_time']:g} s, {s['steps']} steps, {wall:.0f} s wall" if s
                                     else ""), rc == 0 and done, "exit 0 at t = 0.7 s", "issue 6 validation 5; "
-               "Federico §8.2, digest B10")
+               "Federico §8.2")
     if s is None:
         return None
     _, g = read_rows(os.path.join(out, "gauges", "bubble.csv"))
@@ -209,13 +209,13 @@ def run_air(a, rep):
     sl = np.polyfit(t[w], top[w], 1)[0]
     info(f"air: rise speed of the top over t = {AIR_WINDOW[0]}..{AIR_WINDOW[1]} s",
          f"{sl:.4f} m/s vs V = {V_AIR:.4f} m/s ({100 * (sl / V_AIR - 1):+.1f} %)", abs(sl / V_AIR - 1) <= 0.2,
-         "|.| <= 20 %", "digest B10")
+         "|.| <= 20 %", "Federico §8.2")
     zt = float(np.interp(AIR_END, t, top))
     info("air: z_top(0.7 s)", f"{zt:.4f} m vs {Z_S + V_AIR * AIR_END:.4f} m "
          f"({100 * (zt / (Z_S + V_AIR * AIR_END) - 1):+.1f} %)", True, "-", "Federico (8.1)")
     info("air: area / area(0) - 1 (compressible air: ~+5 % expected)",
          f"max {100 * (area.max() / area[0] - 1):+.2f} %, min {100 * (area.min() / area[0] - 1):+.2f} %, "
-         f"end {100 * (area[-1] / area[0] - 1):+.2f} %", True, "-", "digest B10 asks 2 %; see the docstring")
+         f"end {100 * (area[-1] / area[0] - 1):+.2f} %", True, "-", "compressible air, not gated; see the docstring")
     return t, top
 
 

@@ -8,8 +8,8 @@ t sqrt(g/h) = 50. Metrics (issue: open channels, validation 1):
      u_n = the mean velocity of the fluid particles of each particle row within 2 dx of x = 0.12 m, averaged over
      the snapshots at t sqrt(g/h) in [40, 50] (the flow is steady; one snapshot alone carries the particle noise,
      whose relative size is largest in the slow rows near the bed), u_a the closed form at the row's mean height;
-     rows below z = dx excluded (u_a -> 0 there, as the digest notes). The instantaneous MSEP at t sqrt(g/h) = 50
-     is printed beside it.
+     rows below z = dx excluded (u_a -> 0 there, and eq. 7.3 divides by it). The instantaneous MSEP at
+     t sqrt(g/h) = 50 is printed beside it.
      Fine: <= 2 % at h/dx = 40 (the thesis reports < 3.5 %); coarse (CI, h/dx = 20): <= 4 % (first order: 2x).
   2. fine: observed order of MSEP between h/20 and h/40, log2(MSEP_20 / MSEP_40) >= 1.
   3. mean depth (water-level gauges at x = 0.06, 0.12, 0.18 m, t sqrt(g/h) in [25, 50]) within 1 % of h.

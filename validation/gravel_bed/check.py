@@ -21,7 +21,7 @@ Metrics:
   (info) uniformity: the depth-averaged velocity at X1, X2, X3 (thesis: within 2 %); the depth along the channel.
   The double-averaged (time, and over the three sections) velocity and shear-stress profiles are drawn with the
   levels z_t, z_c, z_ws of Table 6-2 and the total stress rho g S0 (z_ws - z) above the crest, against the
-  thesis's description (§5.6: velocity underestimated near the bed, tau_r << tau_l above the crest).
+  thesis's description (§6.3.2-6.3.3: velocity underestimated near the bed, tau_r << tau_l above the crest).
 Modes: coarse dx = 0.01 m, 30 s, window [20, 30] s (the thesis finds the flow steady by ~20 s); medium
 dx = 0.007 m, 15 s, window [10, 15] s (issue 40, decision 4: the second resolution this machine affords;
 particle shifting keeps the porous inflow's foot from emptying, README.md); fine dx = 0.005 m (Kazemi's l0), 45 s, window [35, 45] s (his averaging

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Hydraulic jump, Federico (2010) §7.2.2 initial condition no. 2 (cases/hydraulic_jump.yaml; digest §6.2).
+"""Hydraulic jump, Federico (2010) §7.2.2 initial condition no. 2 (cases/hydraulic_jump.yaml).
 
 A frictionless horizontal channel 20 h1 long (h1 = 0.1 m), a step at x1 = 7 h1 between the supercritical state
 (h1, U1 = Fr1 sqrt(g h1)) and the subcritical one (Belanger's h2, U2 = U1 h1/h2); inflow h1, U1 imposed, outflow

@@ -13,7 +13,7 @@ Metrics:
      vertical through each of 88 points, 1 cm apart), interpolated linearly at the measured x; no time shift.
   2. (all variants) water volume within 1 % of its initial value at every output (issue), two ways:
      the water itself, sum m/rho (gauge volume, column water: changes only through the density), and
-     Kazemi's measure from the free surface (§5.3.1: Vol_left + phi0 Vol_dam + Vol_right), the integral
+     Kazemi's measure from the free surface (§5.2: Vol_left + phi0 Vol_dam + Vol_right), the integral
      of phi(x) eta(x) over the surface gauge (eta held constant over the 1 cm next to each wall), at every
      output after t = 0 against the water's initial volume sum m/rho (the surface measure at t = 0 itself is
      printed only: the gauge's 1 cm samples cannot resolve the vertical step of the column at the gate, an

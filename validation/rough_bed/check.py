@@ -277,8 +277,8 @@ def main():
             qs = window_mean(q, t0, t1)[0]
             ml = next(r for r in table if r["id"] == "S004H50")["periodic_q"]
             rep.metric("S004H50 SPS-Smagorinsky (C_s 0.15) / MSPH-ML discharge (periodic)",
-                       f"{qs / ml:.3f} ({qs:.5f} vs {ml:.5f} m2/s)", qs / ml > 1.10, "> 1.10 (digest B4)",
-                       "Kazemi §3.3: SPS overestimates the discharge")
+                       f"{qs / ml:.3f} ({qs:.5f} vs {ml:.5f} m2/s)", qs / ml > 1.10, "> 1.10",
+                       "Kazemi §3.2.6: SPS overestimates the discharge")
     print_table(table, cfg, a.out)
     if table and any(k in r for r in table for k in ("periodic", "inout")):
         plot(table, cfg, a.out if cfg["coarse"] else HERE, rd_source, tol)

@@ -1,10 +1,10 @@
-"""Kazemi's rough-bed flows (thesis ch. 3, Table 3-1; digest §6) and the case file of each.
+"""Kazemi's rough-bed flows (thesis §3.2, Table 3-1) and the case file of each.
 
 Bed of spheres d_s = 24 mm; bulk velocity U = Fr sqrt(g H) (Table 3-1's Fr; Re = U H / nu reproduces the table).
 R_d / H: the thesis's calibrated value of each flow, Table 3-2 (issue 20, decision 2; the default since
-2026-11-24). The power law fitted to the calibration ("C") cases, R_d / H = 0.0054 H^-1.224 (H in m; digest §6,
-least squares on Table 3-2, max error 4.6 %), which the runs used before, stays selectable: rd_source="law"
-(check.py --set rd=law).
+2026-11-24). The power law fitted to the calibration ("C") cases, R_d / H = 0.0054 H^-1.224 (H in m; the form
+of the thesis's Fig. 3-5, which prints no coefficients; least squares on Table 3-2, max error 4.6 %), which the
+runs used before, stays selectable: rd_source="law" (check.py --set rd=law).
 Measured U two ways: Fr sqrt(g H) for every flow (Table 3-1), and Q / (B H) where the thesis gives the discharge Q
 (S004H50 only: Q = 0.00825 m3/s, flume width B = 0.459 m, thesis §3.2.2); the two disagree by 19 % for S004H50.
 
@@ -18,10 +18,9 @@ the simulated velocity averaged over the depth H above the crest (what PIV above
 Numerical settings (stated, not the thesis's): dx ~ H / 20 (the thesis: 2 mm for all, H / dx = 20-50), Wendland C2
 with h = 1.5 dx (support 3 dx; the thesis: cubic spline, h = 1.2 dx; h = 2 dx before 2026-11-25, whose smoothing
 over the drag layer and the surface set most of the SPH's error, README.md), c0 = 10 x 1.6 U (>= 10 |u|max; the thesis
-16 m/s, the digest's B4 uses 5 m/s for S004H50), Verlet integrator, delta-SPH (Fourtakas), Adami dummy bed (the
-thesis: dynamic dummies), domain L = 4 H between the inflow and outflow zones (as the thesis), start from
-U0 = 0.2 m/s everywhere (the thesis tried 0.05-0.7 m/s; check.py starts the periodic runs from the 1D model's bulk
-velocity).
+16 m/s), Verlet integrator, delta-SPH (Fourtakas), Adami dummy bed (the thesis: dynamic dummies), domain L = 4 H
+between the inflow and outflow zones (as the thesis), start from U0 = 0.2 m/s everywhere (the thesis tried
+0.05-0.7 m/s; check.py starts the periodic runs from the 1D model's bulk velocity).
 Lattice (dx_of): dx = (H + R_d) / N with N = round(n (H + R_d) / H) for the requested H / dx = n, so that the fluid
 lattice's N rows fill the depth H + R_d exactly (H / dx then lies within 2.5 % of n), and the channel length is
 the whole number of dx nearest 4 H (a periodic channel needs one). Before 2026-11-24 dx was H / n exactly and the
@@ -79,7 +78,7 @@ def measured_u_q(fid):
 
 
 def rd_over_h_law(h):
-    """The power law fitted to Table 3-2's calibration cases (digest §6)."""
+    """The power law fitted to Table 3-2's calibration cases (the form of Kazemi's Fig. 3-5; least squares)."""
     return 0.0054 * h ** -1.224
 
 

@@ -1,33 +1,33 @@
 #!/usr/bin/python3
 """Solitary-wave run-up on permeable beaches and porous layers: Tsurudome §5.4-5.5, §6.4 (issue 22, validation 6;
-cases/runup_permeable_a.yaml, runup_layer_a.yaml, runup_permeable_b.yaml; digest tsurudome.md §14.4-14.8, B6-B8).
+cases/runup_permeable_a.yaml, runup_layer_a.yaml, runup_permeable_b.yaml).
 
 The porous bodies have porosity 0.49 and grain diameter Dc; Tsurudome's Ergun closure (eq 4.1.2, c1 = 150, c2 = 1.75)
 and porous-particle field (eq 4.2.1), WCSPH with h = 2 dx (h/spacing 1.4 inside). There are no experiments for
-permeable run-up (the thesis says so); the references are the thesis's own power-law fits of his ISPH runs (§14.8),
-and the run-up on the solid slope from the same flume, dx and h run here.
+permeable run-up (the thesis says so); the references are the thesis's own power-law fits of his ISPH runs
+(eqs 5.4.1, 5.4.2, 6.4.1), and the run-up on the solid slope from the same flume, dx and h run here.
 Parts (--parts, comma-separated; default all):
-  a:      the 1:2.08 triangular beach (Flume A), H = 0.03423 m, Dc = 0.25, 1, 2, 10, 100 mm (B6; 2 mm for the layers);
+  a:      the 1:2.08 triangular beach (Flume A), H = 0.03423 m, Dc = 0.25, 1, 2, 10, 100 mm (§5.4; 2 mm for the layers);
           fit R = 73.157 Dc^-0.050 mm;
   layers: the 1:2.08 porous layer 0.13 m thick on an impermeable slope, Dc = 2 and 100 mm, against the beach, which
-          is also the thesis's 0.433 m layer in the 3 m flume (B7);
-  b:      the 1:20 triangular beach (Flume B), H = 0.0588 m (breaking), Dc = 0.25, 1, 10 mm (B8); fit
+          is also the thesis's 0.433 m layer in the 3 m flume (§5.5);
+  b:      the 1:20 triangular beach (Flume B), H = 0.0588 m (breaking), Dc = 0.25, 1, 10 mm (§6.4); fit
           R = 41.824 Dc^-0.119 mm;
-  a2:     the 1:2.08 beach with the larger wave, H = 0.0525 m (H/h0 = 0.25; B6's option), Dc = 1, 100 mm; fit
-          R = 131.46 Dc^-0.054 mm (eq 5.4.2);
+  a2:     the 1:2.08 beach with the larger wave, H = 0.0525 m (H/h0 = 0.25, the thesis's second wave), Dc = 1,
+          100 mm; fit R = 131.46 Dc^-0.054 mm (eq 5.4.2);
   layers_b: the 1:20 porous layer 0.075 m thick on an impermeable slope (cases/runup_layer_b.yaml), Dc = 10 mm,
-          against the beach (part b, the thesis's 0.40 m layer) (B9).
-Metrics (dx = 0.01 m, the digest's d0 for B6-B8):
+          against the beach (part b, the thesis's 0.40 m layer) (§6.5).
+Metrics (dx = 0.01 m, twice the thesis's d0):
   1. every run reaches t_end, fluid mass conserved exactly;
   2. R within 10 % of the thesis's fit at each Dc (issue 22, validation 6); and R/R_solid within 10 % of the thesis's
      final law R = k3 R_s (Dc/H)^k2 (eqs 5.4.6, 6.4.3: k3 = 0.61, k2 = -0.052 on 1:2.08; 0.27, -0.120 on 1:20), with
      R_s the solid-slope run-up of the same model, dx and h, as the thesis defines it (his R_s overshoots Li &
      Raichlen by 7 %, so the fit in mm carries his solid-slope error);
-  3. R falls with Dc (strictly, B6/B8), and every permeable R is below the solid slope's R (same dx and h);
+  3. R falls with Dc (strictly; §5.4, §6.4), and every permeable R is below the solid slope's R (same dx and h);
   4. layers: at Dc = 2 mm the 0.13 m layer's R equals the beach's within 3 % (thickness does not matter for fine
-     grains, §14.5); at Dc = 100 mm the beach's (the 0.433 m layer's) R is below the 0.13 m layer's (B7).
+     grains, §5.5); at Dc = 100 mm the beach's (the 0.433 m layer's) R is below the 0.13 m layer's (§5.5).
 Information: at Dc = 0.25 mm the mean speed of the water inside the beach (more than 2h below the face) at the time of the
-run-up (B6: < 0.05 m/s, the beach acts as solid); wall times.
+run-up (< 0.05 m/s: the beach acts as solid, §5.4.2); wall times.
 Modes: fine = all parts; coarse = part a at Dc = 1 mm (CTest).
 Usage: /usr/bin/python3 validation/runup_permeable/check.py [--mode coarse|fine] [--parts a,layers,b] [--out DIR] [--reuse]
 """
@@ -142,7 +142,7 @@ def main():
                 R, tR, t, r = runup(out)
                 fit = P["fit"][0] * dc ** P["fit"][1] / 1000
                 rep.metric(f"{part} Dc = {dc:g} mm: R vs the thesis's fit", f"{1000 * R:.1f} vs {1000 * fit:.1f} mm ({100 * (R / fit - 1):+.1f} %)",
-                           abs(R / fit - 1) <= FIT_TOL, "within 10 %", "issue 22, validation 6; digest §14.8")
+                           abs(R / fit - 1) <= FIT_TOL, "within 10 %", "issue 22, validation 6; eqs 5.4.1, 5.4.2, 6.4.1")
                 rep.metric(f"{part} Dc = {dc:g} mm: R below the solid slope's", f"{1000 * R:.1f} < {1000 * Rs:.1f} mm", R < Rs,
                            "R < R_solid", "thesis §5.4, §6.4")
                 law = P["law"][0] * (dc / 1000 / P["H"]) ** P["law"][1]
@@ -153,12 +153,12 @@ def main():
                     h = 2 * DX
                     us = interior_speed(out, tR, P["toe"], P["gradient"], h)
                     info(f"{part} Dc = 0.25 mm: mean |u| inside the beach (> 2h below the face) at the run-up", f"{us:.4f} m/s",
-                         us < AT_REST, "< 0.05 m/s", "B6: the beach acts as solid")
+                         us < AT_REST, "< 0.05 m/s", "thesis §5.4.2: the beach acts as solid")
                 rows.append((dc, R, t, r))
             Rv = [v[1] for v in rows]
             if len(Rv) > 1:
                 rep.metric(f"{part}: R falls with Dc", ", ".join(f"{1000 * v:.1f}" for v in Rv) + " mm",
-                           all(x > y for x, y in zip(Rv, Rv[1:])), "strictly decreasing", "B6 / B8")
+                           all(x > y for x, y in zip(Rv, Rv[1:])), "strictly decreasing", "thesis §5.4, §6.4")
             res[part] = (Rs, rows)
         elif part == "layers_b":
             beach, lay = layer_runs(part, P["beach"], dcs)
@@ -167,17 +167,17 @@ def main():
                     q = lay[dc] / beach[dc] - 1
                     rep.metric(f"layers_b Dc = {dc:g} mm: R(0.075 m layer) vs R(1:20 beach = 0.40 m layer)",
                                f"{1000 * lay[dc]:.1f} vs {1000 * beach[dc]:.1f} mm ({100 * q:+.1f} %)", abs(q) <= P["tol"],
-                               "within 5 %", "B9; thesis §6.5: breaking, no thickness effect")
+                               "within 5 %", "thesis §6.5: breaking, no thickness effect")
             res[part] = lay
         else:
             beach, lay = layer_runs(part, "a", dcs)
             if 2.0 in lay and 2.0 in beach:
                 q = lay[2.0] / beach[2.0] - 1
                 rep.metric("layers Dc = 2 mm: R(0.13 m layer) vs R(beach = 0.433 m layer)", f"{1000 * lay[2.0]:.1f} vs {1000 * beach[2.0]:.1f} mm ({100 * q:+.1f} %)",
-                           abs(q) <= LAYER_TOL, "within 3 %", "B7; thesis §5.5: no thickness effect below 30 mm")
+                           abs(q) <= LAYER_TOL, "within 3 %", "thesis §5.5: no thickness effect below 30 mm")
             if 100.0 in lay and 100.0 in beach:
                 rep.metric("layers Dc = 100 mm: R(beach = 0.433 m layer) < R(0.13 m layer)", f"{1000 * beach[100.0]:.1f} < {1000 * lay[100.0]:.1f} mm",
-                           beach[100.0] < lay[100.0], "lower", "B7; thesis §5.5: the thick layer lowers R for Dc >= 40 mm")
+                           beach[100.0] < lay[100.0], "lower", "thesis §5.5: the thick layer lowers R for Dc >= 40 mm")
             res[part] = lay
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))

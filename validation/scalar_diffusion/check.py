@@ -1,34 +1,34 @@
 #!/usr/bin/python3
 """Diffusion and first-order reaction of a scalar carried by a frozen particle lattice (no flow, scheme.frozen):
-issue 6 (transported scalars), validation 1-4; digest federico.md §3 and §13 B1-B4. Kernel wendland_c2,
+issue 6 (transported scalars), validation 1-4; Federico §4.2, §9.1-9.2. Kernel wendland_c2,
 h/dx = 1.5 (at 1.3 the Gaussian's peak decays ~0.8 % slow), explicit midpoint steps of 0.125 h^2/D, operator
 `consistent` (Cleary-Monaghan with conductivity rho D: D lap C) unless stated. Particle values are read from the
 snapshots at the output times and compared with the exact solution at each particle's position (the gauges'
 Shepard interpolation smooths the field slightly; they are drawn, not judged).
 
-1. 1D Gaussian (cases/diffusion_gaussian_1d.yaml; issue validation 1, digest B1): strip 0.2 m periodic in x,
+1. 1D Gaussian (cases/diffusion_gaussian_1d.yaml; issue validation 1; after Federico §9.1.2): strip 0.2 m periodic in x,
    D = 1e-3 m^2/s, t0 = 1 s, C(z, 0) = exp(-(z - 0.5)^2 / (4 D t0)).
    Exact: C = sqrt(t0/(t + t0)) exp(-(z - z0)^2 / (4 D (t + t0))).
    Metrics at t = 1 and 2 s: max |C - exact| over the particles <= 0.01; peak error |C_max / exact(at that
    particle) - 1| <= 1 %. Sum m C over the snapshots at t = 0 and 2 s conserved to 1e-12 relative; min C >=
    -1e-3 at every output (snapshots and the scalar_mass gauge's min column).
-   Regressions (digest B1, §3.2): transport.operator=federico (eq 4.7 verbatim) against the exact solution with
+   Regressions (docs/numerics.md, Errata): transport.operator=federico (eq 4.7 verbatim) against the exact solution with
    D -> 2D, same two tolerances (documents that 4.7 diffuses at twice Fick's rate); transport.operator=monaghan
    (eq 4.10, (D/rho) lap C: 1000x too slow in SI units): peak change |C_max(2 s) / C_max(0) - 1| < 0.1 %.
    (For D/rho = 1e-6 m^2/s the exact peak change by t = 2 s is 0.0998 %: the threshold says "no faster than
    D/rho"; its match with the D -> D/rho solution is printed as information.)
-2. 2D Gaussian blob (cases/diffusion_gaussian_2d.yaml; issue validation 2, digest B2): 1 x 1 m periodic in x and
+2. 2D Gaussian blob (cases/diffusion_gaussian_2d.yaml; issue validation 2; after Federico §9.1.3): 1 x 1 m periodic in x and
    z, blob at (0.5, 0.5), sigma = sqrt(2 D t0), D = 1e-3, t0 = 1. Exact: C = t0/(t + t0) exp(-r^2/(4 D (t + t0))).
    Metrics at t = 1 and 2 s: peak (particle C_max against the exact value at that particle) within 2 %;
    L2 = sqrt(mean over all fluid particles of (C - exact)^2) <= 0.01. (info) the thesis's (9.4), peak
    sqrt(t0/(t + t0)) (the 1D decay), against the run's peak: wrong in 2D.
-3. Band (cases/diffusion_band.yaml; issue validation 3, digest B3): 0.1 m periodic in x x 1 m, C0 = 1 for
+3. Band (cases/diffusion_band.yaml; issue validation 3; Federico §9.1.1): 0.1 m periodic in x x 1 m, C0 = 1 for
    0.44 <= z <= 0.55 (region box), D = 1e-4.
    Exact: C = (C0/2) [erf((z - z1)/sqrt(4 D t)) - erf((z - z2)/sqrt(4 D t))], z1, z2 the edges of the particle
    cells the band covers (the lowest/highest particle with C = C0 at t = 0 -/+ dx/2; 0.44 and 0.55 here).
    Metric: max |C - exact| over the particles <= 0.02 at t = 1 and 2 s. (info) max difference between the
    thesis's piecewise erfc (9.1)/(9.2) (z0 = 0.495) and the exact solution, expected <= 3e-3.
-4. First-order reaction dC/dt = D lap C - R (C - C_eq) (issue validation 4, digest B4):
+4. First-order reaction dC/dt = D lap C - R (C - C_eq) (issue validation 4; Federico §9.2, docs/numerics.md, Errata):
    (a) cases/reaction_decay.yaml: uniform C0 = 1, C_eq = 0.2, R = 0.5 1/s, D = 0, to t = 4 s.
        Exact: C = C_eq + (C0 - C_eq) exp(-R t). Metric: max |C - exact| over the particles <= 1e-3 at every
        output (every 0.25 s). (info) time-step convergence: the same run at dt = 0.05, 0.025, 0.0125 s (a
@@ -43,7 +43,7 @@ Shepard interpolation smooths the field slightly; they are drawn, not judged).
        reaction shows in the ratio (2.7e-3 over C_without >= 1e-6 at t = 1 s, where C changes by ~3e-9; a step
        4x shorter divides it by 15).
        The decayed blob must also meet test 2's
-       tolerances against the exact decayed solution: peak within 2 %, L2 <= 0.01 (digest B4b).
+       tolerances against the exact decayed solution: peak within 2 %, L2 <= 0.01.
 Modes: coarse (CTest): dx = 0.005 (1D), 0.01 (blob: at 0.02, sigma0 = 2.2 dx, the peak is 3.4 % high), 0.005
 (band), 0.02 (uniform decay); fine: the issue's resolutions dx = 0.005, 0.01, 0.0025, 0.01, plus (info) the 1D
 Gaussian and the blob at half those spacings (convergence at fixed h/dx). Both run to the same end times.
@@ -78,10 +78,10 @@ MODES = {
     "coarse": {"dx_1d": 0.005, "dx_2d": 0.01, "dx_band": 0.005, "dx_decay": 0.02},
     "fine": {"dx_1d": 0.005, "dx_2d": 0.01, "dx_band": 0.0025, "dx_decay": 0.01, "refine": True},
 }
-SRC1 = "issue 6 validation 1; digest federico.md §13 B1"
-SRC2 = "issue 6 validation 2; digest B2"
-SRC3 = "issue 6 validation 3; digest B3"
-SRC4 = "issue 6 validation 4; digest B4"
+SRC1 = "issue 6 validation 1; Federico §9.1.2"
+SRC2 = "issue 6 validation 2; Federico §9.1.3"
+SRC3 = "issue 6 validation 3; Federico §9.1.1"
+SRC4 = "issue 6 validation 4; Federico §9.2"
 erf = np.vectorize(math.erf)
 erfc = np.vectorize(math.erfc)
 
@@ -239,7 +239,7 @@ def test_2d(run, rep, m, ax, ax_decay):
             th = math.sqrt(T0 / (t + T0))
             info(f"2D blob t = {t:g} s: thesis (9.4) peak sqrt(t0/(t+t0)) = {th:.4f} vs run {C.max():.4f}",
                  f"{100 * (th / C.max() - 1):+.1f} %", abs(th / C.max() - 1) <= 0.02, "|.| <= 2 %",
-                 "digest §8.3, §12 no. 22: (9.4) is the 1D decay")
+                 "Federico §9.1.3: (9.4) is the 1D decay")
             info(f"2D blob t = {t:g} s: max |C - exact|", f"{np.abs(C - ex).max():.2e}", True, "-", "information")
         m0, m2 = (math.fsum(at(sn, t)[3] * at(sn, t)[4]) for t in (0.0, 2.0))
         info("2D blob: sum m C drift", f"{abs(m2 - m0) / m0:.1e}", abs(m2 - m0) / m0 <= 1e-12, "<= 1e-12",
@@ -314,7 +314,7 @@ def test_band(run, rep, m, ax):
         e = np.abs(C - ex).max()
         rep.metric(f"band t = {t:g} s: max |C - exact|", f"{e:.2e}", e <= 0.02, "<= 0.02", SRC3)
         d = np.abs(band_thesis(zz, t) - band_exact(zz, t, *BAND)).max()
-        info(f"band t = {t:g} s: max |(9.1)/(9.2) - exact|", f"{d:.1e}", d <= 3e-3, "<= 3e-3", "digest §8.1, B3")
+        info(f"band t = {t:g} s: max |(9.1)/(9.2) - exact|", f"{d:.1e}", d <= 3e-3, "<= 3e-3", "Federico §9.1.1, (9.1)/(9.2)")
     m0, m2 = (math.fsum(at(sn, t)[3] * at(sn, t)[4]) for t in (0.0, 2.0))
     info("band: sum m C drift", f"{abs(m2 - m0) / m0:.1e}", abs(m2 - m0) / m0 <= 1e-12, "<= 1e-12",
          "conservative operator")
@@ -357,7 +357,7 @@ def test_decay(run, rep, m, ax):
         orders = [math.log2(errs[i][1] / errs[i + 1][1]) for i in range(2)]
         info("4a uniform: error at t = 4 s for dt = 0.05 / 0.025 / 0.0125 s",
              " / ".join(f"{e:.2e}" for _, e in errs) + f", observed orders {orders[0]:.2f}, {orders[1]:.2f}",
-             min(orders) >= 1.0, "order >= 1", "digest B4a (explicit midpoint: 2 expected)")
+             min(orders) >= 1.0, "order >= 1", "explicit midpoint: 2 expected")
     tt = np.linspace(0, 4, 200)
     ax.plot(tt, C_EQ + (C0 - C_EQ) * np.exp(-R * tt), "k-", lw=1, label="uniform: C_eq + (C0 - C_eq) exp(-Rt)")
     ax.axhline(C_EQ, color="k", ls=":", lw=0.6)

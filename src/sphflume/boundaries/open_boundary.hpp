@@ -1,4 +1,4 @@
-// Open boundaries for channels: Federico's in/out-flow algorithm (thesis §5.3.1, digest §4.5).
+// Open boundaries for channels: Federico's in/out-flow algorithm (thesis §5.3.1).
 //
 // Along the channel (flow in +x) an inflow zone [x0, x1) and an outflow zone [x0, x1) hold
 // particles whose state is imposed, not integrated: they enter the fluid particles' sums like
@@ -50,7 +50,7 @@ class OpenBoundaries {
   bool needs_prepare() const;
   /// Before every rates pass (System::before_rates): averaged inflow particles take the Shepard
   /// average of the fluid's velocity and density at a node 0.5 dx downstream of the inflow zone
-  /// at their height (Kazemi §3: du/dx = 0, dp/dx = 0 at the boundary line, the discharge
+  /// at their height (Kazemi §3.1.4.1: du/dx = 0, dp/dx = 0 at the boundary line, the discharge
   /// emerges); extrapolated outflow particles the same at a node 0.5 dx upstream of the outflow
   /// zone; a hydrostatic outflow pressure uses the local depth there.
   void prepare(System<D>& S) const;

@@ -1,7 +1,7 @@
 // Paddle laws: the displacement X(t), velocity and acceleration of a piston wave maker
 // (a prescribed wall motion, boundaries/motion.hpp). X(t) = 0 for t <= start; every law moves
 // the paddle forward (along its direction) from rest.
-//  solitary  (Tsurudome §3.5, digest §9): the paddle follows the depth-averaged velocity of a
+//  solitary  (Tsurudome §3.5, eqs 3.5.1-3.5.15): the paddle follows the depth-averaged velocity of a
 //            permanent-form wave, dX/dt = c η/(h0 + η) at x = X, which for η = H sech²θ gives
 //              X(t) = (2ε/β) tanh[β (c t' − X)/2],  ε = H/h0,  c = sqrt(g (h0 + H)),
 //            implicit in X and solved by Newton's method (F' = 1 + ε sech²θ > 0):
@@ -10,8 +10,9 @@
 //              goring:   β = sqrt(3ε)/h0 (Boussinesq; Goring 1978), stroke 4ε/β
 //              rayleigh_explicit: the linearised X = (2ε/β) tanh(βct'/2)/(1 + ε(1 − tanh²)),
 //                        which the thesis warns moves the paddle too fast early (a too large wave)
-//            t' = t − start − t_s with c t_s = 7.6/β + S/2 (θ = −3.8 at the start: the digest's
-//            t_s = 7.6/(β c) leaves θ = −3.8 + ε, up to 4e-3 c ε of paddle speed at the start), and X
+//            t' = t − start − t_s with c t_s = 7.6/β + S/2 (θ = −3.8 at the start; the thesis's shift
+//            is not given (§3.5, Fig. 3.4), and t_s = 7.6/(β c) alone leaves θ = −3.8 + ε, up to
+//            4e-3 c ε of paddle speed at the start), and X
 //            shifted by its value at t' = −t_s so that the paddle starts exactly at 0 (0.05 % of S).
 //            The explicit law has the same crest time; it then trails the implicit one before the
 //            crest and leads after it (the two are odd about t' = 0 with the same peak speed

@@ -1,7 +1,7 @@
 // Smoothing kernels. Each kernel gives W(r) and F(r) = W'(r)/r, so that
 // grad_a W_ab = F(r_ab) * (r_a - r_b). h is the smoothing length; the support radius is
-// support_factor * h. Normalisations are the standard ones (see shared/spec/federico.md §1.2
-// for the thesis's misprints, which are not reproduced here).
+// support_factor * h. Normalisations are the standard ones (Federico §2.2 misprints (2.18) and
+// garbles (2.20); neither is reproduced here: docs/numerics.md §2 and Errata).
 #pragma once
 #include <algorithm>
 #include <cmath>

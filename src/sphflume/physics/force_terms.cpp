@@ -86,7 +86,7 @@ class DampingZone final : public ForceTerm<D> {
   int axis_ = 0;
 };
 
-/// Kazemi's rough-bed drag layer (ch. 3, eqs 3.3, 3.4, 3.17; digest §2.4): inside a layer of
+/// Kazemi's rough-bed drag layer (§3.1.1.1, §3.1.4; eqs 3.3, 3.4, 3.17): inside a layer of
 /// thickness R_d above the numerical bed (the roughness crest is bed + R_d), every fluid
 /// particle feels  a = -factor C_d W_d(z) / d_s  u |u|  (factor 1/2: F_d = 1/2 C_d rho A_d u|u|
 /// over A_r = d_s l0 with A_d = l0), W_d the chord fraction of the bed spheres (diameter d_s,
@@ -126,7 +126,7 @@ class RoughBed final : public ForceTerm<D> {
   bool point_ = false;
 };
 
-/// Kazemi's outlet "imaginary wall" (ch. 6, eqs 6.10-6.12; digest kazemi.md §5.5): `layers`
+/// Kazemi's outlet "imaginary wall" (§6.2.4.3, eqs 6.10-6.12): `layers`
 /// columns of fixed particles (spacing dx, volume dx^2, phi = 1) just downstream of the outlet
 /// line X_o, from the bed up to bed + H_ow, with the hydrostatic pressure of that tailwater
 /// level. They act only on the pressure gradient of the fluid within one kernel support

@@ -1,4 +1,4 @@
-// Porous media (Kazemi ch. 4-6, digest kazemi.md §3-5; Tsurudome ch. 4, digest tsurudome.md §11):
+// Porous media (Kazemi ch. 4-6: SPHAM §4.3, porosity §4.4, drag §4.2.1, §6.2.2; Tsurudome §4.1-4.3):
 // the porosity field phi(x) of the SPH-averaged macroscopic (SPHAM) equations and the drag
 // closures. The scheme solves for the intrinsic density, velocity and pressure; a particle's
 // volume is m / (phi rho).
@@ -10,9 +10,9 @@
 //              r_Ω = layer / 2 (layer = d_s by default: h_Ω = d_s / 4, the transition is one
 //              grain diameter thick, centred on the region's outline = the separating line);
 //   particles  Tsurudome eq 4.2.1: porous particles on a lattice dx / phi0^(1/D) inside the
-//              region, S_r = Σ_j W(x - x_j) / Σ_lattice W(x - x_j) (the digest's normalisation,
-//              phi = phi0 inside), or as printed S_r = ρ_p / ρ_w = dx^D Σ_j W (normalisation:
-//              thesis_literal; gives 1 - (1 - phi0) phi0 inside);
+//              region, S_r = Σ_j W(x - x_j) / Σ_lattice W(x - x_j) (ρ_p over a full block's, not ρ_w,
+//              so that phi = phi0 inside; docs/numerics.md, Errata), or as printed S_r = ρ_p / ρ_w =
+//              dx^D Σ_j W (normalisation: thesis_literal; gives 1 - (1 - phi0) phi0 inside);
 //   sharp      S_r = χ_r(x);
 //   profile    regions of shape `profile` prescribe 1 - S_r (1 - phi0) = phi(z) or phi(x, z)
 //              directly (Kazemi's Situation #2), bilinear in the table, constant beyond it.

@@ -1,4 +1,4 @@
-// Transported scalars (Federico ch. 4, 9; digest federico.md §3, §8): concentrations,
+// Transported scalars (Federico ch. 4, eqs 4.1-4.15, and ch. 9): concentrations,
 // temperatures, ... carried by the particles, each with its diffusivity, an optional first-order
 // reaction, and boundary conditions.
 //
@@ -6,27 +6,28 @@
 // C, but what is integrated is the specific content Y = C/ρ, so that a particle's pollutant mass
 // m Y = V C changes only by diffusion, reaction and sources:
 //     ρ DY/Dt = ∇·(ρ D ∇Y) − R (C − C_eq),   i.e.  DC/Dt = ∇·(ρD∇Y) − R (C − C_eq) − C ∇·u.
-// The −C∇·u part is Federico's advective correction (4.12) with the sign the digest recommends
-// (u_ab = u_b − u_a), here exact and conservative: the total Σ m Y = Σ V C is conserved to
-// round-off by every pairwise-antisymmetric operator, whatever the density does (compression
-// waves, Shepard re-initialisation, two phases of different density).
+// The −C∇·u part is Federico's advective correction (4.12), its u_ab (undefined in the thesis) read
+// as u_b − u_a (u_a − u_b gives +C∇·u; docs/numerics.md, Errata), here exact and conservative: the
+// total Σ m Y = Σ V C is conserved to round-off by every pairwise-antisymmetric operator, whatever
+// the density does (compression waves, Shepard re-initialisation, two phases of different density).
 //
 // Diffusion operators (F_ab = r_ab·∇_a W / (r_ab² + η²) ≤ 0), selected by transport.operator:
 //   consistent   Cleary–Monaghan on Y with conductivity κ = ρD (harmonic mean across jumps):
 //                dY_a/dt = Σ_b m_b/(ρ_a ρ_b) 4κ_aκ_b/(κ_a+κ_b) F_ab (Y_a − Y_b)   = D∇²C for uniform ρ, D
 //   federico     Federico (4.7) on C: Σ_b m_b/(ρ_aρ_b) 4D_aD_b/(D_a+D_b) (ρ_a+ρ_b) F_ab C_ab
-//                = 2 D∇²C: diffuses at TWICE the rate of Fick's law (digest §3.2)
+//                = 2 D∇²C: diffuses at TWICE the rate of Fick's law (docs/numerics.md, Errata)
 //   zhu_fox      (4.8): Σ_b m_a/(ρ_aρ_b) (D_aρ_a + D_bρ_b) F_ab C_ab               = D∇²C
 //   tartakovsky  (4.9): Σ_b (m_b ρ_a D_a + m_a ρ_b D_b)/(ρ_aρ_b) F_ab C_ab          = D∇²C
 //   monaghan     (4.10): Σ_b m_b/(ρ_aρ_b) 4D_aD_b/(D_a+D_b) F_ab C_ab              = (D/ρ)∇²C:
-//                κ replaced by D, about 1000 times too slow in SI units (digest §3.2)
+//                κ replaced by D, not ρD: about 1000 times too slow in SI units (docs/numerics.md, Errata)
 // The thesis forms act on C; their rate is turned into dY = dC/ρ, so with uniform ρ they are
 // exactly the printed equations. transport.advection: conservative (default, the −C∇·u
 // correction), none (DC/Dt is the diffusion alone: C does not follow compression), or
 // thesis_literal (4.12 read with u_ab = u_a − u_b: +C∇·u).
 //
 // Diffusivity: D = molecular + ν_t/Sc_t (turbulent_schmidt > 0 with a turbulence model).
-// Reaction: − R (C − C_eq) (Federico 4.13 with the digest's sign for decay towards C_eq).
+// Reaction: − R (C − C_eq) (Federico 4.13, its ± taken as − for decay towards C_eq; R a rate in 1/s,
+// since (4.14)'s R = D/δ is a velocity: docs/numerics.md, Errata).
 // Boundaries: walls are no-flux (not in the sums); inflow particles carry a prescribed value
 // (Dirichlet at the inlet, they take part in the sums); outflow particles keep the value they
 // had; wall regions can hold a prescribed value (those wall particles enter the sums) or

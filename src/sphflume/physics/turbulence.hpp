@@ -1,4 +1,4 @@
-// Eddy-viscosity turbulence closures (Kazemi ch. 2, 3 and 6; digest §2.3, §5.4).
+// Eddy-viscosity turbulence closures (Kazemi §2.1, §3.1.1.2 eqs 3.6-3.8, §6.2.3 eqs 6.4-6.7).
 //
 //   S_ij  = (∂u_i/∂x_j + ∂u_j/∂x_i)/2,   (∂u_i/∂x_j)_a = Σ_b V_b (u_b − u_a)_i ∂W_ab/∂x_j
 //   |S|   = sqrt(2 S:S)  (so that |S| = |du/dz| in a plane shear flow; Kazemi's printed

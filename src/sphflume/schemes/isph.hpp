@@ -1,6 +1,6 @@
 // Incompressible SPH (Tsurudome 2020, ch. 3-4; Shao & Lo 2003; Asai et al. 2012): a projection
 // scheme on the particles, neighbour search, walls and force terms the weakly-compressible
-// scheme uses. One step (digest §12):
+// scheme uses. One step (after Tsurudome §3.2 and §4.5, Fig. 4.4):
 //  1. prediction at r_t: u* = u_t + Δt (g + ν∇²u + ∇·τ/ρ + force terms), the porous drag
 //     point-implicit, r* = r_t + Δt u* (the forces are WCSPH's pair loop with the pressure off:
 //     one particle loop for both schemes);
@@ -66,7 +66,8 @@ class ISPH final : public Scheme<D> {
   const PpeStats& stats() const { return stats_; }
   /// The PPE's weight of neighbour j in row i (Tsurudome eq 3.4.53 with η²): the Laplacian
   /// ∇·(∇P/ρ)_i = Σ_j c_ij (P_j − P_i), c_ij = −8 m_j F r²/((ρ_i+ρ_j)² (r² + η²)) ≥ 0, where
-  /// ∇_i W_ij = F r_ij. Exposed so that the operator is tested on a lattice (digest §19 U1).
+  /// ∇_i W_ij = F r_ij. Exposed so that the operator is tested on a lattice (tests/test_isph.cpp,
+  /// LatticeOperatorsLaplacianAndGradient).
   static double laplacian_weight(double mj, double rhoi, double rhoj, double F, double r2, double eta2) {
     const double rs = rhoi + rhoj;
     return -8.0 * mj / (rs * rs) * F * r2 / (r2 + eta2);
@@ -99,7 +100,7 @@ class ISPH final : public Scheme<D> {
   bool solver_all_ranks_ = false;  // distributed: hypre over every rank's rows
   double rho_ref_ = 0.0;
   // porous media: the reference density of a lattice of spacing dx/φ^(1/D) (the fluid inside a
-  // medium of porosity φ), tabulated over φ ∈ [phi_lo_, 1] (Tsurudome eq 4.2.4, digest §8)
+  // medium of porosity φ), tabulated over φ ∈ [phi_lo_, 1] (Tsurudome §4.2.2, eq 4.2.4)
   std::vector<double> rho_ref_phi_;
   double phi_lo_ = 1.0;
   std::vector<std::pair<double, double>> rho_ref_exact_;  // (φ0, reference) of each region's own porosity

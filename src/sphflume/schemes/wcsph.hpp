@@ -1,4 +1,4 @@
-// Weakly-compressible SPH (the theses' WCSPH, Federico ch. 3, Kazemi §1):
+// Weakly-compressible SPH (the theses' WCSPH, Federico ch. 3, Kazemi §3.1 and §5.1):
 //  continuity  Dρa/Dt = ρa Σ (ua-ub)·∇aW Vb  + δ-SPH diffusion (Molteni–Colagrossi, or
 //              Fourtakas et al. 2019 with the hydrostatic part removed)
 //  momentum    Dua/Dt = -Σ mb (pa+pb)/(ρaρb) ∇aW   [or pa/ρa²+pb/ρb²]
