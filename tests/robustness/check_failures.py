@@ -9,6 +9,8 @@
 - An output folder that cannot be created: exit 2, a message naming the folder, nothing written.
 - A full disk (a file-size limit): exit 3, a message naming the file and the reason, and every snapshot file left
   behind opens and is complete (no truncated file that looks valid, no temporary left).
+- A geometry mesh that is open (a box with a face missing): exit 2, a message naming the case file's line, the key,
+  the mesh file and its border edges, nothing written.
 Usage: check_failures.py SPHFLUME [WORKDIR]
 """
 import json
@@ -112,5 +114,29 @@ for s in snapshots(out):
         ok = False
 tmps = [p for p in os.listdir(os.path.join(out, "snapshots"))] if os.path.isdir(os.path.join(out, "snapshots")) else []
 check(ok and not any(p.endswith(".tmp") for p in tmps), f"full disk: the {len(snapshots(out))} snapshot files left open and are complete; no temporary left")
+
+# 5. an open mesh (an STL box without its top): refused at set-up, before anything is written
+stl = os.path.join(work, "open_box.stl")
+corner = [(x, y, z) for z in (0.1, 0.2) for y in (0.1, 0.2) for x in (0.3, 0.4)]
+quads = [(0, 2, 3, 1), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]  # (the top 4 5 7 6 left out)
+with open(stl, "w") as f:
+    f.write("solid open\n")
+    for q in quads:
+        for t in ((q[0], q[1], q[2]), (q[0], q[2], q[3])):
+            f.write(" facet normal 0 0 0\n  outer loop\n")
+            f.writelines(f"   vertex {corner[i][0]} {corner[i][1]} {corner[i][2]}\n" for i in t)
+            f.write("  endloop\n endfacet\n")
+    f.write("endsolid open\n")
+case = os.path.join(work, "mesh_case.yaml")
+with open(case, "w") as f:
+    f.write("dimension: 3\nparticles: {dx: 0.02}\nfluid: {density: 1000.0}\ngeometry:\n"
+            "  - {type: tank, min: [0.0, 0.0, 0.0], max: [0.6, 0.3, 0.3]}\n"
+            "  - {type: mesh, fill: wall, file: open_box.stl}\n"
+            "  - {type: box, fill: fluid, min: [0.0, 0.0, 0.0], max: [0.2, 0.3, 0.1]}\ntime: {end: 0.01}\n")
+out = os.path.join(work, "mesh_out")
+rc, log = run(binary, ["run", case, "-o", out, "-q"])
+check(rc == 2 and "line 6" in log and "geometry.1.file" in log and stl in log and "open mesh (4 border edges)" in log,
+      f"open mesh: exit 2 naming the line, the key, the file and its border edges (got {rc}: {log.strip()[-220:]})")
+check(not os.path.exists(os.path.join(out, "snapshots")), "open mesh: no snapshot written")
 
 finish("check_failures")

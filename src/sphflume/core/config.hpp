@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/core/node.hpp"
 #include "sphflume/core/eos.hpp"
+#include "sphflume/core/solid_mesh.hpp"
 
 namespace sph {
 
@@ -72,7 +74,7 @@ struct SchemeConfig {
 enum class PpeSource { Hybrid, Standard, DivergenceFree, Split };
 
 struct IsphConfig {
-  double cfl = 0.2;                  // dt <= cfl dx / |u|max (Tsurudome §6: the particle spacing, not h)
+  double cfl = 0.2;                  // dt <= cfl dx / |u|max (Tsurudome §3.6, eq 3.6.6: the particle spacing, not h)
   double force_coefficient = 0.25;   // dt <= coef sqrt(h / |a|max), |a| at least |g|
   double viscous_coefficient = 0.125;// dt <= coef h^2 / (nu + nu_t)
   double dt_max = 0.0;               // 0: no cap beyond the limits above
@@ -145,7 +147,7 @@ struct WallConfig {
 };
 
 struct ShapeConfig {
-  std::string type;   // box | tank | polygon | plane
+  std::string type;   // box | tank | polygon | plane | mesh
   std::string fill;   // fluid | wall
   std::vector<double> min, max;  // box, tank, plane extent
   std::vector<std::array<double, 2>> vertices;  // polygon (2D)
@@ -155,7 +157,9 @@ struct ShapeConfig {
   std::vector<double> velocity;                 // initial velocity
   bool slope = false;  // made from `type: slope` (vertices computed by the reader)
   std::vector<std::array<double, 2>> solid;  // slope walls: the whole wedge under the surface, kept free of fluid
+  std::vector<std::array<double, 2>> surface;  // slopes: the surface line from the toe (the wall rows follow it)
   std::string motion;  // wall shapes: the name of the prescribed motion that moves them (`motions:`); empty = fixed
+  std::shared_ptr<const SolidMesh> mesh;  // mesh (3D): the solid, read, transformed and checked by the reader
   int line = 0;
 };
 
@@ -245,9 +249,10 @@ struct PorousClosureConfig {
 /// A porous region: a shape (box, polygon) of porosity phi0 and grain diameter, or a prescribed
 /// porosity profile phi(z) or phi(x, z) (Kazemi's Situation #2).
 struct PorousRegionConfig {
-  std::string shape = "box";  // box | polygon | profile
+  std::string shape = "box";  // box | polygon | profile | mesh
   std::vector<double> min, max;
   std::vector<std::array<double, 2>> vertices;
+  std::shared_ptr<const SolidMesh> mesh;  // mesh (3D): the solid, read and checked by the reader
   double porosity = 1.0;      // phi0 (shapes)
   double diameter = 0.0;      // grain diameter d_s [m]
   double layer = 0.0;         // field smoothed: thickness of the transition layer [m]; 0 = the diameter

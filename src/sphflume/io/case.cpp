@@ -72,16 +72,16 @@ int axis_index(const std::string& a, int dim) {
 ShapeConfig read_shape(const Node& n, const std::string& file, const std::string& path, int dim, double wall_depth) {
   Reader r(n, file, path);
   r.valid({"type", "fill", "min", "max", "vertices", "point", "normal", "thickness", "open_top", "velocity", "motion",
-           "toe", "gradient", "top", "back"});
+           "toe", "gradient", "top", "back", "survey", "file", "units", "scale", "rotate", "offset"});
   ShapeConfig s;
   s.line = n.line();
-  (void)r.required<std::string>("type", "a shape type: box, tank, polygon or plane");
-  s.type = r.choice("type", "", {"box", "tank", "polygon", "plane", "slope"});
+  (void)r.required<std::string>("type", "a shape type: box, tank, polygon, plane, slope or mesh");
+  s.type = r.choice("type", "", {"box", "tank", "polygon", "plane", "slope", "mesh"});
   s.fill = r.choice("fill", s.type == "tank" || s.type == "plane" || s.type == "slope" ? "wall" : "fluid", {"fluid", "wall"});
   if (s.type == "slope") {  // a beach: the polygon of its wedge or layer
     if (dim != 2) r.fail_at(n, path, "a plane (slopes are 2D only; a 3D beach is a plane shape)");
     std::vector<std::array<double, 2>> wedge;
-    s.vertices = caseio::read_slope(r, n, s.fill == "wall" ? wall_depth : 0.0, &wedge);
+    s.vertices = caseio::read_slope(r, n, s.fill == "wall" ? wall_depth : 0.0, &wedge, &s.surface);
     if (s.fill == "wall") s.solid = wedge;  // the wedge under the surface line, to its back: no fluid there
     s.type = "polygon";
     s.slope = true;
@@ -102,6 +102,8 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
   } else if (s.type == "polygon" && s.vertices.empty()) {
     if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
     s.vertices = read_vertices(r, n);
+  } else if (s.type == "mesh") {
+    s.mesh = caseio::read_mesh(r, n, dim);
   } else if (s.type == "plane") {
     s.point = r.vec("point", d);
     s.normal = r.vec("normal", d);

@@ -30,10 +30,10 @@ std::vector<double> read_list(Reader& r, const std::string& k, bool increasing) 
 PorousRegionConfig read_porous_region(const Node& n, const std::string& file, const std::string& path, int dim) {
   Reader r(n, file, path);
   r.valid({"shape", "min", "max", "vertices", "porosity", "diameter", "layer", "closure", "upper", "x", "z", "phi",
-           "toe", "gradient", "top", "thickness", "back"});
+           "toe", "gradient", "top", "thickness", "back", "survey", "file", "units", "scale", "rotate", "offset"});
   PorousRegionConfig g;
   g.line = n.line();
-  g.shape = r.choice("shape", "box", {"box", "polygon", "profile", "slope"});
+  g.shape = r.choice("shape", "box", {"box", "polygon", "profile", "slope", "mesh"});
   if (g.shape == "slope") {  // a permeable beach or an armour layer: its polygon
     if (dim != 2) r.fail_at(n, path, "a box (slopes are 2D only)");
     g.vertices = read_slope(r, n);
@@ -49,6 +49,8 @@ PorousRegionConfig read_porous_region(const Node& n, const std::string& file, co
   } else if (g.shape == "polygon" && g.vertices.empty()) {
     if (dim != 2) r.fail_at(n, path, "a box (polygons are 2D only)");
     g.vertices = read_vertices(r, n);
+  } else if (g.shape == "mesh") {
+    g.mesh = read_mesh(r, n, dim);
   }
   if (g.shape == "profile") {
     if (!r.has("z")) r.misspelt("z");

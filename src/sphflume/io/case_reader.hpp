@@ -46,6 +46,12 @@ inline std::vector<std::array<double, 2>> read_vertices(Reader& r, const Node& n
   return out;
 }
 
+/// A solid from a mesh file (io/case_mesh.cpp): the keys file (STL, OBJ, OFF or PLY, relative to
+/// the case file), units (m | cm | mm), scale, rotate ([x, y, z] degrees, applied in that order)
+/// and offset ([x, y, z] m); 3D only. A file that cannot be read, an open, non-manifold or
+/// self-intersecting surface is an InputError at `file` naming the file and what is wrong.
+std::shared_ptr<const SolidMesh> read_mesh(Reader& r, const Node& n, int dim);
+
 /// A region (RegionConfig) from the keys shape (box | circle | polygon), min/max, center/radius
 /// or vertices of the mapping `r` reads.
 RegionConfig read_region(Reader& r, const Node& n, int dim);
@@ -64,9 +70,12 @@ void read_multiphase(const Node& n, const std::string& file, Case& c);
 /// default_thickness: the layer's thickness when `thickness` is not given (0: a wedge; wall slopes
 /// pass their wall layers' depth, since a wall deeper than the kernel support does nothing).
 /// wedge: when given, set to the wedge under the surface line to its `back`, whatever the thickness
-/// (a wall slope keeps it free of fluid).
+/// (a wall slope keeps it free of fluid). Or `survey: {file: F.csv}`: the surface line from a survey
+/// (x strictly increasing, every z above the first point's, the toe), the wedge under it.
+/// surface: when given, set to the surface line from the toe (its wall rows follow it).
 std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness = 0.0,
-                                              std::vector<std::array<double, 2>>* wedge = nullptr);
+                                              std::vector<std::array<double, 2>>* wedge = nullptr,
+                                              std::vector<std::array<double, 2>>* surface = nullptr);
 /// Every slope shape lies inside the case's tanks (with dx of slack): an InputError naming its line otherwise.
 void check_slopes(const Case& c);
 /// The `motions:` section (prescribed wall motions, io/case_motion.cpp), and the check that every

@@ -1,5 +1,6 @@
 // `type: slope` shapes and `shape: slope` porous regions (2D): a beach given by its toe, its
-// gradient and its top, made into the polygon the geometry and the porosity field already know.
+// gradient and its top, or by a survey line, made into the polygon the geometry and the porosity
+// field already know.
 #include <cmath>
 #include <sstream>
 
@@ -9,12 +10,55 @@
 
 namespace sph::caseio {
 
+namespace {
+/// `survey: {file: F.csv}`: the slope's surface line from a survey (chainage x strictly increasing,
+/// elevation z at or above the first point's, the toe's), closed down to the toe's level to `back`.
+std::vector<std::array<double, 2>> read_survey_slope(Reader& r, std::vector<std::array<double, 2>>* wedge,
+                                                     std::vector<std::array<double, 2>>* surface) {
+  for (const char* k : {"toe", "gradient", "top", "thickness"})
+    if (r.has(k))
+      r.fail_at(r.get(k), r.key_path(k), "no '" + std::string(k) + "' beside 'survey' (the survey line is the slope's surface; "
+                "a layer of given thickness needs toe, gradient and top)");
+  const Node& sv = r.get("survey");
+  Reader q(sv, r.file(), r.key_path("survey"));
+  const std::string name = q.required<std::string>("file", "a CSV file of the surface's x, z points (relative to the case file)");
+  q.finish();
+  const CsvNumbers csv = read_csv_numbers(q, "file", name, 2, "x, z");
+  if (csv.rows.size() < 2) q.fail_at(q.get("file"), q.key_path("file"), fmt::format("at least 2 rows of x, z in {}", csv.path));
+  std::vector<std::array<double, 2>> line;
+  const double z0 = csv.rows.front()[1];
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    const auto& row = csv.rows[i];
+    if (i > 0 && !(row[0] > csv.rows[i - 1][0]))
+      q.fail_at(q.get("file"), q.key_path("file"),
+                fmt::format("a survey line with x strictly increasing; {} line {} goes back to x = {}", csv.path, csv.lines[i], row[0]));
+    if (i > 0 && !(row[1] > z0))
+      q.fail_at(q.get("file"), q.key_path("file"),
+                fmt::format("a slope rising from its toe (the first point); {} line {} has z = {}, not above the toe's {}",
+                            csv.path, csv.lines[i], row[1], z0));
+    line.push_back({row[0], row[1]});
+  }
+  const double back = r.scalar<double>("back", line.back()[0]);
+  if (!(back >= line.back()[0]))
+    r.fail_at(r.get("back"), r.key_path("back"), fmt::format("an x at or beyond the survey's last point ({:.6g})", line.back()[0]));
+  if (surface) *surface = line;
+  std::vector<std::array<double, 2>> v = line;  // the wedge under the line, to the vertical at `back`
+  if (back > line.back()[0]) v.push_back({back, line.back()[1]});
+  v.push_back({back, z0});
+  if (wedge) *wedge = v;
+  return v;
+}
+}  // namespace
+
 std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness,
-                                              std::vector<std::array<double, 2>>* wedge) {
+                                              std::vector<std::array<double, 2>>* wedge,
+                                              std::vector<std::array<double, 2>>* surface) {
+  if (r.has("survey")) return read_survey_slope(r, wedge, surface);
   for (const char* k : {"toe", "gradient", "top"})
     if (!r.has(k)) r.misspelt(k);
   if (!r.has("toe") || !r.has("gradient") || !r.has("top"))
-    r.fail_at(n, r.key_path("type"), "a slope: 'toe' [x, z], 'gradient' (rise/run, or '1:2.08') and 'top' (z of its top)");
+    r.fail_at(n, r.key_path("type"),
+              "a slope: 'toe' [x, z], 'gradient' (rise/run, or '1:2.08') and 'top' (z of its top), or 'survey: {file: F.csv}'");
   const std::vector<double> toe = r.vec("toe", 2);
   double m = 0.0;  // rise over run
   const Node& gn = r.get("gradient");
@@ -40,6 +84,7 @@ std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double d
   if (back > x1) v.push_back({back, top});
   v.push_back({back, toe[1]});
   if (wedge) *wedge = v;
+  if (surface) *surface = {{toe[0], toe[1]}, {x1, top}};
   if (t == 0.0) return v;
   // a layer of normal thickness t under the surface line (an armour layer), cut along the toe's
   // level and normal to the slope at its top: width t / sin(alpha) along the bed
@@ -58,9 +103,8 @@ void check_slopes(const Case& c) {
     bool inside = false;
     for (const auto* t : tanks) {
       bool in = true;
-      for (std::size_t q = 0; q < 2; ++q)  // the surface line: the toe and the top (a layer may run on into the tank's wall)
+      for (const auto& v : {s.surface.front(), s.surface.back()})  // the surface line's ends (a layer may run on into the tank's wall)
         for (int d = 0; d < 2; ++d) {
-          const auto& v = s.vertices[q];
           const std::size_t k = d == 0 ? 0 : t->min.size() - 1;
           in &= v[static_cast<std::size_t>(d)] >= t->min[k] - c.dx && v[static_cast<std::size_t>(d)] <= t->max[k] + c.dx;
         }
@@ -69,7 +113,8 @@ void check_slopes(const Case& c) {
     if (!inside)
       throw InputError(fmt::format("{}: line {}: geometry.{}: the slope (from x = {:.4g} to {:.4g}, z = {:.4g} to {:.4g}) "
                                    "reaches outside the tank: move its toe, lower its top or shorten 'back'",
-                                   c.file, s.line, i, s.vertices[0][0], s.vertices[1][0], s.vertices[0][1], s.vertices[1][1]));
+                                   c.file, s.line, i, s.surface.front()[0], s.surface.back()[0], s.surface.front()[1],
+                                   s.surface.back()[1]));
   }
 }
 

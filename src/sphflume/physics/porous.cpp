@@ -24,6 +24,8 @@ PorousMedia<D>::PorousMedia(const PorousConfig& c, KernelType kernel, double h, 
     }
     if (rc.shape == "box") {
       for (int d = 0; d < D; ++d) { g.lo[d] = rc.min[d]; g.hi[d] = rc.max[d]; }
+    } else if (rc.shape == "mesh") {
+      for (int d = 0; d < D; ++d) { g.lo[d] = rc.mesh->lo()[static_cast<std::size_t>(d)]; g.hi[d] = rc.mesh->hi()[static_cast<std::size_t>(d)]; }
     } else {  // polygon (2D)
       g.lo = Vec<D>{};
       for (int d = 0; d < D; ++d) { g.lo[d] = 1e300; g.hi[d] = -1e300; }
@@ -80,6 +82,13 @@ bool PorousMedia<D>::inside(const Region& g, const Vec<D>& x) const {
   }
   if (g.cfg.shape == "polygon") {
     if constexpr (D == 2) return inside_polygon(g.cfg.vertices, x[0], x[1]);
+  }
+  if (g.cfg.shape == "mesh") {
+    if constexpr (D == 3) {
+      for (int d = 0; d < D; ++d)
+        if (x[d] < g.lo[d] || x[d] > g.hi[d]) return false;  // (the box first: a mesh query costs a ray cast)
+      return g.cfg.mesh->inside({x[0], x[1], x[2]});
+    }
   }
   return false;
 }

@@ -7,27 +7,53 @@ namespace sph {
 using namespace setup_detail;
 namespace {
 
-/// A wall slope (2D): rows of particles parallel to its surface, dx apart along it, at depths
+/// A wall slope (2D): rows of particles parallel to its surface line (s.surface, from the toe;
+/// one segment for a typed slope, a survey's polyline otherwise), dx apart along it, at depths
 /// (k + 1/2) dx, k < layers (as a flat wall's lattice, turned with the slope); none below the
-/// toe's level (the bed's walls are there); and the toe's seal below them.
+/// toe's level (the bed's walls are there); and the toe's seal below them. Along a polyline the
+/// positions run on the arc length, each row point offset along its segment's normal; where
+/// rows of two segments crowd at a concave bend, a point closer than dx/2 to an earlier one is
+/// left out.
 void slope_wall_rows(const ShapeConfig& s, std::uint32_t si, double dx, int layers, FillPoints<2>& f) {
-  const double ax = s.solid[0][0], az = s.solid[0][1];
-  const double tx = s.solid[1][0] - ax, tz = s.solid[1][1] - az, len = std::sqrt(tx * tx + tz * tz);
-  const double ux = tx / len, uz = tz / len;  // along the slope; the normal into the fluid is (-uz, ux)
-  const long nalong = std::lround(std::floor(len / dx));
+  const auto& sf = s.surface;
+  const double ax = sf[0][0], az = sf[0][1];
+  std::vector<double> cum(sf.size(), 0.0);  // the arc length at each point
+  for (std::size_t j = 1; j < sf.size(); ++j) {
+    const double tx = sf[j][0] - sf[j - 1][0], tz = sf[j][1] - sf[j - 1][1];
+    cum[j] = cum[j - 1] + std::sqrt(tx * tx + tz * tz);
+  }
+  const double total = cum.back();
+  const std::size_t first = f.wall_x.size();
+  const long nalong = std::lround(std::floor(total / dx));
   for (int k = 0; k < layers; ++k)
-    for (long i = 0; i < nalong; ++i) {
+    for (long i = 0, j = 0; i < nalong; ++i) {
       const double a = (static_cast<double>(i) + 0.5) * dx, dep = (k + 0.5) * dx;
+      while (j + 2 < static_cast<long>(sf.size()) && a >= cum[static_cast<std::size_t>(j + 1)]) ++j;
+      const auto& p = sf[static_cast<std::size_t>(j)];
+      const auto& q = sf[static_cast<std::size_t>(j + 1)];
+      const double tx = q[0] - p[0], tz = q[1] - p[1], len = std::sqrt(tx * tx + tz * tz);
+      const double ux = tx / len, uz = tz / len;  // along the segment; the normal into the fluid is (-uz, ux)
+      const double t = a - cum[static_cast<std::size_t>(j)];
       Vec<2> x, sp;
-      sp[0] = ax + a * ux;
-      sp[1] = az + a * uz;
+      sp[0] = p[0] + t * ux;
+      sp[1] = p[1] + t * uz;
       x[0] = sp[0] + dep * uz;
       x[1] = std::fma(-dep, ux, sp[1]);  // explicit: GCC fused it here before this code was a function of its own
       if (x[1] < az + 0.5 * dx * 0.999) continue;  // in the bed's walls
+      if (sf.size() > 2) {  // (a polyline: rows crowd at a concave bend)
+        bool crowded = false;
+        for (std::size_t e = first; e < f.wall_x.size() && !crowded; ++e) {
+          const double ex = f.wall_x[e][0] - x[0], ez = f.wall_x[e][1] - x[1];
+          crowded = ex * ex + ez * ez < 0.25 * dx * dx * 0.998;
+        }
+        if (crowded) continue;
+      }
       f.wall_x.push_back(x);
       f.wall_s.push_back(sp);
       f.wall_shape.push_back(si);
     }
+  const double tx = sf[1][0] - ax, tz = sf[1][1] - az, len = std::sqrt(tx * tx + tz * tz);
+  const double ux = tx / len, uz = tz / len;  // the first segment's direction (the toe's)
   // the toe's seal: where the rows meet the bed they are cut at an angle and leave the hollow under
   // them open to the corner (a rough 1:1.5 breakwater at dx = 0.02 failed with a particle below
   // the bed level there; water was also trapped under its crest then, since fixed). Lattice
@@ -37,20 +63,38 @@ void slope_wall_rows(const ShapeConfig& s, std::uint32_t si, double dx, int laye
   const double a_cut = ((0.5 + layers * ux) / std::max(uz, 1e-12) + 2.0 * layers) * dx;
   Vec<2> blo, bhi;
   blo[0] = ax;
-  bhi[0] = ax + tx + 2.0 * layers * dx;
+  bhi[0] = ax + (sf.back()[0] - ax) + 2.0 * layers * dx;
   blo[1] = az;
-  bhi[1] = std::min(top_z, az + tz);
+  bhi[1] = std::min(top_z, az + (sf.back()[1] - az));
   lattice<2>(blo, bhi, dx, [&](const Vec<2>& x) {
     if (x[1] < az + 0.5 * dx * 0.999 || !inside_polygon(s.solid, x[0], x[1])) return;
     const double px = x[0] - ax, pz = x[1] - az;
     const double along = px * ux + pz * uz, depth = px * uz - pz * ux;  // below the surface line
-    if (depth < layers * dx * 0.999 || along < 0.0 || along > std::min(len, a_cut)) return;
+    if (depth < layers * dx * 0.999 || along < 0.0 || along > std::min(total, a_cut)) return;
     Vec<2> sp;
     sp[0] = ax + along * ux;
     sp[1] = az + along * uz;
     f.wall_x.push_back(x);
     f.wall_s.push_back(sp);
     f.wall_shape.push_back(si);
+  });
+}
+
+/// A mesh's lattice points: fluid, every point inside the solid; wall, the points inside it less
+/// than `layers` dx from its surface (the surface layers: a wall deeper than the kernel's support
+/// does nothing; the fluid is kept out of the hollow by drop_inside_walls).
+template <class Emit>
+void mesh_points(const ShapeConfig& s, double dx, int layers, const Vec<3>& lo, const Vec<3>& hi, Emit&& emit) {
+  const double depth2 = layers * dx * layers * dx;
+  lattice<3>(lo, hi, dx, [&](const Vec<3>& x) {
+    const SolidMesh::P3 p{x[0], x[1], x[2]};
+    if (!s.mesh->inside(p)) return;
+    if (s.fill == "wall") {
+      const auto q = s.mesh->closest(p);
+      const double d0 = q[0] - p[0], d1 = q[1] - p[1], d2 = q[2] - p[2];
+      if (!(d0 * d0 + d1 * d1 + d2 * d2 < depth2)) return;
+    }
+    emit(x);
   });
 }
 
@@ -68,7 +112,9 @@ std::vector<FillZone<D>> porous_fill_zones(const Case& c, const PorousMedia<D>* 
       if (!(porous->fill_spacing(r) > 0.0) || !(rc.porosity < 1.0)) continue;
       FillZone<D> z{static_cast<int>(r), {}, {}, porous->fill_spacing(r)};
       if (rc.shape == "box") { z.lo = to_vec<D>(rc.min); z.hi = to_vec<D>(rc.max); }
-      else {
+      else if (rc.mesh) {
+        for (int d = 0; d < D; ++d) { z.lo[d] = rc.mesh->lo()[static_cast<std::size_t>(d)]; z.hi[d] = rc.mesh->hi()[static_cast<std::size_t>(d)]; }
+      } else {
         for (int d = 0; d < D; ++d) { z.lo[d] = 1e300; z.hi[d] = -1e300; }
         for (const auto& v : rc.vertices)
           for (int d = 0; d < D && d < 2; ++d) { z.lo[d] = std::min(z.lo[d], v[d]); z.hi[d] = std::max(z.hi[d], v[d]); }
@@ -127,6 +173,8 @@ FillPoints<D> fill_shapes(const Case& c, int layers, const PorousMedia<D>* porou
     } else if (s.type == "polygon") {
       if constexpr (D == 2)
         lattice<2>(lo, hi, dx, [&](const Vec<2>& x) { if (inside_polygon(s.vertices, x[0], x[1])) emit(x); });
+    } else if (s.type == "mesh") {
+      if constexpr (D == 3) mesh_points(s, dx, layers, lo, hi, emit);
     } else if (s.type == "plane") {
       Vec<D> nrm = to_vec<D>(s.normal);
       double nmax = 0.0;
@@ -146,7 +194,7 @@ FillPoints<D> fill_shapes(const Case& c, int layers, const PorousMedia<D>* porou
     const auto& zn = zones[k];
     for (std::size_t si = 0; si < c.shapes.size(); ++si) {
       const auto& s = c.shapes[si];
-      if (s.fill != "fluid" || (s.type != "box" && s.type != "polygon")) continue;
+      if (s.fill != "fluid" || (s.type != "box" && s.type != "polygon" && s.type != "mesh")) continue;
       Vec<D> lo, hi;
       shape_box<D>(s, dx, layers, lo, hi);
       bool empty = false;
@@ -161,6 +209,9 @@ FillPoints<D> fill_shapes(const Case& c, int layers, const PorousMedia<D>* porou
         if (zone_of<D>(zones, porous, x) != static_cast<int>(k)) return;  // outside the zone, or in an earlier one
         if (s.type == "polygon") {
           if constexpr (D == 2) { if (!inside_polygon(s.vertices, x[0], x[1])) return; }
+        }
+        if (s.type == "mesh") {
+          if constexpr (D == 3) { if (!s.mesh->inside({x[0], x[1], x[2]})) return; }
         }
         f.fluid_x.push_back(x); f.fluid_v.push_back(v0); f.fluid_shape.push_back(static_cast<std::uint32_t>(si));
         f.fluid_half.push_back(0.5 * zn.spacing);
@@ -193,19 +244,30 @@ void drop_inside_walls(const Case& c, FillPoints<D>& f) {
       if (in) drop[i] = 1;
     }
   }
+  if constexpr (D == 3) {  // and every point inside a wall mesh (its particles are surface layers)
+    for (const auto& s : c.shapes) {
+      if (s.fill != "wall" || !s.mesh) continue;
+      for (std::size_t i = 0; i < f.fluid_x.size(); ++i)
+        if (!drop[i] && s.mesh->inside({f.fluid_x[i][0], f.fluid_x[i][1], f.fluid_x[i][2]})) drop[i] = 1;
+    }
+  }
   if constexpr (D == 2) {  // slopes whose walls are a layer: no fluid in the hollow under them
     for (const auto& s : c.shapes) {
       if (s.solid.empty()) continue;
       // and none closer than dx/2 to the slope's surface (the lattice does not follow the slope: a
       // point left a fraction of dx above it is thrown off at the first step)
-      const double ax = s.solid[0][0], az = s.solid[0][1], tx = s.solid[1][0] - ax, tz = s.solid[1][1] - az;
-      const double len2 = tx * tx + tz * tz;
       for (std::size_t i = 0; i < f.fluid_x.size(); ++i) {
         if (drop[i]) continue;
-        const double px = f.fluid_x[i][0] - ax, pz = f.fluid_x[i][1] - az;
-        const double u = std::clamp((px * tx + pz * tz) / len2, 0.0, 1.0);
-        const double dxs = px - u * tx, dzs = pz - u * tz;
-        if (inside_polygon(s.solid, f.fluid_x[i][0], f.fluid_x[i][1]) || dxs * dxs + dzs * dzs < 0.25 * dx * dx * 0.998) drop[i] = 1;
+        bool near = false;
+        for (std::size_t j = 0; j + 1 < s.surface.size() && !near; ++j) {  // each segment of the surface line
+          const double ax = s.surface[j][0], az = s.surface[j][1], tx = s.surface[j + 1][0] - ax, tz = s.surface[j + 1][1] - az;
+          const double len2 = tx * tx + tz * tz;
+          const double px = f.fluid_x[i][0] - ax, pz = f.fluid_x[i][1] - az;
+          const double u = std::clamp((px * tx + pz * tz) / len2, 0.0, 1.0);
+          const double dxs = px - u * tx, dzs = pz - u * tz;
+          near = dxs * dxs + dzs * dzs < 0.25 * dx * dx * 0.998;
+        }
+        if (near || inside_polygon(s.solid, f.fluid_x[i][0], f.fluid_x[i][1])) drop[i] = 1;
       }
     }
   }

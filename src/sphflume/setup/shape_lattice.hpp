@@ -92,6 +92,11 @@ Vec<D> surface_point(const ShapeConfig& s, const Vec<D>& x) {
     Vec<D> nrm = to_vec<D>(s.normal);
     nrm *= 1.0 / norm(nrm);
     p = x - dot(x - to_vec<D>(s.point), nrm) * nrm;
+  } else if (s.type == "mesh") {
+    if constexpr (D == 3) {
+      const auto q = s.mesh->closest({x[0], x[1], x[2]});
+      for (int d = 0; d < 3; ++d) p[d] = q[static_cast<std::size_t>(d)];
+    }
   } else if (s.type == "polygon") {
     if constexpr (D == 2) {
       double best = 1e300;
@@ -108,15 +113,17 @@ Vec<D> surface_point(const ShapeConfig& s, const Vec<D>& x) {
   return p;
 }
 
-/// The box whose lattice a shape visits (a tank: with its walls; a polygon: its bounding box
-/// anchored on the global dx grid so polygons line up with boxes at 0).
+/// The box whose lattice a shape visits (a tank: with its walls; a polygon or a mesh: its bounding
+/// box anchored on the global dx grid so they line up with boxes at 0).
 template <int D>
 void shape_box(const ShapeConfig& s, double dx, int layers, Vec<D>& lo, Vec<D>& hi) {
-  if (s.type == "polygon") {
+  if (s.type == "polygon" || s.type == "mesh") {
     for (int d = 0; d < D; ++d) { lo[d] = 1e300; hi[d] = -1e300; }
     if constexpr (D == 2)
       for (const auto& p : s.vertices)
         for (int d = 0; d < 2; ++d) { lo[d] = std::min(lo[d], p[d]); hi[d] = std::max(hi[d], p[d]); }
+    if (s.mesh)
+      for (int d = 0; d < D; ++d) { lo[d] = s.mesh->lo()[static_cast<std::size_t>(d)]; hi[d] = s.mesh->hi()[static_cast<std::size_t>(d)]; }
     for (int d = 0; d < D; ++d) { lo[d] = std::floor(lo[d] / dx) * dx; hi[d] = std::ceil(hi[d] / dx) * dx; }
     return;
   }
