@@ -11,7 +11,7 @@ PKGS=(
   libeigen3-dev libmuparser-dev libyaml-cpp-dev libhdf5-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libhypre-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev
-  libcgal-dev
+  libcgal-dev ffmpeg
   python3 python3-numpy python3-matplotlib python3-h5py python3-yaml
   clang libclang-rt-14-dev
 )

@@ -28,7 +28,9 @@ def main(argv=None):
         paths = [plot_snapshot(run, a.snapshot, a.field, os.path.join(out, f"snapshot_{snap['step']:08d}_{a.field}.png"))]
         paths += [plot_gauge(run, g, os.path.join(out, f"gauge_{g}.png")) for g in run.gauge_names()]
         if a.animate:
-            paths.append(animate(run, a.field, None if a.out is None else os.path.join(out, a.field + ".gif")))
+            from matplotlib import animation  # (MP4 where ffmpeg is, GIF otherwise)
+            ext = ".mp4" if animation.writers.is_available("ffmpeg") else ".gif"
+            paths.append(animate(run, a.field, None if a.out is None else os.path.join(out, a.field + ext)))
     except (FileNotFoundError, KeyError, IndexError) as e:
         print(f"sphflume plot: {e.args[0] if e.args else e}", file=sys.stderr)
         return 2

@@ -83,6 +83,15 @@ def main():
     from PIL import Image  # (matplotlib's own dependency)
     frames = Image.open(anim).n_frames
     check(head == b"GIF89a" and frames == len(run), f"the animation: a GIF of {frames} frames for {len(run)} snapshots")
+    if shutil.which("ffmpeg") and shutil.which("ffprobe"):  # (scripts/install-deps.sh installs Debian's ffmpeg)
+        mp4 = sphflume.animate(run, "pressure")  # the default: MP4 where ffmpeg is
+        probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                                "stream=codec_name,nb_read_frames", "-of", "csv=p=0", mp4], capture_output=True, text=True)
+        fields = probe.stdout.strip().split(",")
+        check(mp4.endswith(".mp4") and probe.returncode == 0 and len(fields) == 2 and fields[1] == str(len(run)),
+              f"the animation with ffmpeg: an MP4 ({probe.stdout.strip()}) of one frame per snapshot ({len(run)})")
+    else:
+        print("[SKIP] no ffmpeg: the MP4 animation is not checked (GIF above)")
 
     # 4. bad input
     r = subprocess.run([sys.executable, "-m", "sphflume", "plot", os.path.join(work, "nosuch")], env=env,

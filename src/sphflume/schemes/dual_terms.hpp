@@ -39,6 +39,18 @@ struct Row {
   F32 xa0, xa1, xa2, va0, va1, va2, pa;
 };
 
+/// r = x_a − x_b of particle a and lane l of block b, |r|² and |r| (2D: r2c = 0, not in the sums).
+struct Separation {
+  F32 r0, r1, r2c, r2, r;
+};
+template <int D>
+[[gnu::always_inline]] inline Separation separation(const Row& a, const Block& b, std::size_t l) {
+  const F32 r0 = a.xa0 - b.x0[l], r1 = a.xa1 - b.x1[l];
+  const F32 r2c = D == 3 ? a.xa2 - b.x2[l] : F32(0);
+  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
+  return {r0, r1, r2c, r2, std::sqrt(r2)};
+}
+
 /// The per-pair terms of the three passes: each adds one pair's terms (particle a against lane l
 /// of block b) into its accumulators acc[i][l] in place, branch-free (in place, not returned:
 /// each accumulation stays one expression, so GCC contracts it to a fused multiply-add).
@@ -49,10 +61,7 @@ struct Row {
 /// Pass 2, the density summation: W(r) and the neighbour count (the self term apart).
 template <int D, class K, class Acc>
 [[gnu::always_inline]] inline void density_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
-  const F32 r0 = a.xa0 - b.x0[l], r1 = a.xa1 - b.x1[l];
-  const F32 r2c = D == 3 ? a.xa2 - b.x2[l] : F32(0);
-  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
-  const F32 r = std::sqrt(r2);
+  const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
   const F32 in = ((r2 < support2) & (r2 > F32(0))) ? F32(1) : F32(0);
   acc[0][l] += ker.W(r) * in;
   acc[1][l] += in;
@@ -62,10 +71,7 @@ template <int D, class K, class Acc>
 /// the self pair's terms carry r = 0.
 template <int D, class K, class Acc>
 [[gnu::always_inline]] inline void pressure_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
-  const F32 r0 = a.xa0 - b.x0[l], r1 = a.xa1 - b.x1[l];
-  const F32 r2c = D == 3 ? a.xa2 - b.x2[l] : F32(0);
-  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
-  const F32 r = std::sqrt(r2);
+  const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
   acc[D + 1][l] += ((r2 < support2) & (r2 > F32(0))) ? F32(1) : F32(0);  // the count
   const F32 Fv = ker.F(r) * b.v[l];  // W'(r)/r V_b (sym: m_b)
   const F32 pp = (a.pa + b.p[l]) * Fv;
@@ -80,10 +86,7 @@ template <int D, class K, class Acc>
 /// padding's n = 0 adds nothing).
 template <int D, bool WallBlock, class K, class Acc>
 [[gnu::always_inline]] inline void continuity_terms(const K& ker, F32 fk, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
-  const F32 r0 = a.xa0 - b.x0[l], r1 = a.xa1 - b.x1[l];
-  const F32 r2c = D == 3 ? a.xa2 - b.x2[l] : F32(0);
-  const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
-  const F32 r = std::sqrt(r2);
+  const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
   const F32 Fv = ker.F(r) * b.v[l];
   const F32 u0 = a.va0 - b.u0[l], u1 = a.va1 - b.u1[l];
   const F32 u2 = D == 3 ? a.va2 - b.u2[l] : F32(0);
