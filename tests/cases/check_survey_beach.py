@@ -7,7 +7,9 @@ gauge's maximum) of one run moves by more than 1 % under shifts far below dx: th
 survey's rounding, +-0.05 mm, moves R/h0 by +-2.1 % at dx = 0.01 and up to 5 % at dx = 0.02 (the swash tongue's
 tip is one particle thick). So the survey is judged against that band: the typed slope is run with its toe at
 x0 - 0.05 mm, x0 and x0 + 0.05 mm, and the survey's R must lie within their range widened by 1 % of their mean.
-Usage: check_survey_beach.py SPHFLUME WORKDIR [DX]   (DX 0.02 in CTest; the cases' own is 0.01)
+With --ensemble K, both beaches are also run shifted along x by -K..K x 0.05 mm (2K + 1 runs each: the survey's
+points moved, the typed slope's toe moved) and the means of their R must agree within 1 %.
+Usage: check_survey_beach.py SPHFLUME WORKDIR [DX] [--ensemble K]   (DX 0.02 in CTest; the cases' own is 0.01)
 """
 import csv
 import os
@@ -17,8 +19,14 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-binary, work = sys.argv[1], sys.argv[2]
-dx = sys.argv[3] if len(sys.argv) > 3 else "0.02"
+args = [a for a in sys.argv[1:]]
+ensemble = 0
+if "--ensemble" in args:
+    k = args.index("--ensemble")
+    ensemble = int(args[k + 1])
+    del args[k:k + 2]
+binary, work = args[0], args[1]
+dx = args[2] if len(args) > 2 else "0.02"
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 fails = []
@@ -30,9 +38,9 @@ def check(cond, what):
         fails.append(what)
 
 
-def runup(name, extra=(), tag=""):
+def runup(name, extra=(), tag="", case=None):
     out = os.path.join(work, name + tag)
-    p = subprocess.run([binary, "run", os.path.join(ROOT, "cases", name + ".yaml"), "-o", out, "-q", "--set", "time.snapshot_interval=100",
+    p = subprocess.run([binary, "run", case or os.path.join(ROOT, "cases", name + ".yaml"), "-o", out, "-q", "--set", "time.snapshot_interval=100",
                         "--threads", "2", "--set", f"particles.dx={dx}"] + list(extra), capture_output=True, text=True)
     check(p.returncode == 0, f"{name} at dx = {dx} ends normally (exit {p.returncode}: {(p.stdout + p.stderr).strip()[-160:]})")
     if p.returncode != 0:
@@ -53,6 +61,36 @@ print(f"run-up R/h0: typed slope {typed[1] / h0:.4f} (toe -0.05 mm {typed[0] / h
 check(lo - 0.01 * mean <= survey <= hi + 0.01 * mean,
       f"the survey beach's run-up lies within the typed slope's band under +-0.05 mm toe shifts, +-1 % "
       f"([{(lo - 0.01 * mean) / h0:.4f}, {(hi + 0.01 * mean) / h0:.4f}] R/h0)")
+if ensemble > 0:  # both beaches shifted by the same sub-resolution steps: the means of R
+    src = os.path.join(ROOT, "cases", "runup_flume_a_survey.csv")
+    with open(src) as f:
+        lines = f.read().splitlines()
+    ts, ss = [], []
+    for k in range(-ensemble, ensemble + 1):
+        d = 5e-5 * k
+        ts.append(runup("runup_flume_a", ["--set", f"geometry.2.toe=[{2.07 + d:.6f}, 0.0]"], f"_e{k}"))
+        csv_k = os.path.join(work, f"survey_{k}.csv")
+        with open(csv_k, "w") as f:
+            for ln in lines:
+                parts = ln.split(",")
+                try:
+                    f.write(f"{float(parts[0]) + d:.6f},{parts[1]}\n")
+                except ValueError:
+                    f.write(ln + "\n")
+        case_k = os.path.join(work, f"survey_{k}.yaml")
+        with open(os.path.join(ROOT, "cases", "runup_flume_a_survey.yaml")) as f:
+            text = f.read().replace("runup_flume_a_survey.csv", csv_k)
+        with open(case_k, "w") as f:
+            f.write(text)
+        ss.append(runup("runup_flume_a_survey", tag=f"_e{k}", case=case_k))
+    mt, ms = sum(ts) / len(ts), sum(ss) / len(ss)
+    sd = lambda v, m: (sum((x - m) ** 2 for x in v) / (len(v) - 1)) ** 0.5
+    print("shift [mm] " + " ".join(f"{0.05 * k:+.2f}" for k in range(-ensemble, ensemble + 1)))
+    print("typed R/h0 " + " ".join(f"{x / h0:.4f}" for x in ts))
+    print("survey R/h0 " + " ".join(f"{x / h0:.4f}" for x in ss))
+    print(f"means: typed {mt / h0:.4f} (sd {sd(ts, mt) / h0:.4f}), survey {ms / h0:.4f} (sd {sd(ss, ms) / h0:.4f})")
+    check(abs(ms - mt) <= 0.01 * mt, f"the ensemble means of R agree within 1 % ({100 * (ms - mt) / mt:+.2f} %, "
+          f"{len(ts)} runs each)")
 if fails:
     print(f"check_survey_beach: {len(fails)} check(s) failed")
     sys.exit(1)
