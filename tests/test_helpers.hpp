@@ -12,7 +12,23 @@
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/wcsph.hpp"
 
+/// A message that contains a part (the message printed when it does not).
+#define EXPECT_HAS(msg, part) EXPECT_NE((msg).find(part), std::string::npos) << "message: " << (msg) << "\nlacks: " << (part)
+
 namespace sph::test {
+
+/// The InputError message of reading and building a case from text (empty when it builds).
+template <int D>
+std::string build_error(const std::string& text) {
+  try {
+    const Case c = parse_case(text, "case.yaml");
+    System<D> S;
+    build_system<D>(c, S);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 /// A System built from case-file text, with its wall model and force terms, ready to step.
 template <int D>

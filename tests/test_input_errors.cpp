@@ -11,6 +11,7 @@
 #include "sphflume/io/case.hpp"
 #include "sphflume/setup/setup.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "test_helpers.hpp"
 
 using namespace sph;
 
@@ -56,7 +57,6 @@ std::string error_of(const std::string& text, const BuildLimits& limits = {}) {
   return "";
 }
 
-#define EXPECT_HAS(msg, part) EXPECT_NE((msg).find(part), std::string::npos) << "message: " << (msg) << "\nlacks: " << (part)
 
 }  // namespace
 

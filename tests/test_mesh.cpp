@@ -17,6 +17,7 @@
 #include "sphflume/io/case.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/setup/setup.hpp"
+#include "test_helpers.hpp"
 
 using namespace sph;
 
@@ -117,22 +118,9 @@ Counts counts(const std::string& text) {
 }
 
 std::string error_of(const std::string& text, int dim = 3) {
-  try {
-    const Case c = parse_case(text, "case.yaml");
-    if (dim == 3) {
-      System<3> S;
-      build_system<3>(c, S);
-    } else {
-      System<2> S;
-      build_system<2>(c, S);
-    }
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return dim == 3 ? test::build_error<3>(text) : test::build_error<2>(text);
 }
 
-#define EXPECT_HAS(msg, part) EXPECT_NE((msg).find(part), std::string::npos) << "message: " << (msg) << "\nlacks: " << (part)
 
 }  // namespace
 

@@ -15,6 +15,7 @@
 #include "sphflume/io/case.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/setup/setup.hpp"
+#include "test_helpers.hpp"
 
 using namespace sph;
 
@@ -43,18 +44,8 @@ time: {end: 0.1}
 
 const char* kTyped = "vertices: [[0.3, 0.0], [0.3, 0.0301], [0.6, 0.1301], [0.7, 0.16], [0.8, 0.1301], [1.2, 0.26], [1.2, 0.0]]";
 
-std::string error_of(const std::string& text) {
-  try {
-    const Case c = parse_case(text, "case.yaml");
-    System<2> S;
-    build_system<2>(c, S);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string error_of(const std::string& text) { return test::build_error<2>(text); }
 
-#define EXPECT_HAS(msg, part) EXPECT_NE((msg).find(part), std::string::npos) << "message: " << (msg) << "\nlacks: " << (part)
 
 }  // namespace
 

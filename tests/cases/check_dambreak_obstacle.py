@@ -26,13 +26,8 @@ ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 binary, work = sys.argv[1], sys.argv[2]
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-fails = []
-
-
-def check(cond, what):
-    print(("[PASS] " if cond else "[FAIL] ") + what)
-    if not cond:
-        fails.append(what)
+sys.path.insert(0, os.path.join(HERE, "..", "robustness"))
+from common import check, finish  # noqa: E402
 
 
 dx, H, rho, g = 0.05, 0.55, 1000.0, 9.81
@@ -72,7 +67,4 @@ check(len(hit) > 0 and hit[0] >= arrive,
 summary = json.load(open(os.path.join(work, "summary.json")))
 err = summary["mass"]["relative_error"]
 check(summary["exit_status"] == "done" and abs(err) < 1e-12, f"done, mass exact (relative error {err})")
-if fails:
-    print(f"check_dambreak_obstacle: {len(fails)} check(s) failed")
-    sys.exit(1)
-print("check_dambreak_obstacle: all checks passed")
+finish("check_dambreak_obstacle")

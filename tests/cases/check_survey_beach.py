@@ -29,13 +29,8 @@ binary, work = args[0], args[1]
 dx = args[2] if len(args) > 2 else "0.02"
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
-fails = []
-
-
-def check(cond, what):
-    print(("[PASS] " if cond else "[FAIL] ") + what)
-    if not cond:
-        fails.append(what)
+sys.path.insert(0, os.path.join(HERE, "..", "robustness"))
+from common import check, finish  # noqa: E402
 
 
 def runup(name, extra=(), tag="", case=None):
@@ -91,7 +86,4 @@ if ensemble > 0:  # both beaches shifted by the same sub-resolution steps: the m
     print(f"means: typed {mt / h0:.4f} (sd {sd(ts, mt) / h0:.4f}), survey {ms / h0:.4f} (sd {sd(ss, ms) / h0:.4f})")
     check(abs(ms - mt) <= 0.01 * mt, f"the ensemble means of R agree within 1 % ({100 * (ms - mt) / mt:+.2f} %, "
           f"{len(ts)} runs each)")
-if fails:
-    print(f"check_survey_beach: {len(fails)} check(s) failed")
-    sys.exit(1)
-print("check_survey_beach: all checks passed")
+finish("check_survey_beach")
