@@ -7,7 +7,7 @@ The obstacle is read from cases/kleefsman_obstacle.stl (mm, offset into place). 
   about (0.161/dx)(0.403/dx) particles in each layer);
 - no fluid particle ever enters the obstacle (deeper than dx/2 inside its box) in any snapshot;
 - the water reaches it: the pressure on the face towards the water rises above 0.5 rho g H after the front
-  arrives (the front leaves x = 1.992 m at t = 0 and runs at most 2 sqrt(g H): t > (1.992 - 0.8245) / 4.65 s);
+  arrives (the front leaves x = 2.0 m at t = 0 and runs at most 2 sqrt(g H): t > (2.0 - 0.8245) / 4.65 s);
 - mass is exact (no particle lost).
 Usage: check_dambreak_obstacle.py SPHFLUME WORKDIR
 """
@@ -59,7 +59,7 @@ with open(os.path.join(work, "gauges", "obstacle_face.csv")) as f:
     rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
 t = np.array([float(r[0]) for r in rows[1:]])
 pf = np.array([float(r[1]) if r[1] not in ("", "nan") else np.nan for r in rows[1:]])
-arrive = (1.992 - 0.8245) / (2.0 * np.sqrt(g * H))
+arrive = (2.0 - 0.8245) / (2.0 * np.sqrt(g * H))
 hit = t[np.nan_to_num(pf) > 0.5 * rho * g * H]
 check(len(hit) > 0 and hit[0] >= arrive,
       f"the water hits the obstacle's face (p > 0.5 rho g H first at t = {hit[0] if len(hit) else float('nan'):.2f} s; "
