@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include "sphflume/core/interpolate.hpp"
 #include "sphflume/core/pair_pass.hpp"
@@ -33,7 +34,8 @@ class DummyWalls final : public WallModel<D> {
     const Pass p{cells.sorted().data(), P.pos.data(), P.vel.data(), P.rho.data(), P.p.data(), P.kind.data(),
                  P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr,  // moving walls
                  this->cfg.no_slip ? corr_.data() : nullptr, P.n_owned(), this->cfg.clamp_negative_pressure,
-                 S.eos.density(S.eos.background)};
+                 S.eos.density(S.eos.background),
+                 S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr};
     S.with_kernel([&](const auto& K) {
       // cells with wall particles; those with no fluid within reach keep the background state
       auto needs = [&](std::size_t cell) {
@@ -57,17 +59,28 @@ class DummyWalls final : public WallModel<D> {
       // and AVX-512); the velocity sums only for no-slip walls. (Packing the fluid candidates
       // alone was 6 % faster on the 3D dam break, but its other summation order tipped the
       // coarse regular-waves check, a marginal run near its paddle, into failure: bench/README.)
-      const F32 fsupport2 = F32(K.support2);
-      sweep_cells<F32>(cells, NCOL, L, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
-        const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
-        const Vec<D> origin = p.pos[p.sorted[c0k]];
-        gather(p, st, B, origin);
-        thread_local std::vector<std::uint32_t> blocks;
-        fluid_blocks(B, st.padded, blocks);
-        if (p.gv) wall_states<true>(S, K, p, c0k, c1k, B, origin, blocks, fsupport2);
-        else wall_states<false>(S, K, p, c0k, c1k, B, origin, blocks, fsupport2);
-        return std::uint64_t(0);
-      });
+      // (resolution levels: the kernel at each pair's h_ij, fsupport2 the support factor²)
+      using Ker = std::decay_t<decltype(K)>;
+      const F32 fsupport2 = F32(p.hs ? Ker::support_factor * Ker::support_factor : K.support2);
+      auto run = [&](auto no_slip, auto var_h) {
+        constexpr bool NoSlip = decltype(no_slip)::value, VarH = decltype(var_h)::value;
+        sweep_cells<F32>(cells, NCOL, L, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
+          const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+          const Vec<D> origin = p.pos[p.sorted[c0k]];
+          gather<NoSlip, VarH>(p, st, B, origin);
+          thread_local std::vector<std::uint32_t> blocks;
+          fluid_blocks(B, st.padded, blocks);
+          wall_states<NoSlip, VarH>(S, K, p, c0k, c1k, B, origin, blocks, fsupport2);
+          return std::uint64_t(0);
+        });
+      };
+      if (p.hs) {
+        if (p.gv) run(std::true_type{}, std::true_type{});
+        else run(std::false_type{}, std::true_type{});
+      } else {
+        if (p.gv) run(std::true_type{}, std::false_type{});
+        else run(std::false_type{}, std::false_type{});
+      }
     });
     S.refresh_halos();
     if (p.gv) S.refresh_halos(p.gv, D);  // images carry their source's correction (the sweep reads it for any wall candidate)
@@ -76,7 +89,7 @@ class DummyWalls final : public WallModel<D> {
  private:
   using F32 = float;
   static constexpr std::size_t L = 16;  // the lanes of the sums
-  enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, NCOL };
+  enum { X0, X1, X2, V0, V1, V2, PRS, RHO, FLUID, HS, NCOL };
   /// What one prepare() pass reads: the store's arrays and the constants.
   struct Pass {
     const std::uint32_t* sorted;
@@ -90,6 +103,7 @@ class DummyWalls final : public WallModel<D> {
     std::size_t n;     // owned particles
     bool clamp;
     double rho_bg;
+    const double* hs;  // resolution levels: each particle's h (one level: nullptr)
   };
 
   /// The candidates' columns of one cell (column descriptors): positions relative to `origin`,
@@ -97,6 +111,7 @@ class DummyWalls final : public WallModel<D> {
   /// (a wall's weight is 0, so its velocity, finite and not written by this pass, is copied as
   /// it is); padding far away, no fluid. Only fluid pressures and densities are read: other
   /// threads are writing wall pressures meanwhile.
+  template <bool NoSlip, bool VarH>
   static void gather(const Pass& p, const CellStencil<D>& st, ScratchColumns<F32>& B, const Vec<D>& origin) {
     const Vec<D>* __restrict vel = p.vel;
     const double* __restrict rho = p.rho;
@@ -108,9 +123,11 @@ class DummyWalls final : public WallModel<D> {
     auto velocity = [vel](int d, int index) {
       return column(index, F32(0), [vel, d](std::size_t j) { return F32(vel[j][d]); });
     };
-    if (!p.gv) gather_columns(st, B, p.pos, origin, pressure, density, fluid);
+    const double* __restrict hs = p.hs;
+    const auto smoothing = column(HS, F32(1), [hs](std::size_t j) { return F32(hs[j]); });
+    if constexpr (!NoSlip) gather_columns(st, B, p.pos, origin, pressure, density, fluid, only_if<VarH>(smoothing));
     else gather_columns(st, B, p.pos, origin, pressure, density, fluid, velocity(0, V0), velocity(1, V1),
-                        only_if<D == 3>(velocity(D - 1, V2)));
+                        only_if<D == 3>(velocity(D - 1, V2)), only_if<VarH>(smoothing));
   }
 
   /// The offsets of the blocks of L candidates that hold fluid.
@@ -130,7 +147,7 @@ class DummyWalls final : public WallModel<D> {
 
   /// Each wall particle of the cell [c0k, c1k): pressure (and density) from the Shepard-weighted
   /// fluid pressures plus the hydrostatic part along (g − a_w), and the no-slip ghost velocity.
-  template <bool NoSlip, class Ker>
+  template <bool NoSlip, bool VarH, class Ker>
   static void wall_states(System<D>& S, const Ker& K_, const Pass& p, std::uint32_t c0k, std::uint32_t c1k,
                           ScratchColumns<F32>& B, const Vec<D>& origin, const std::vector<std::uint32_t>& blocks,
                           F32 fsupport2) {
@@ -153,6 +170,7 @@ class DummyWalls final : public WallModel<D> {
       LaneSums<L, NoSlip ? 2 * D + 2 : D + 2> v;
       const F32 xi0 = F32(pos[i][0] - origin[0]), xi1 = F32(pos[i][1] - origin[1]);
       const F32 xi2 = F32(pos[i][D - 1] - origin[D - 1]);
+      [[maybe_unused]] const F32 hi = VarH ? F32(p.hs[i]) : F32(0);
       for (const std::uint32_t k0 : blocks) {
         const F32* __restrict bx0 = B[X0] + k0;
         const F32* __restrict bx1 = B[X1] + k0;
@@ -163,12 +181,19 @@ class DummyWalls final : public WallModel<D> {
         const F32* __restrict bp = B[PRS] + k0;
         const F32* __restrict br = B[RHO] + k0;
         const F32* __restrict bf = B[FLUID] + k0;
+        [[maybe_unused]] const F32* __restrict bh = B[HS] + k0;
         v.add([&](std::size_t l, auto&& acc) {
           const F32 r0 = xi0 - bx0[l], r1 = xi1 - bx1[l];
           const F32 r2c = D == 3 ? xi2 - bx2[l] : F32(0);
           const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
           // (the mask as a factor: a select of a column load left this loop scalar)
-          const F32 w = K.W(std::sqrt(r2)) * (((r2 < l_support2) ? F32(1) : F32(0)) * bf[l]);
+          F32 w;
+          if constexpr (VarH) {  // the pair's h_ij = (h_i + h_b)/2
+            const F32 ih = F32(2) / (hi + bh[l]);
+            w = K.Wh(std::sqrt(r2), ih) * (((r2 * ih * ih < l_support2) ? F32(1) : F32(0)) * bf[l]);
+          } else {
+            w = K.W(std::sqrt(r2)) * (((r2 < l_support2) ? F32(1) : F32(0)) * bf[l]);
+          }
           acc[0][l] += w;
           acc[1][l] += bp[l] * w;
           const F32 rw = br[l] * w;

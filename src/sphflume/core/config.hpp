@@ -368,6 +368,24 @@ struct MultiphaseConfig {
   bool on() const { return !phases.empty(); }
 };
 
+/// A refined region (variable resolution, docs/numerics.md §14): the fluid that starts inside it
+/// is split to level `level` (spacing dx / 2^level, h / 2^level, mass / 2^(D level)).
+struct ResolutionRegionConfig {
+  RegionConfig region;
+  int level = 1;
+  int line = 0;
+};
+struct ResolutionConfig {
+  std::vector<ResolutionRegionConfig> regions;
+  int line = 0;
+  bool on() const { return !regions.empty(); }
+  int max_level() const {
+    int m = 0;
+    for (const auto& r : regions) m = r.level > m ? r.level : m;
+    return m;
+  }
+};
+
 struct Case {
   std::string file;  // where it came from (for messages)
   std::string name = "case";
@@ -395,6 +413,7 @@ struct Case {
   PorousConfig porous;
   TransportConfig transport;
   MultiphaseConfig multiphase;
+  ResolutionConfig resolution;  // refined regions (`resolution:`; none: one level)
   std::string fingerprint;  // canonical text of the document after --set, time.end left out (restart check)
 
   double h() const { return h_over_dx * dx; }

@@ -61,14 +61,23 @@ inline double kernel_default_h_over_dx(KernelType k) {
 template <class T> inline T vmax(T a, T b) { return a > b ? a : b; }
 template <class T> inline T vmin(T a, T b) { return a < b ? a : b; }
 
+/// x^N for a small N (the kernels' normalisations h^-D and their gradients' h^-(D+2)).
+template <int N, class T>
+inline T ipow(T x) {
+  T p = x;
+  for (int i = 1; i < N; ++i) p *= x;
+  return p;
+}
+
 template <int D>
 struct WendlandC2 {
   static constexpr double support_factor = 2.0;
-  double h, inv_h, sigma, support, support2;
+  double h, inv_h, sigma, support, support2, sigma1;  // sigma1: sigma at h = 1 (sigma h^D)
   explicit WendlandC2(double h_) : h(h_), inv_h(1.0 / h_) {
     sigma = (D == 2) ? 7.0 / (4.0 * std::numbers::pi * h * h) : 21.0 / (16.0 * std::numbers::pi * h * h * h);
     support = support_factor * h;
     support2 = support * support;
+    sigma1 = sigma * ipow<D>(h);
   }
   // W and F = W'(r)/r are templates on the scalar type (double, or float in the vectorised
   // pair loops) and branch-free: t = 0 at and beyond the support
@@ -85,16 +94,31 @@ struct WendlandC2 {
     const T t = vmax(T(1) - T(0.5) * r * T(inv_h), T(0));
     return T(-5.0 * sigma * inv_h * inv_h) * t * t * t;
   }
+  /// The same with a per-pair smoothing length, given as ih = 1/h_ij (variable resolution,
+  /// docs/numerics.md §14): sigma ∝ h^−D from the unit kernel's; t = 0 beyond the support.
+  template <class T>
+  T Wh(T r, T ih) const {
+    const T q = r * ih;
+    const T t = vmax(T(1) - T(0.5) * q, T(0));
+    const T t2 = t * t;
+    return T(sigma1) * ipow<D>(ih) * t2 * t2 * (T(2) * q + T(1));
+  }
+  template <class T>
+  T Fh(T r, T ih) const {
+    const T t = vmax(T(1) - T(0.5) * r * ih, T(0));
+    return T(-5.0 * sigma1) * ipow<D + 2>(ih) * t * t * t;
+  }
 };
 
 template <int D>
 struct CubicSpline {
   static constexpr double support_factor = 2.0;
-  double h, inv_h, sigma, support, support2;
+  double h, inv_h, sigma, support, support2, sigma1;  // sigma1: sigma at h = 1 (sigma h^D)
   explicit CubicSpline(double h_) : h(h_), inv_h(1.0 / h_) {
     sigma = (D == 2) ? 10.0 / (7.0 * std::numbers::pi * h * h) : 1.0 / (std::numbers::pi * h * h * h);
     support = support_factor * h;
     support2 = support * support;
+    sigma1 = sigma * ipow<D>(h);
   }
   template <class T>
   T W(T r) const {
@@ -111,16 +135,33 @@ struct CubicSpline {
     const T outer = T(-0.75 * sigma) * t * t / vmax(q, T(1));
     return (q < T(1) ? inner : outer) * T(inv_h * inv_h);
   }
+  template <class T>
+  T Wh(T r, T ih) const {
+    const T q = r * ih;
+    const T t = vmax(T(2) - q, T(0));
+    const T s = T(sigma1) * ipow<D>(ih);
+    return q < T(1) ? s * (T(1) - T(1.5) * q * q + T(0.75) * q * q * q) : T(0.25) * s * t * t * t;
+  }
+  template <class T>
+  T Fh(T r, T ih) const {
+    const T q = r * ih;
+    const T t = vmax(T(2) - q, T(0));
+    const T s = T(sigma1) * ipow<D + 2>(ih);
+    const T inner = T(-3) + T(2.25) * q;
+    const T outer = T(-0.75) * t * t / vmax(q, T(1));
+    return (q < T(1) ? inner : outer) * s;
+  }
 };
 
 template <int D>
 struct QuinticSpline {
   static constexpr double support_factor = 3.0;
-  double h, inv_h, sigma, support, support2;
+  double h, inv_h, sigma, support, support2, sigma1;  // sigma1: sigma at h = 1 (sigma h^D)
   explicit QuinticSpline(double h_) : h(h_), inv_h(1.0 / h_) {
     sigma = (D == 2) ? 7.0 / (478.0 * std::numbers::pi * h * h) : 1.0 / (120.0 * std::numbers::pi * h * h * h);
     support = support_factor * h;
     support2 = support * support;
+    sigma1 = sigma * ipow<D>(h);
   }
   template <class T> static T p5(T t) { return t * t * t * t * t; }
   template <class T> static T p4(T t) { return t * t * t * t; }
@@ -137,6 +178,19 @@ struct QuinticSpline {
     const T t3 = vmax(T(3) - q, T(0)), t2 = vmax(T(2) - q, T(0)), t1 = vmax(T(1) - q, T(0));
     const T d = T(-5) * p4(t3) + T(30) * p4(t2) - T(75) * p4(t1);
     return T(sigma) * d / vmax(q, T(1e-12)) * T(inv_h * inv_h);
+  }
+  template <class T>
+  T Wh(T r, T ih) const {
+    const T q = r * ih;
+    const T t3 = vmax(T(3) - q, T(0)), t2 = vmax(T(2) - q, T(0)), t1 = vmax(T(1) - q, T(0));
+    return T(sigma1) * ipow<D>(ih) * (p5(t3) - T(6) * p5(t2) + T(15) * p5(t1));
+  }
+  template <class T>
+  T Fh(T r, T ih) const {
+    const T q = r * ih;
+    const T t3 = vmax(T(3) - q, T(0)), t2 = vmax(T(2) - q, T(0)), t1 = vmax(T(1) - q, T(0));
+    const T d = T(-5) * p4(t3) + T(30) * p4(t2) - T(75) * p4(t1);
+    return T(sigma1) * ipow<D + 2>(ih) * d / vmax(q, T(1e-12));
   }
 };
 

@@ -30,6 +30,13 @@ struct System {
   CellList<D> cells;
   KernelType kernel = KernelType::WendlandC2;
   double dx = 0.0, h = 0.0, support = 0.0;
+  /// Resolution levels (docs/numerics.md §14): levels > 0 when a `resolution:` section refines
+  /// regions; the particles then carry the store fields "h" and "level" (spacing dx / 2^level,
+  /// h / 2^level, mass / 2^(D level)). dx, h and support stay level 0's: the cell list is built
+  /// with the largest support, so the 3^D stencil holds every pair.
+  int levels = 0;
+  /// The smallest smoothing length (the time step's).
+  double finest_h() const { return levels > 0 ? h / double(1 << levels) : h; }
   Eos eos;
   double nu = 0.0;  // kinematic viscosity
   V gravity{};

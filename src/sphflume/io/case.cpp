@@ -489,7 +489,7 @@ Case build_case(const Node& root, const std::string& file) {
   c.file = file;
   Reader top(root, file, "");
   top.valid({"name", "dimension", "gravity", "particles", "domain", "fluid", "scheme", "walls", "geometry", "time",
-             "gauges", "forces", "turbulence", "porous", "transport", "multiphase", "motions"});
+             "gauges", "forces", "turbulence", "porous", "transport", "multiphase", "motions", "resolution"});
   for (const char* k : {"particles", "fluid", "geometry", "time"})
     if (!top.has(k)) top.misspelt(k);
   read_frame(top, file, c);
@@ -509,6 +509,7 @@ Case build_case(const Node& root, const std::string& file) {
   if (top.has("porous")) caseio::read_porous(top.get("porous"), file, c);
   if (top.has("transport")) caseio::read_transport(top.get("transport"), file, c);
   if (top.has("multiphase")) caseio::read_multiphase(top.get("multiphase"), file, c);
+  if (top.has("resolution")) caseio::read_resolution(root, file, c);
   scheme_types().at(c.scheme.type).check(top, c);  // what the scheme cannot run (schemes/scheme_options.hpp)
   check_gauge_fields(top, file, c);
   if (top.has("forces")) {

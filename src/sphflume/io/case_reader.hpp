@@ -64,6 +64,9 @@ void read_porous(const Node& n, const std::string& file, Case& c);
 /// The `transport:` section (scalars) and the `multiphase:` section.
 void read_transport(const Node& n, const std::string& file, Case& c);
 void read_multiphase(const Node& n, const std::string& file, Case& c);
+/// The `resolution:` section (io/case_resolution.cpp): refined regions, and the refusal, with
+/// the lines, of a model the levels cannot serve yet. Read after every model section.
+void read_resolution(const Node& root, const std::string& file, Case& c);
 /// A slope (2D beach) from the keys toe, gradient, top, thickness, back (io/case_slope.cpp): the
 /// polygon of a solid wedge (thickness 0) or of a layer of that normal thickness under the surface
 /// line from the toe to the top (docs/case-file.md).

@@ -77,12 +77,13 @@ double explicit_time_step(const System<D>& S, const SchemeConfig& cfg_, double n
     cmax = std::max(cmax, S.eos_of(i).sound_speed(P.rho[i]));
   }
   for (const auto& e : S.phase_eos) cmax = std::max(cmax, e.c0);
-  double dt = cfg_.cfl * S.h / (cmax + std::sqrt(umax2));
+  const double h = S.finest_h();  // (one level: S.h)
+  double dt = cfg_.cfl * h / (cmax + std::sqrt(umax2));
   if (S.transport) dt = std::min(dt, S.transport->time_step(S, cfg_.viscous_coefficient));
   if (cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0)
-    dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / S.nu);
-  if (nu_t_max > 0.0) dt = std::min(dt, cfg_.viscous_coefficient * S.h * S.h / (S.nu + nu_t_max));
-  if (max_acc_ > 0.0) dt = std::min(dt, cfg_.force_coefficient * std::sqrt(S.h / max_acc_));
+    dt = std::min(dt, cfg_.viscous_coefficient * h * h / S.nu);
+  if (nu_t_max > 0.0) dt = std::min(dt, cfg_.viscous_coefficient * h * h / (S.nu + nu_t_max));
+  if (max_acc_ > 0.0) dt = std::min(dt, cfg_.force_coefficient * std::sqrt(h / max_acc_));
   return dt;
 }
 

@@ -65,7 +65,7 @@ class WCSPH final : public Scheme<D> {
  private:
   template <class K>
   void pair_loop(System<D>& S, const K& kernel);
-  template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press = true>
+  template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press = true, bool VarH = false>
   void sweep(System<D>& S, const K& kernel);
   void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);

@@ -11,6 +11,7 @@
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/porous.hpp"
+#include "sphflume/physics/resolution.hpp"
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/physics/turbulence.hpp"
 #include "sphflume/schemes/wcsph.hpp"
@@ -30,7 +31,13 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     if (b) f(std::true_type{});
     else f(std::false_type{});
   };
-  if (!cfg_.pressure) {  // the forces alone (ISPH's prediction: no pressure, no XSPH, one phase)
+  if (S.levels > 0) {  // resolution levels: per-pair h (setup refuses them with ISPH, turbulence, phases)
+    with_bool(cfg_.xsph > 0.0, [&](auto xs) {
+      with_bool(static_cast<bool>(S.porous), [&](auto po) {
+        this->template sweep<K, decltype(xs)::value, false, decltype(po)::value, false, true, true>(S, ker);
+      });
+    });
+  } else if (!cfg_.pressure) {  // the forces alone (ISPH's prediction: no pressure, no XSPH, one phase)
     with_bool(turb, [&](auto tu) {
       with_bool(static_cast<bool>(S.porous), [&](auto po) {
         this->template sweep<K, false, decltype(tu)::value, decltype(po)::value, false, false>(S, ker);
@@ -52,7 +59,7 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
 
 namespace {
 using namespace rates;  // (single precision: schemes/wcsph_terms.hpp)
-enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, REF, PHS, NCOL };
+enum { X0, X1, X2, U0, U1, U2, W0, W1, W2, RHO, PRS, MASS, FLUID, CS, T0, PHI = T0 + 6, IPHI, REF, PHS, HS, NCOL };
 
 /// What the rates pass reads and writes, and its constants. Every optional term is on the same
 /// code path, scaled by a 0/1 (or coefficient) factor: the inner loop has no branches and
@@ -66,6 +73,7 @@ struct RatesPass {
   const double* phase;  // phases: each particle's phase (its EOS in peos)
   const double* gam;    // Grenier: pressures enter as p/Γ (walls Γ = 1)
   const double* tau[6]; // turbulence: the stress of the previous pass (kinematic, τ/ρ)
+  const double* hs;     // resolution levels: each particle's smoothing length
   const Eos* peos;
   Eos eos;
   Vec<D>* acc; double* drho; Vec<D>* xs; double* grad;
@@ -73,6 +81,7 @@ struct RatesPass {
   bool dyn;  // walls evolve their density (dynamic walls get rates)
   double g[3], rho0, c0, xsph, fdiff, dcoef;
   // the loop's float constants; chi: interface repulsion
+  // (resolution levels: support2 is the support factor squared, eta2 the coefficient of h_ij²)
   F32 support2, eta2, h, lam, alpha, four, sym, visc_wall, wall_in, chi;
 
   [[gnu::always_inline]] double ref_of(std::size_t b) const { return phase ? peos[static_cast<std::size_t>(phase[b])].rho0 : rho0; }
@@ -93,7 +102,7 @@ struct RatesPass {
 /// full float precision), pressure, mass, fluid flag, sound speed c(ρ_b) (any EOS); turbulence
 /// τ_b/ρ_b (walls carry none of their own); porous φ and 1/φ; phases ρ_ref and the phase.
 /// Column c of particle i at pack[(c - U0) np + i]; the per-cell gathers then only move floats.
-template <int D, bool Turb, bool Porous, bool Multi>
+template <int D, bool Turb, bool Porous, bool Multi, bool VarH>
 void pack_rates(const RatesPass<D>& q, std::size_t np, std::vector<F32>& pack) {
   constexpr int NT = Turbulence<D>::kStress;
   pack.resize(static_cast<std::size_t>(NCOL - U0) * np);
@@ -124,12 +133,13 @@ void pack_rates(const RatesPass<D>& q, std::size_t np, std::vector<F32>& pack) {
       col(PHI)[b] = F32(q.phi[b]);
       col(IPHI)[b] = F32(1.0 / q.phi[b]);
     }
+    if constexpr (VarH) col(HS)[b] = F32(q.hs[b]);
   }
 }
 
 /// A cell's candidate columns (column descriptors over the packed values; padding: far away,
 /// massless, φ = 1, the reference phase).
-template <int D, bool Turb, bool Porous, bool Multi>
+template <int D, bool Turb, bool Porous, bool Multi, bool VarH>
 void gather_rates(const RatesPass<D>& q, const F32* pk, std::size_t np, const CellStencil<D>& st,
                   ScratchColumns<F32>& B, const Vec<D>& origin) {
   auto packed = [pk, np](int c, F32 pad = F32(0)) {
@@ -142,24 +152,24 @@ void gather_rates(const RatesPass<D>& q, const F32* pk, std::size_t np, const Ce
               only_if<(Turb && NT > 3)>(packed(T0 + 3)), only_if<(Turb && NT > 4)>(packed(T0 + 4)),
               only_if<(Turb && NT > 5)>(packed(T0 + 5)), only_if<Porous>(packed(PHI, F32(1))),
               only_if<Porous>(packed(IPHI, F32(1))), only_if<Multi>(packed(REF, F32(q.rho0))),
-              only_if<Multi>(packed(PHS, F32(-1))));
+              only_if<Multi>(packed(PHS, F32(-1))), only_if<VarH>(packed(HS, F32(1))));
 }
 
 /// One cell's candidate columns as the pair loop reads them (x2 = x1 etc. in 2D; stress columns
 /// 2D: xx, xz, zz; 3D: xx, yy, zz, xy, xz, yz).
 struct RatesColumns {
   const F32 *x0, *x1, *x2, *u0, *u1, *u2, *w0, *w1, *w2, *rho, *p, *m, *f, *cs;
-  const F32 *t0, *t1, *t2, *t3, *t4, *t5, *phi, *iphi, *ref, *phs;
+  const F32 *t0, *t1, *t2, *t3, *t4, *t5, *phi, *iphi, *ref, *phs, *hs;
   std::size_t npad;
 };
 template <int D>
 RatesColumns rates_columns(ScratchColumns<F32>& B, std::size_t npad) {
   return {B[X0], B[X1], B[X0 + D - 1], B[U0], B[U1], B[U0 + D - 1], B[W0], B[W1], B[W0 + D - 1], B[RHO], B[PRS],
           B[MASS], B[FLUID], B[CS], B[T0], B[T0 + 1], B[T0 + 2], B[T0 + (D == 3 ? 3 : 0)], B[T0 + (D == 3 ? 4 : 0)],
-          B[T0 + (D == 3 ? 5 : 0)], B[PHI], B[IPHI], B[REF], B[PHS], npad};
+          B[T0 + (D == 3 ? 5 : 0)], B[PHI], B[IPHI], B[REF], B[PHS], B[HS], npad};
 }
 
-template <int D, bool Turb, bool Porous, bool Multi>
+template <int D, bool Turb, bool Porous, bool Multi, bool VarH>
 [[gnu::always_inline]] inline RatesRow rates_row(const RatesPass<D>& q, const Vec<D>& origin, std::uint32_t a) {
   constexpr int NT = Turbulence<D>::kStress;
   RatesRow r;
@@ -185,6 +195,7 @@ template <int D, bool Turb, bool Porous, bool Multi>
   r.phia_d = Porous ? q.phi[a] : 1.0;
   r.phia = F32(r.phia_d);
   r.iphia = F32(1.0 / r.phia_d);
+  r.ha = VarH ? F32(q.hs[a]) : F32(0);
   return r;
 }
 
@@ -218,7 +229,8 @@ template <int D, bool Turb>
 
 /// Particle a's pair sums over its cell's candidates (the fused, vectorised loop: every term of
 /// the momentum and continuity equations in one pass) and its rates; returns its pair count.
-template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press>
+/// VarH (resolution levels): the pair's h_ab = (h_a + h_b)/2 in the kernel, η², Π_ab and δ-SPH.
+template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press, bool VarH>
 [[gnu::always_inline]] inline std::uint64_t rates_particle(const RatesPass<D>& q, const K& kl, const RatesColumns& c,
                                                           const Vec<D>& origin, std::uint32_t a) {
   // the loop's constants as locals (read through a pointer, GCC's AVX2 vectoriser could not keep
@@ -236,18 +248,19 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
   const F32* __restrict bt0 = c.t0; const F32* __restrict bt1 = c.t1; const F32* __restrict bt2 = c.t2;
   const F32* __restrict bt3 = c.t3; const F32* __restrict bt4 = c.t4; const F32* __restrict bt5 = c.t5;
   const F32* __restrict bphi = c.phi; const F32* __restrict biphi = c.iphi;
-  const F32* __restrict bref = c.ref; const F32* __restrict bphs = c.phs;
-  const RatesRow ra = rates_row<D, Turb, Porous, Multi>(q, origin, a);
+  const F32* __restrict bref = c.ref; const F32* __restrict bphs = c.phs; const F32* __restrict bhs = c.hs;
+  const RatesRow ra = rates_row<D, Turb, Porous, Multi, VarH>(q, origin, a);
   F32 a0 = 0, a1 = 0, a2 = 0, s0 = 0, s1 = 0, s2 = 0, dr = 0, dd = 0, cnt = 0;
   F32 g00 = 0, g01 = 0, g02 = 0, g10 = 0, g11 = 0, g12 = 0, g20 = 0, g21 = 0, g22 = 0;
 #pragma omp simd reduction(+ : a0, a1, a2, s0, s1, s2, dr, dd, cnt, g00, g01, g02, g10, g11, g12, g20, g21, g22)
   for (std::size_t k = 0; k < npad; ++k) {
     const F32 fb = bf[k];
-    const PairGeometry g = pair_geometry<D>(kl, ra, bx0[k], bx1[k], bx2[k], fb, l_fsupport2, l_fwall_in);
+    const F32 hij = VarH ? F32(0.5) * (ra.ha + bhs[k]) : F32(1), ih = VarH ? F32(1) / hij : F32(1);
+    const PairGeometry g = pair_geometry<D, K, VarH>(kl, ra, bx0[k], bx1[k], bx2[k], fb, l_fsupport2, l_fwall_in, ih);
     const F32 devb = brho[k], rhob = (Multi ? bref[k] : frho0) + devb, mb = bm[k], pb = bp[k];
     const F32 cb = bcs[k];
     const F32 u0 = ra.va0 - bu0[k], u1 = ra.va1 - bu1[k], u2 = D == 3 ? ra.va2 - bu2[k] : F32(0);
-    const PairInverses iv = pair_inverses(ra, g.r2, l_feta2, rhob, cb);
+    const PairInverses iv = pair_inverses(ra, g.r2, VarH ? l_feta2 * hij * hij : l_feta2, rhob, cb);
     // porous: b's volume m/(φ_b ρ_b); continuity of the porosity-weighted velocity (φ_a u_a − φ_b u_b)
     const F32 ivb = Porous ? biphi[k] : F32(1);
     const F32 mbp = mb * ivb;
@@ -263,9 +276,10 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
     const F32 gr = l_fg0 * g.r0 + l_fg1 * g.r1 + l_fg2 * g.r2c;
     // (phases: within a phase only; the density jump between phases is no error to diffuse)
     const F32 same = Multi ? (bphs[k] == ra.pha ? F32(1) : F32(0)) : F32(1);
-    dd += same * fb * (ra.deva - devb - l_ffour * iv.rho_sum * iv.csum * gr) * fr * Vb;
+    if constexpr (VarH) dd += same * fb * (ra.deva - devb - l_ffour * iv.rho_sum * iv.csum * gr) * fr * Vb * hij;
+    else dd += same * fb * (ra.deva - devb - l_ffour * iv.rho_sum * iv.csum * gr) * fr * Vb;
     const MomentumCoefficient mc = momentum_coefficient<D, Press, Multi>(
-        mk, ra, g, iv, u0, u1, u2, bw0[k], bw1[k], bw2[k], fb, pb, cb, mbp, Vb, Multi ? bphs[k] : F32(0));
+        VarH ? MomentumConstants{mk.sym, mk.visc_wall, mk.alpha, hij, mk.chi} : mk, ra, g, iv, u0, u1, u2, bw0[k], bw1[k], bw2[k], fb, pb, cb, mbp, Vb, Multi ? bphs[k] : F32(0));
     if constexpr (Porous) {
       // Kazemi eq 4.57: μ m_b/(φ_a φ_b) [2 (φu)_ab + φ_ab u_ab] ... = the plain term on
       // (φ_a − φ_b) u_a + (φ_a + φ_b)/2 (u_a − u_b), φ_b the flow porosity above
@@ -306,7 +320,7 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
       }
     }
     if constexpr (Xsph) {
-      const F32 xw = fb * F32(2) * mb * iv.rsum * kl.W(g.r) * g.in;
+      const F32 xw = fb * F32(2) * mb * iv.rsum * (VarH ? kl.Wh(g.r, ih) : kl.W(g.r)) * g.in;
       s0 -= xw * u0;
       s1 -= xw * u1;
       s2 -= xw * u2;
@@ -321,7 +335,7 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
 }  // namespace
 
 template <int D>
-template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press>
+template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press, bool VarH>
 void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const double h = S.h;
@@ -333,6 +347,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   q.phi = Porous ? P.scalar(field::porosity).data() : nullptr;
   q.phase = Multi ? P.scalar(field::phase).data() : nullptr;
   q.gam = (Multi && S.grenier) ? P.scalar(field::gamma_grenier).data() : nullptr;
+  q.hs = VarH ? P.require(field::smoothing_length).data() : nullptr;
   if constexpr (Turb) {
     for (int k = 0; k < Turbulence<D>::kStress; ++k) q.tau[k] = P.scalar(Turbulence<D>::stress_name(k)).data();
     q.grad = turb_.gradient(P.n_owned());
@@ -346,17 +361,21 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   for (int d = 0; d < D; ++d) q.g[d] = S.gravity[d];
   q.rho0 = S.eos.rho0; q.c0 = S.eos.c0; q.xsph = cfg_.xsph;
   q.fdiff = (cfg_.density_diffusion != DensityDiffusion::None && cfg_.delta > 0.0) ? 1.0 : 0.0;
-  q.dcoef = 2.0 * cfg_.delta * h * q.c0;
+  q.dcoef = 2.0 * cfg_.delta * (VarH ? 1.0 : h) * q.c0;  // (levels: h_ij in the pair sum)
   const double wall_in = S.walls->in_pair_sums() ? 1.0 : 0.0;  // walls enter the pair sums at all
   const double visc_wall = S.walls->cfg.no_slip ? 1.0 : 0.0;    // walls enter the viscous terms
   q.support2 = F32(ker.support2); q.eta2 = F32(cfg_.eta2 * h * h + tiny); q.h = F32(h);
+  if constexpr (VarH) {  // per pair: the support factor², η² / h_ij²
+    q.support2 = F32(K::support_factor * K::support_factor);
+    q.eta2 = F32(cfg_.eta2 + 1e-12);
+  }
   q.lam = F32((cfg_.viscosity == ViscosityModel::Laminar) ? 4.0 * S.nu : 0.0);
   q.alpha = F32((cfg_.viscosity == ViscosityModel::Artificial) ? cfg_.alpha : cfg_.alpha_on_laminar);
   q.four = F32(cfg_.density_diffusion == DensityDiffusion::Fourtakas ? 1.0 : 0.0);
   q.sym = F32(cfg_.pressure_gradient == PressureGradient::Symmetric ? 1.0 : 0.0);
   q.visc_wall = F32(visc_wall * wall_in); q.wall_in = F32(wall_in); q.chi = F32(Multi ? S.chi : 0.0);
   const std::size_t np = P.size();
-  pack_rates<D, Turb, Porous, Multi>(q, np, pack_);
+  pack_rates<D, Turb, Porous, Multi, VarH>(q, np, pack_);
   const F32* pk = pack_.data();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
@@ -377,13 +396,13 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
                                        [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
     const Vec<D> origin = q.pos[sorted[c0k]];
-    gather_rates<D, Turb, Porous, Multi>(q, pk, np, st, B, origin);
+    gather_rates<D, Turb, Porous, Multi, VarH>(q, pk, np, st, B, origin);
     const RatesColumns c = rates_columns<D>(B, st.padded);
     const K kl = ker;
     std::uint64_t pairs = 0;
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t a = sorted[k];
-      if (a < q.n_owned && q.runs(a)) pairs += rates_particle<D, K, Xsph, Turb, Porous, Multi, Press>(q, kl, c, origin, a);
+      if (a < q.n_owned && q.runs(a)) pairs += rates_particle<D, K, Xsph, Turb, Porous, Multi, Press, VarH>(q, kl, c, origin, a);
     }
     return pairs;
   });
@@ -398,6 +417,7 @@ void WCSPH<D>::rates(System<D>& S) {
   if (S.before_rates) S.before_rates(S);
   if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
   if (S.grenier) grenier_gamma(S);  // Γ of Grenier's pressure gradient
+  if (S.levels > 0) smooth_level_h(S);  // resolution levels: h at the particles' places
   S.walls->prepare(S);
   S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
   S.walls->add_forces(S);

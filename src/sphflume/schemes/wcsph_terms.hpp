@@ -20,6 +20,7 @@ using F32 = float;
 struct RatesRow {
   F32 xa0, xa1, xa2, va0, va1, va2, deva, rhoa, pa, ca, ca2, pha, pa_r2, inv_rhoa, wa;
   F32 ta0, ta1, ta2, ta3, ta4, ta5, phia, iphia;
+  F32 ha;  // resolution levels: a's smoothing length
   double rhoa_d, phia_d;
 };
 /// One pair's geometry: r = x_a − x_b, |r|², the mask `in` (a neighbour within the support, not
@@ -29,15 +30,23 @@ struct RatesRow {
 struct PairGeometry {
   F32 r0, r1, r2c, r2, r, in, Fk, gw0, gw1, gw2;
 };
-template <int D, class K>
+/// VarH (resolution levels, docs/numerics.md §14): the kernel at the pair's h_ij = (h_a + h_b)/2,
+/// given as ih = 1/h_ij, and support2 the support factor squared (the support test r²/h_ij² <
+/// factor²); h_ij is symmetric, so ∇_a W_ab = −∇_b W_ba and the pair terms conserve momentum
+/// between particles of different sizes.
+template <int D, class K, bool VarH = false>
 [[gnu::always_inline]] inline PairGeometry pair_geometry(const K& kl, const RatesRow& ra, F32 xb0, F32 xb1, F32 xb2, F32 fb,
-                                                         F32 support2, F32 wall_in) {
+                                                         F32 support2, F32 wall_in, [[maybe_unused]] F32 ih = F32(1)) {
   PairGeometry g;
   g.r0 = ra.xa0 - xb0; g.r1 = ra.xa1 - xb1; g.r2c = D == 3 ? ra.xa2 - xb2 : F32(0);
   g.r2 = g.r0 * g.r0 + g.r1 * g.r1 + g.r2c * g.r2c;
-  g.in = ((g.r2 < support2) & (g.r2 > F32(0))) ? (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * wall_in) : F32(0);
+  if constexpr (VarH)
+    g.in = ((g.r2 * ih * ih < support2) & (g.r2 > F32(0))) ? (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * wall_in) : F32(0);
+  else
+    g.in = ((g.r2 < support2) & (g.r2 > F32(0))) ? (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * wall_in) : F32(0);
   g.r = std::sqrt(g.r2);
-  g.Fk = kl.F(g.r) * g.in;
+  if constexpr (VarH) g.Fk = kl.Fh(g.r, ih) * g.in;
+  else g.Fk = kl.F(g.r) * g.in;
   g.gw0 = g.Fk * g.r0; g.gw1 = g.Fk * g.r1; g.gw2 = g.Fk * g.r2c;
   return g;
 }

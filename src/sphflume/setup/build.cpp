@@ -4,11 +4,17 @@
 #include <fmt/format.h>
 
 #include "sphflume/physics/porous.hpp"
+#include "sphflume/physics/resolution.hpp"
+#include "sphflume/setup/fill.hpp"
 #include "sphflume/setup/initial_state.hpp"
 #include "sphflume/setup/setup.hpp"
 #include "sphflume/setup/shape_lattice.hpp"
 
 namespace sph {
+namespace {
+/// The level interface's relaxation at set-up (as `porous.relax: 300`).
+constexpr int kLevelRelaxIterations = 300;
+}  // namespace
 
 template <int D>
 BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits, std::vector<Vec<D>>* wall_surface) {
@@ -36,10 +42,31 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
   FillPoints<D> f = fill_shapes<D>(c, layers, S.porous.get());
   drop_inside_walls<D>(c, f);
   relax_porous_interface<D>(c, S, f, rep);
+  refine_fill<D>(c, S.support, f);  // resolution levels (docs/numerics.md §14)
+  S.levels = c.resolution.max_level();
+  if (S.levels > 0) {
+    const auto rr = relax_level_band<D>(c.kernel, S.h, dx, f.fluid_x, f.fluid_level, f.wall_x, kLevelRelaxIterations);
+    rep.levels = S.levels;
+    for (const int l : f.fluid_level) rep.refined += l > 0 ? 1 : 0;
+    rep.level_relax_band = rr.band;
+    rep.level_relax_iterations = rr.iterations;
+    rep.level_relax_residual0 = rr.residual0;
+    rep.level_relax_residual = rr.residual;
+    rep.level_relax_shift = rr.max_shift;
+  }
   double zmin = 1e300, zmax = -1e300;
   for (std::size_t i = 0; i < f.fluid_x.size(); ++i)
     if (!f.drop[i]) { zmin = std::min(zmin, f.fluid_x[i][D - 1]); zmax = std::max(zmax, f.fluid_x[i][D - 1]); }
   rep.fluid_height = zmax - zmin + dx;
+  if (S.levels > 0) {  // (the points' own half spacings: refined points sit closer to the surface)
+    double top = -1e300, bottom = 1e300;
+    for (std::size_t i = 0; i < f.fluid_x.size(); ++i)
+      if (!f.drop[i]) {
+        top = std::max(top, f.fluid_x[i][D - 1] + f.fluid_half[i]);
+        bottom = std::min(bottom, f.fluid_x[i][D - 1] - f.fluid_half[i]);
+      }
+    rep.fluid_height = top - bottom;
+  }
   set_eos<D>(c, S, rep.fluid_height);
   add_particles<D>(c, S, f, rep);
   if (wall_surface) *wall_surface = std::move(f.wall_s);

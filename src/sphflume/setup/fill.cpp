@@ -1,6 +1,7 @@
 // The lattice fill of a case's shapes (setup/fill.hpp).
 #include "sphflume/setup/fill.hpp"
 
+#include "sphflume/core/refinement.hpp"
 #include "sphflume/setup/shape_lattice.hpp"
 
 namespace sph {
@@ -296,9 +297,83 @@ void drop_inside_walls(const Case& c, FillPoints<D>& f) {
     throw InputError(fmt::format("{}: every fluid particle lies inside a wall: move the fluid shapes off the walls", c.file));
 }
 
+template <int D>
+void refine_fill(const Case& c, double support, FillPoints<D>& f) {
+  const auto& regs = c.resolution.regions;
+  if (regs.empty()) return;
+  auto fmt_point = [](const Vec<D>& x) { return fmt::format("({:.4g})", fmt::join(x.c, ", ")); };
+  auto target = [&](const Vec<D>& x, std::size_t* which) {  // the finest level of the regions holding x
+    int l = 0;
+    for (std::size_t r = 0; r < regs.size(); ++r)
+      if (regs[r].level > l && regs[r].region.contains(x.c.data(), D)) {
+        l = regs[r].level;
+        *which = r;
+      }
+    return l;
+  };
+  FillPoints<D> out;
+  out.wall_x = std::move(f.wall_x);
+  out.wall_s = std::move(f.wall_s);
+  out.wall_shape = std::move(f.wall_shape);
+  std::vector<std::size_t> region_of;  // (the region that refined each point)
+  struct Pending { Vec<D> x; double half; int level; };
+  std::vector<Pending> stack;
+  for (std::size_t i = 0; i < f.fluid_x.size(); ++i) {
+    if (f.drop[i]) continue;  // (dropped points stay dropped: they are not carried over)
+    stack.assign(1, {f.fluid_x[i], f.fluid_half[i], 0});
+    while (!stack.empty()) {
+      const Pending p = stack.back();
+      stack.pop_back();
+      std::size_t which = 0;
+      if (p.level < target(p.x, &which)) {
+        const auto kids = split_positions<D>(p.x, p.half);
+        for (std::size_t k = kids.size(); k-- > 0;) stack.push_back({kids[k], 0.5 * p.half, p.level + 1});
+        continue;
+      }
+      out.fluid_x.push_back(p.x);
+      out.fluid_v.push_back(f.fluid_v[i]);
+      out.fluid_shape.push_back(f.fluid_shape[i]);
+      out.fluid_half.push_back(p.half);
+      out.fluid_level.push_back(p.level);
+      out.drop.push_back(0);
+      std::size_t w = 0;
+      target(p.x, &w);
+      region_of.push_back(w);
+    }
+  }
+  // walls take no levels yet: no refined point within the level-0 support of a wall point
+  // (a bounding-box test per region, then the exact distance to the walls in that box)
+  for (std::size_t r = 0; r < regs.size(); ++r) {
+    Vec<D> lo, hi;
+    for (int d = 0; d < D; ++d) { lo[d] = 1e300; hi[d] = -1e300; }
+    bool any = false;
+    for (std::size_t i = 0; i < out.fluid_x.size(); ++i)
+      if (out.fluid_level[i] > 0 && region_of[i] == r) {
+        any = true;
+        for (int d = 0; d < D; ++d) { lo[d] = std::min(lo[d], out.fluid_x[i][d]); hi[d] = std::max(hi[d], out.fluid_x[i][d]); }
+      }
+    if (!any) continue;
+    for (const auto& w : out.wall_x) {
+      bool near = true;
+      for (int d = 0; d < D; ++d) near = near && w[d] > lo[d] - support && w[d] < hi[d] + support;
+      if (!near) continue;
+      for (std::size_t i = 0; i < out.fluid_x.size(); ++i)
+        if (out.fluid_level[i] > 0 && region_of[i] == r && norm(out.fluid_x[i] - w) < support)
+          throw InputError(fmt::format("{}: line {}: 'resolution.regions.{}': its refined fluid at {} comes within the "
+                                       "kernel support ({:.4g} m) of a wall particle at {}; walls do not take resolution "
+                                       "levels yet: keep refined regions at least one support away from walls "
+                                       "(docs/numerics.md §14)",
+                                       c.file, regs[r].line, r, fmt_point(out.fluid_x[i]), support, fmt_point(w)));
+    }
+  }
+  f = std::move(out);
+}
+
 template FillPoints<2> fill_shapes<2>(const Case&, int, const PorousMedia<2>*);
 template FillPoints<3> fill_shapes<3>(const Case&, int, const PorousMedia<3>*);
 template void drop_inside_walls<2>(const Case&, FillPoints<2>&);
 template void drop_inside_walls<3>(const Case&, FillPoints<3>&);
+template void refine_fill<2>(const Case&, double, FillPoints<2>&);
+template void refine_fill<3>(const Case&, double, FillPoints<3>&);
 
 }  // namespace sph

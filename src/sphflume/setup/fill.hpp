@@ -18,6 +18,7 @@ struct FillPoints {
   std::vector<Vec<D>> wall_x, wall_s;      // wall points and the nearest point of their shape's surface
   std::vector<std::uint32_t> wall_shape;   // which shape made each wall point
   std::vector<char> drop;                  // fluid points inside walls (drop_inside_walls)
+  std::vector<int> fluid_level;            // resolution level of each fluid point (refine_fill; empty: all 0)
 };
 
 /// Every shape's lattice points (porous zones' fluid at the zone's spacing, Kazemi eq 5.1).
@@ -29,5 +30,12 @@ FillPoints<D> fill_shapes(const Case& c, int layers, const PorousMedia<D>* porou
 /// lie mostly inside walls (InputError naming the shape).
 template <int D>
 void drop_inside_walls(const Case& c, FillPoints<D>& f);
+
+/// Resolution levels (docs/numerics.md §14): each fluid point inside a `resolution` region is
+/// split (core/refinement.hpp) until it reaches the region's level; a child outside every region
+/// of that level stops there. Refuses (InputError naming the region's line) a refined point
+/// within the level-0 support of a wall point: walls do not take levels yet.
+template <int D>
+void refine_fill(const Case& c, double support, FillPoints<D>& f);
 
 }  // namespace sph

@@ -4,6 +4,8 @@
 #include <map>
 
 #include "sphflume/setup/initial_state.hpp"
+
+#include "sphflume/core/refinement.hpp"
 #include "sphflume/setup/shape_lattice.hpp"
 
 namespace sph {
@@ -84,7 +86,8 @@ void add_particles(const Case& c, System<D>& S, const FillPoints<D>& f, BuildRep
                                    "pressure from gravity, fluid.gamma, fluid.background_pressure): expected a positive "
                                    "finite density (check those values, or set fluid.hydrostatic_init: false)",
                                    shape_where(c, f.fluid_shape[i]), f.fluid_x[i][0], rho));
-    P.add(f.fluid_x[i], f.fluid_v[i], rho, m, Kind::Fluid);
+    const int level = f.fluid_level.empty() ? 0 : f.fluid_level[i];
+    P.add(f.fluid_x[i], f.fluid_v[i], rho, level_mass<D>(m, level), Kind::Fluid);
     ++rep.fluid;
   }
   const std::size_t first_wall = P.n_owned();
@@ -92,6 +95,18 @@ void add_particles(const Case& c, System<D>& S, const FillPoints<D>& f, BuildRep
   for (const auto& x : f.wall_x) {
     P.add(x, Vec<D>{}, rho_wall, m, Kind::Wall);
     ++rep.wall;
+  }
+  if (c.resolution.on()) {  // resolution levels: each particle's h and level (walls level 0)
+    auto& hs = P.scalar(field::smoothing_length);
+    auto& lv = P.scalar(field::level);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < f.fluid_x.size(); ++i) {
+      if (f.drop[i]) continue;
+      const int level = f.fluid_level.empty() ? 0 : f.fluid_level[i];
+      hs[k] = level_h(S.h, level);
+      lv[k++] = level;
+    }
+    for (std::size_t i = first_wall; i < P.size(); ++i) hs[i] = S.h;
   }
   if (!c.motions.empty()) {  // moving walls: the motion of each wall particle and its place at X = 0
     auto& grp = P.scalar(field::motion_group);

@@ -23,6 +23,10 @@ struct BuildReport {
   // porous.relax: points moved, max h |Σ V ∇W| before and after, largest displacement [m]
   std::size_t porous_relax_band = 0;
   double porous_relax_residual0 = 0.0, porous_relax_residual = 0.0, porous_relax_shift = 0.0;
+  // resolution levels: the finest, the refined fluid particles, the level interface's relaxation
+  int levels = 0, level_relax_iterations = 0;
+  std::size_t refined = 0, level_relax_band = 0;
+  double level_relax_residual0 = 0.0, level_relax_residual = 0.0, level_relax_shift = 0.0;
 };
 
 /// What build_system refuses before allocating anything (InputError): a geometry that would

@@ -79,6 +79,10 @@ void load_and_distribute(Run<D>& R, const Case& c, const RunOptions& o, const Co
     if (const std::string why = R.scheme->distributed_refusal(); !why.empty())
       throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported: run it in one "
                                    "process (without mpirun)", c.file, why, comm.size()));
+    if (c.resolution.on())  // (the ranks' slabs would be balanced by count, not by work: docs/numerics.md §14)
+      throw InputError(fmt::format("{}: line {}: 'resolution': refined regions in a distributed run (mpirun -np {}) are "
+                                   "not supported yet: run the case in one process (without mpirun)",
+                                   c.file, c.resolution.line, comm.size()));
     distribute<D>(S, shared);  // (every gauge reduces its value over the ranks: io/gauges.cpp)
   }
   if (distributed && restart && !comm.root()) {  // the restart point's counters are global: the first rank keeps them
@@ -219,6 +223,11 @@ std::string check_dim(const Case& c) {
     s += fmt::format("\nporous.relax: {} points of the interface band shifted (at most {:.3g} dx); h |sum V grad W| "
                      "{:.3g} -> {:.3g}", rep.porous_relax_band, rep.porous_relax_shift / c.dx, rep.porous_relax_residual0,
                      rep.porous_relax_residual);
+  if (rep.levels)
+    s += fmt::format("\nresolution: {} refined fluid particles (levels 1 to {}); the level interface: {} points relaxed "
+                     "(at most {:.3g} dx), h |sum V grad W| {:.3g} -> {:.3g} in {} iterations",
+                     rep.refined, rep.levels, rep.level_relax_band, rep.level_relax_shift / c.dx, rep.level_relax_residual0,
+                     rep.level_relax_residual, rep.level_relax_iterations);
   s += fmt::format("\ndx = {} m, kernel {} with h = {:.4g} m (h/dx = {}), support {:.4g} m\n", c.dx, kernel_name(c.kernel), S.h, c.h_over_dx, S.support);
   s += fmt::format("sound speed c0 = {:.4g} m/s, fluid height {:.4g} m\n", S.eos.c0, rep.fluid_height);
   s += fmt::format("estimated time step {:.3e} s: about {:.0f} steps to t = {} s, {} snapshots\n", dt, std::ceil(c.t_end / dt), c.t_end,

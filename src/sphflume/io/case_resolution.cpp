@@ -1,0 +1,74 @@
+// The `resolution:` section (io/case_reader.hpp): refined regions of a case (variable resolution,
+// docs/numerics.md §14, docs/case-file.md), and the refusal of the models the levels cannot
+// serve yet, naming the line of each.
+#include <fmt/format.h>
+
+#include "sphflume/io/case_reader.hpp"
+
+namespace sph {
+namespace caseio {
+namespace {
+
+/// The line of root[a][b] (or of root[a] when b is empty; 0 when absent).
+int line_of(const Node& root, const char* a, const char* b = "") {
+  const Node& n = root[a];
+  if (!n.defined()) return 0;
+  if (*b == '\0' || !n.is_map()) return n.key_line();
+  const Node& m = n[b];
+  return m.defined() ? m.key_line() : n.key_line();
+}
+
+/// Refuse a model the resolution levels cannot serve yet: the `resolution` line, the model's
+/// line and what to do.
+[[noreturn]] void refuse(const std::string& file, int res_line, int line, const std::string& what) {
+  throw InputError(fmt::format("{}: line {}: 'resolution': refined regions cannot yet be combined with {} (line {}); "
+                               "run it with one resolution (remove 'resolution') or without that model "
+                               "(docs/numerics.md §14 lists what the levels serve)",
+                               file, res_line, what, line));
+}
+
+void check_models(const Node& root, const std::string& file, const Case& c) {
+  const int rl = c.resolution.line;
+  if (c.scheme.type != "wcsph") refuse(file, rl, line_of(root, "scheme", "type"), fmt::format("scheme.type: {}", c.scheme.type));
+  if (c.scheme.integrator == Integrator::Dual) refuse(file, rl, line_of(root, "scheme", "integrator"), "scheme.integrator: dual");
+  if (c.scheme.shepard_every > 0) refuse(file, rl, line_of(root, "scheme", "shepard_every"), "a Shepard filter (scheme.shepard_every)");
+  if (c.scheme.shifting.on()) refuse(file, rl, line_of(root, "scheme", "shifting"), "particle shifting (scheme.shifting)");
+  if (c.walls.type != "dummy") refuse(file, rl, line_of(root, "walls", "type"), fmt::format("walls.type: {}", c.walls.type));
+  if (c.walls.repulsive) refuse(file, rl, line_of(root, "walls", "repulsive"), "repulsive walls (walls.repulsive)");
+  if (c.turbulence.model != "none") refuse(file, rl, line_of(root, "turbulence"), "a turbulence model");
+  if (c.transport.on()) refuse(file, rl, line_of(root, "transport"), "transported scalars (transport)");
+  if (c.multiphase.on()) refuse(file, rl, line_of(root, "multiphase"), "several phases (multiphase)");
+  if (!c.open_boundaries.empty()) refuse(file, rl, line_of(root, "geometry"), "open boundaries (inflow/outflow shapes)");
+  if (c.porous.on() && c.porous.field == "particles")
+    refuse(file, rl, line_of(root, "porous", "field"), "porous.field: particles");
+}
+
+}  // namespace
+
+void read_resolution(const Node& root, const std::string& file, Case& c) {
+  const Node& n = root["resolution"];
+  Reader r(n, file, "resolution");
+  ResolutionConfig& res = c.resolution;
+  res.line = n.key_line();
+  if (!r.has("regions")) r.misspelt("regions");
+  const Node& regs = r.get("regions");
+  if (!regs.is_sequence() || regs.size() == 0)
+    r.fail_at(regs.defined() ? regs : n, "resolution.regions",
+              "a list of refined regions, e.g. [{shape: box, min: [0.2, 0.1], max: [0.8, 0.3], level: 1}]");
+  for (std::size_t i = 0; i < regs.size(); ++i) {
+    Reader q(regs[i], file, fmt::format("resolution.regions.{}", i));
+    ResolutionRegionConfig g;
+    g.line = regs[i].line();
+    g.region = read_region(q, regs[i], c.dimension);
+    const double level = q.in_range("level", 1.0, 1.0, 3.0);
+    if (level != static_cast<int>(level)) q.fail_at(q.get("level"), q.key_path("level"), "a whole number of halvings: 1, 2 or 3");
+    g.level = static_cast<int>(level);
+    q.finish();
+    res.regions.push_back(g);
+  }
+  r.finish();
+  check_models(root, file, c);
+}
+
+}  // namespace caseio
+}  // namespace sph

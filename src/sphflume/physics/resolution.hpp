@@ -1,0 +1,46 @@
+// Resolution levels (docs/numerics.md §14): the smoothing length each particle carries.
+#pragma once
+#include "sphflume/core/system.hpp"
+
+namespace sph {
+
+/// Each owned particle's h (store field "h") as the Shepard average, over the level-0 support,
+/// of its neighbours' level smoothing lengths h / 2^level (store field "level"):
+///   h_a = Σ_b V_b W(r_ab, h) h_lev(b) / Σ_b V_b W(r_ab, h),
+/// so that h varies smoothly across a level interface (a ramp about two level-0 supports wide)
+/// while particle spacing and mass jump by 2 and 2^D. A jump in h itself breaks the kernel sums'
+/// consistency there: with h_ab = (h_a + h_b)/2 a particle at the interface sees
+/// Σ_b V_b ∇W_ab ≠ 0 in still water (an O(1/h) pressure force; the first refined still tank
+/// moved at 0.18 m/s and lost 2–4 % of its hydrostatic pressure), whereas for an h field that
+/// varies linearly the error vanishes to first order (∫ ∂W/∂h dV = 0). Images take their
+/// source's h.
+///
+/// The pair terms then see the two lattices' kernel sums at the interface: M0_a = Σ_b V_b ∇W_ab
+/// is not zero on the initial lattices there (a quadrature error of 1–2 % of the half-space
+/// value), which the symmetric pressure gradient multiplies by 2 p_a/ρ_a: ±5 m/s² on the rows
+/// beside a horizontal interface 0.4 m deep. relax_level_band removes it at set-up.
+template <int D>
+void smooth_level_h(System<D>& S);
+
+/// What relax_level_band did.
+struct LevelRelaxReport {
+  std::size_t band = 0;    // points free to move
+  int iterations = 0;
+  double residual0 = 0.0;  // max h_a |Σ_b V_b ∇W_ab| over the band, before and after
+  double residual = 0.0;
+  double max_shift = 0.0;  // largest displacement [m]
+};
+
+/// Initial state with resolution levels: moves the fluid points of the level interface band
+/// (points with a point of another level within the level-0 support) until the volumes
+/// V_b = (dx / 2^l_b)^D tile space, Σ_b V_b ∇W(r_ab, h_ab) → 0, with the h the run uses
+/// (smooth_level_h, h_ab = (h_a + h_b)/2): the zero-order consistency the symmetric pressure
+/// gradient needs, as relax_porous_band does for the porosity interface. Shifting:
+/// x_a ← x_a − 0.1 h_a² Σ_b V_b ∇W_ab, at most 0.05 dx_a per iteration and dx_a/4 from the
+/// lattice site in all; points near the free surface (kernel-weighted neighbour centroid more
+/// than 0.2 h away) and the walls stay.
+template <int D>
+LevelRelaxReport relax_level_band(KernelType kernel, double h0, double dx0, std::vector<Vec<D>>& fluid,
+                                  const std::vector<int>& level, const std::vector<Vec<D>>& walls, int iterations);
+
+}  // namespace sph

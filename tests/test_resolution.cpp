@@ -1,0 +1,189 @@
+// Resolution levels (issue 42, docs/numerics.md §14): the split keeps mass, momentum and the
+// centre of mass to round-off; a refined region gives 2^D children per lattice point with their
+// level's mass and h; the per-pair h path (VarH) reproduces the one-level pass when every h is
+// equal and conserves momentum between particles of different sizes; the models the levels do
+// not serve yet, and refined fluid next to walls, are refused with their lines.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "sphflume/core/refinement.hpp"
+#include "sphflume/physics/resolution.hpp"
+#include "test_helpers.hpp"
+
+using namespace sph;
+
+namespace {
+
+// A still pool 0.6 m x 0.3 m in a tank; a refined box in its middle, one support (0.04 m at
+// h/dx = 2) clear of the walls.
+std::string pool(const std::string& region, const std::string& extra = "") {
+  return R"(dimension: 2
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+scheme: {viscosity: artificial, alpha: 0.02}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.4]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.6, 0.3], velocity: [0.3, -0.1]}
+resolution:
+  regions:
+    - )" + region + R"(
+time: {end: 0.1}
+)" + extra;
+}
+const char* kBlock = "{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 1}";
+const char* kAboveWater = "{shape: box, min: [0.2, 0.33], max: [0.4, 0.4], level: 1}";
+
+template <int D>
+Vec<D> momentum(const System<D>& S) {
+  Vec<D> p{};
+  const auto& P = S.particles;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid) p += P.mass[i] * P.vel[i];
+  return p;
+}
+
+}  // namespace
+
+TEST(Resolution, SplitKeepsMassMomentumAndCentre) {
+  const Vec<2> x{{0.123456789, -0.987654321}};
+  const auto kids = split_positions<2>(x, 0.005);
+  ASSERT_EQ(kids.size(), 4u);
+  Vec<2> c{};
+  for (const auto& k : kids) c += 0.25 * k;
+  EXPECT_NEAR(c[0], x[0], 1e-15);
+  EXPECT_NEAR(c[1], x[1], 1e-15);
+  // the children sit on the finer lattice: dx/2 apart
+  EXPECT_NEAR(norm(kids[1] - kids[0]), 0.005, 1e-15);
+  EXPECT_NEAR(norm(kids[2] - kids[0]), 0.005, 1e-15);
+  const double m = 0.1 * 0.1 * 1000.0;
+  EXPECT_EQ(4.0 * level_mass<2>(m, 1), m);  // a power-of-two share: exact
+  EXPECT_EQ(64.0 * level_mass<3>(m, 2), m);
+  EXPECT_EQ(level_h(0.02, 2), 0.005);
+  const auto k3 = split_positions<3>(Vec<3>{{1.0, 2.0, 3.0}}, 0.01);
+  Vec<3> c3{};
+  for (const auto& k : k3) c3 += 0.125 * k;
+  EXPECT_NEAR(norm(c3 - Vec<3>{{1.0, 2.0, 3.0}}), 0.0, 1e-15);
+}
+
+TEST(Resolution, RegionSplitsTheLatticeKeepingMassAndMomentum) {
+  test::Setup<2> one(pool(kAboveWater)), two(pool(kBlock));
+  const auto& P1 = one.S.particles;
+  const auto& P2 = two.S.particles;
+  // the block's 20 x 20 lattice points become 40 x 40 children: 3 more per point
+  EXPECT_EQ(P2.count(Kind::Fluid), P1.count(Kind::Fluid) + 3 * 400);
+  EXPECT_EQ(two.rep.refined, 1600u);
+  EXPECT_NEAR(two.S.total_mass(Kind::Fluid), one.S.total_mass(Kind::Fluid), 1e-12 * one.S.total_mass(Kind::Fluid));
+  const Vec<2> p1 = momentum(one.S), p2 = momentum(two.S);
+  for (int d = 0; d < 2; ++d) EXPECT_NEAR(p2[d], p1[d], 1e-12 * norm(p1));
+  // each particle carries its level's mass and, before the first pass smooths it, its h
+  const auto& lv = P2.require(field::level);
+  const auto& h = P2.require(field::smoothing_length);
+  const double m0 = 1000.0 * 0.01 * 0.01;
+  for (std::size_t i = 0; i < P2.n_owned(); ++i) {
+    if (P2.kind[i] != Kind::Fluid) {
+      EXPECT_EQ(h[i], two.S.h);
+      continue;
+    }
+    const int l = static_cast<int>(lv[i]);
+    EXPECT_EQ(P2.mass[i], level_mass<2>(m0, l));
+    EXPECT_EQ(h[i], level_h(two.S.h, l));
+  }
+  EXPECT_EQ(two.S.levels, 1);
+  EXPECT_DOUBLE_EQ(two.S.finest_h(), 0.5 * two.S.h);
+  // smoothed h: level 0 far from the block, level 1 deep inside it, in between across the interface
+  smooth_level_h(two.S);
+  double hmin = 1.0, hmax = 0.0;
+  for (std::size_t i = 0; i < P2.n_owned(); ++i)
+    if (P2.kind[i] == Kind::Fluid) { hmin = std::min(hmin, h[i]); hmax = std::max(hmax, h[i]); }
+  EXPECT_NEAR(hmin, 0.5 * two.S.h, 1e-12);
+  EXPECT_NEAR(hmax, two.S.h, 1e-12);
+}
+
+TEST(Resolution, EqualSmoothingLengthsReproduceTheOneLevelPass) {
+  // a region above the water: the case runs the per-pair h path with every h = h0, which must
+  // give the one-level pass's rates to single-precision round-off
+  const std::string one_level = pool(kAboveWater).substr(0, pool(kAboveWater).find("resolution:")) + "time: {end: 0.1}\n";
+  test::Setup<2> a(one_level), b(pool(kAboveWater));
+  ASSERT_EQ(a.S.particles.size(), b.S.particles.size());
+  a.scheme->initialise(a.S);
+  b.scheme->initialise(b.S);
+  const auto &Pa = a.S.particles, &Pb = b.S.particles;
+  double amax = 0.0, dmax = 0.0, da = 0.0, dd = 0.0;
+  for (std::size_t i = 0; i < Pa.n_owned(); ++i) {
+    ASSERT_EQ(Pa.pos[i][0], Pb.pos[i][0]);
+    amax = std::max(amax, norm(Pa.acc[i]));
+    dmax = std::max(dmax, std::abs(Pa.drho[i]));
+    da = std::max(da, norm(Pa.acc[i] - Pb.acc[i]));
+    dd = std::max(dd, std::abs(Pa.drho[i] - Pb.drho[i]));
+  }
+  ASSERT_GT(amax, 1.0);  // (gravity and the initial velocity's viscous and continuity terms)
+  EXPECT_LT(da, 1e-5 * amax);  // float pair sums: ~1e-7 per term, over ~50 neighbours
+  EXPECT_LT(dd, 1e-5 * dmax + 1e-9);
+}
+
+TEST(Resolution, PairTermsConserveMomentumBetweenSizes) {
+  // no gravity, no walls within reach: a sheared, compressed block whose middle is refined;
+  // every pair force is antisymmetric with h_ab = (h_a + h_b)/2, so Σ m a = 0 to round-off
+  const std::string yaml = R"(dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-3, sound_speed: 10.0, hydrostatic_init: false}
+scheme: {viscosity: laminar}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.4]}
+resolution:
+  regions:
+    - {shape: box, min: [0.1, 0.1], max: [0.3, 0.3]}
+time: {end: 0.1}
+)";
+  test::Setup<2> s(yaml);
+  auto& P = s.S.particles;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    P.vel[i] = Vec<2>{{std::sin(17.0 * P.pos[i][1]), 0.5 * std::cos(11.0 * P.pos[i][0])}};
+    P.rho[i] = 1000.0 * (1.0 + 0.01 * std::sin(23.0 * P.pos[i][0] + 7.0 * P.pos[i][1]));
+  }
+  s.scheme->initialise(s.S);
+  Vec<2> sum{};
+  double scale = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    sum += P.mass[i] * P.acc[i];
+    scale += P.mass[i] * norm(P.acc[i]);
+  }
+  ASSERT_GT(scale, 0.0);
+  EXPECT_LT(norm(sum), 1e-5 * scale);  // the float pair sums' round-off
+}
+
+TEST(Resolution, RefusesWhatTheLevelsCannotServeYet) {
+  auto err = [](const std::string& region, const std::string& extra) { return test::build_error<2>(pool(region, extra)); };
+  std::string isph = pool(kBlock);
+  isph.replace(isph.find("scheme: {"), 9, "scheme: {type: isph, ");
+  const std::string e1 = test::build_error<2>(isph);
+  EXPECT_HAS(e1, "line 8: 'resolution'");
+  EXPECT_HAS(e1, "scheme.type: isph (line 4)");
+  EXPECT_HAS(err(kBlock, "turbulence: {model: mixing_length}\n"), "a turbulence model");
+  EXPECT_HAS(err(kBlock, "walls: {type: dynamic}\n"), "walls.type: dynamic");
+  EXPECT_EQ(test::build_error<2>(pool(kBlock)), "");
+  EXPECT_HAS(err("{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 4}", ""), "resolution.regions.0.level");
+  EXPECT_HAS(err("{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 1.5}", ""), "a whole number of halvings");
+  EXPECT_HAS(err("{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], levl: 1}", ""), "levl");
+  // refined fluid within a support of the walls: walls take no levels yet
+  const std::string e2 = err("{shape: box, min: [0.0, 0.0], max: [0.2, 0.4]}", "");
+  EXPECT_HAS(e2, "line 10: 'resolution.regions.0'");
+  EXPECT_HAS(e2, "walls do not take resolution levels yet");
+}
+
+TEST(Resolution, DualIntegratorAndShiftingAreRefused) {
+  const std::string base = pool(kBlock);
+  for (const char* o : {"scheme.integrator=dual", "scheme.shifting.coefficient=1", "scheme.shepard_every=30"}) {
+    SCOPED_TRACE(o);
+    std::string msg;
+    try {
+      const Case c = parse_case(base, "case.yaml", {o});
+    } catch (const InputError& e) {
+      msg = e.what();
+    }
+    EXPECT_HAS(msg, "'resolution': refined regions cannot yet be combined with");
+  }
+}
