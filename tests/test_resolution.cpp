@@ -6,7 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <memory>
 #include <string>
+
+#include <omp.h>
 
 #include "sphflume/core/refinement.hpp"
 #include "sphflume/physics/resolution.hpp"
@@ -186,4 +190,26 @@ TEST(Resolution, DualIntegratorAndShiftingAreRefused) {
     }
     EXPECT_HAS(msg, "'resolution': refined regions cannot yet be combined with");
   }
+}
+
+TEST(Resolution, RunsAreBitwiseIndependentOfThreadCount) {
+  // (the smoothed h and the relaxed interface are per-particle results: no thread writes another's)
+  const int saved = omp_get_max_threads();
+  auto run = [](int threads) {
+    omp_set_num_threads(threads);
+    auto s = std::make_unique<test::Setup<2>>(pool(kBlock));
+    s->scheme->initialise(s->S);
+    for (int i = 0; i < 40; ++i) s->scheme->step(s->S, s->scheme->time_step(s->S));
+    s->S.particles.clear_images();
+    return s;
+  };
+  const auto a = run(1), b = run(2);
+  omp_set_num_threads(saved);
+  const auto &Pa = a->S.particles, &Pb = b->S.particles;
+  ASSERT_EQ(Pa.n_owned(), Pb.n_owned());
+  EXPECT_EQ(0, std::memcmp(Pa.pos.data(), Pb.pos.data(), Pa.n_owned() * sizeof(Vec<2>)));
+  EXPECT_EQ(0, std::memcmp(Pa.vel.data(), Pb.vel.data(), Pa.n_owned() * sizeof(Vec<2>)));
+  EXPECT_EQ(0, std::memcmp(Pa.rho.data(), Pb.rho.data(), Pa.n_owned() * sizeof(double)));
+  const auto &ha = Pa.require(field::smoothing_length), &hb = Pb.require(field::smoothing_length);
+  EXPECT_EQ(0, std::memcmp(ha.data(), hb.data(), Pa.n_owned() * sizeof(double)));
 }

@@ -108,6 +108,17 @@ for pscheme in ["wcsph", "isph"]:
             f"scheme.type={pscheme}"), rng.randint(3, 15))
     check(ok, f"piston ({pscheme}, moving walls): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
 
+# resolution levels (issue 42): the particles' h and level travel in the restart data
+rcase = os.path.join(ROOT, "cases", "still_tank_refined.yaml")
+ok, why, rref, rkill, left = killed_and_restarted(
+    "levels", ["run", rcase, "-q", "--threads", "2"] + sets_of(
+        "particles.dx=0.03", "time.end=0.3", "time.output_interval=0.02", "resolution.regions.0.min=[0.3, 0.2]"),
+    rng.randint(3, 10))
+with h5py.File(snapshots(rref)[-1], "r") as ha, h5py.File(snapshots(rkill)[-1], "r") as hb:
+    same_h = all(ha[k][:].tobytes() == hb[k][:].tobytes() for k in ("h", "level"))
+check(ok and same_h, f"still_tank_refined (resolution levels): killed after {len(left)} snapshots, restarted: bitwise "
+                     f"equal, h and level too: {why}, h and level {'equal' if same_h else 'DIFFER'}")
+
 # SIGTERM / SIGINT: checkpoint, exit 128 + signal, restart bitwise
 args = ["run", case, "-q", "--threads", "2", "--set", "particles.dx=0.0073", "--set", "time.end=0.5",
         "--set", "time.output_interval=0.02", "--set", "scheme.integrator=verlet"]

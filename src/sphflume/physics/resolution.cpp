@@ -16,9 +16,7 @@ void smooth_level_h(System<D>& S) {
   auto& mix = P.scalar(field::level_interface);
   const auto& lv = P.require(field::level);
   const std::size_t n = P.n_owned();
-  thread_local std::vector<double> out, band;
-  out.resize(n);
-  band.resize(n);
+  std::vector<double> out(n), band(n);  // (shared by the threads below)
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
