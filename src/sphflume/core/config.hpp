@@ -377,6 +377,7 @@ struct ResolutionRegionConfig {
 };
 struct ResolutionConfig {
   std::vector<ResolutionRegionConfig> regions;
+  int relax_iterations = 300;  // the level interface's relaxation at set-up (physics/resolution.hpp)
   int line = 0;
   bool on() const { return !regions.empty(); }
   int max_level() const {

@@ -66,6 +66,9 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
     q.finish();
     res.regions.push_back(g);
   }
+  const double relax = r.in_range("relax", 300.0, 0.0, 100000.0);
+  if (relax != static_cast<int>(relax)) r.fail_at(r.get("relax"), "resolution.relax", "a whole number of iterations, 0 to 100000");
+  res.relax_iterations = static_cast<int>(relax);
   r.finish();
   check_models(root, file, c);
 }

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "sphflume/core/shapes.hpp"
+#include "sphflume/physics/relax_step.hpp"
 
 namespace sph {
 
@@ -283,13 +284,7 @@ PorousRelaxReport relax_porous_band(const PorousMedia<D>& pm, KernelType kernel,
           if (r2 > 0.0) g += (vol[b] * K.F(std::sqrt(r2))) * r;
         });
         res = std::max(res, h * norm(g));
-        Vec<D> dxa = (-0.1 * h * h) * g;
-        const double len = norm(dxa);
-        if (len > 0.05 * dx) dxa *= 0.05 * dx / len;
-        // a point stays within a quarter spacing of its lattice site (the band needs less than
-        // that; a point that would go further is not in a band the shift can fix)
-        if (norm(pos[a] + dxa - start[a]) > 0.25 * dx) dxa = Vec<D>{};
-        shift[a] = dxa;
+        shift[a] = relax_step<D>(g, h, dx, pos[a], start[a]);
       }
       if (it == 0) { rep.residual0 = res; rep.band = nband; }
       rep.residual = res;

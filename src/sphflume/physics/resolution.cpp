@@ -6,6 +6,7 @@
 #include "sphflume/core/cell_list.hpp"
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/core/refinement.hpp"
+#include "sphflume/physics/relax_step.hpp"
 
 namespace sph {
 
@@ -94,12 +95,7 @@ LevelRelaxReport relax_level_band(KernelType kernel, double h0, double dx0, std:
           if (r2 > 0.0) g += (vol[b] * K.Fh(std::sqrt(r2), ih)) * r;
         });
         res = std::max(res, hs[a] * norm(g));
-        const double dxa = level_h(dx0, lev(a));
-        Vec<D> step = (-0.1 * hs[a] * hs[a]) * g;
-        const double len = norm(step);
-        if (len > 0.05 * dxa) step *= 0.05 * dxa / len;
-        if (norm(pos[a] + step - start[a]) > 0.25 * dxa) step = Vec<D>{};
-        shift[a] = step;
+        shift[a] = relax_step<D>(g, hs[a], level_h(dx0, lev(a)), pos[a], start[a]);
       }
       if (it == 0) { rep.residual0 = res; rep.band = nband; }
       rep.residual = res;

@@ -11,10 +11,6 @@
 #include "sphflume/setup/shape_lattice.hpp"
 
 namespace sph {
-namespace {
-/// The level interface's relaxation at set-up (as `porous.relax: 300`).
-constexpr int kLevelRelaxIterations = 300;
-}  // namespace
 
 template <int D>
 BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits, std::vector<Vec<D>>* wall_surface) {
@@ -45,7 +41,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
   refine_fill<D>(c, S.support, f);  // resolution levels (docs/numerics.md §14)
   S.levels = c.resolution.max_level();
   if (S.levels > 0) {
-    const auto rr = relax_level_band<D>(c.kernel, S.h, dx, f.fluid_x, f.fluid_level, f.wall_x, kLevelRelaxIterations);
+    const auto rr = relax_level_band<D>(c.kernel, S.h, dx, f.fluid_x, f.fluid_level, f.wall_x, c.resolution.relax_iterations);
     rep.levels = S.levels;
     for (const int l : f.fluid_level) rep.refined += l > 0 ? 1 : 0;
     rep.level_relax_band = rr.band;
