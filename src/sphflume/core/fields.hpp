@@ -31,7 +31,6 @@ inline constexpr ScalarField psi{"_psi"};                   // ISPH scratch
 inline constexpr ScalarField motion_group{"motion_group"};  // 0 fixed, k + 1 the k-th wall motion
 inline constexpr ScalarField smoothing_length{"h"};         // per-particle h (resolution levels, core/refinement)
 inline constexpr ScalarField level{"level"};                // resolution level: spacing dx / 2^level
-inline constexpr ScalarField level_interface{"level_interface"};  // 1: neighbours of another level (physics/resolution)
 // vectors
 inline constexpr VectorField wall_to_surface{"wall_to_surface"};  // wall particle -> its surface point
 inline constexpr VectorField wall_normal{"wall_normal"};          // repulsive walls' unit normal

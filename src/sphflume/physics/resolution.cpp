@@ -1,5 +1,6 @@
 #include "sphflume/physics/resolution.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -14,31 +15,23 @@ template <int D>
 void smooth_level_h(System<D>& S) {
   auto& P = S.particles;
   auto& hs = P.require(field::smoothing_length);
-  auto& mix = P.scalar(field::level_interface);
   const auto& lv = P.require(field::level);
   const std::size_t n = P.n_owned();
-  std::vector<double> out(n), band(n);  // (shared by the threads below)
+  std::vector<double> out(n);  // (shared by the threads below: h is read while it is averaged)
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
       double sw = 0.0, sh = 0.0;
-      bool other = false;
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
         const double w = K.W(std::sqrt(r2)) * P.mass[b] / P.rho[b];
         sw += w;
         sh += w * level_h(S.h, static_cast<int>(lv[b]));
-        other = other || (lv[b] != lv[a] && fluid_like(P.kind[b]));
       });
       out[a] = sw > 0.0 ? sh / sw : level_h(S.h, static_cast<int>(lv[a]));
-      band[a] = other ? 1.0 : 0.0;
     }
   });
-  for (std::size_t a = 0; a < n; ++a) {
-    hs[a] = out[a];
-    mix[a] = band[a];
-  }
+  std::copy(out.begin(), out.end(), hs.begin());
   S.refresh_halos(hs.data());
-  S.refresh_halos(mix.data());
 }
 
 template <int D>
