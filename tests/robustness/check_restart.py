@@ -8,6 +8,7 @@
 - A restart with another case, from a truncated file, or past time.end is bad input: exit 2 and a clear message.
 Usage: check_restart.py SPHFLUME [WORKDIR]
 """
+import json
 import os
 import random
 import shutil
@@ -118,6 +119,18 @@ with h5py.File(snapshots(rref)[-1], "r") as ha, h5py.File(snapshots(rkill)[-1], 
     same_h = all(ha[k][:].tobytes() == hb[k][:].tobytes() for k in ("h", "level"))
 check(ok and same_h, f"still_tank_refined (resolution levels): killed after {len(left)} snapshots, restarted: bitwise "
                      f"equal, h and level too: {why}, h and level {'equal' if same_h else 'DIFFER'}")
+
+# resolution levels with splits and merges during the run: the dam break's surge crosses a refined box
+ok, why, rref, rkill, left = killed_and_restarted(
+    "levels_adapt", ["run", case, "-q", "--threads", "2"] + sets_of(
+        "particles.dx=0.0146", "time.end=0.3", "time.output_interval=0.01", "scheme.integrator=verlet",
+        "resolution={regions: [{shape: box, min: [0.2, 0.04], max: [0.35, 0.2], level: 1}]}"),
+    rng.randint(8, 22))
+with open(os.path.join(rref, "summary.json")) as f:
+    adapt = json.load(f).get("resolution", {})
+check(ok and adapt.get("splits", 0) > 0 and adapt.get("merges", 0) > 0,
+      f"dam break through a refined box (splits {adapt.get('splits')}, merges {adapt.get('merges')}): killed after "
+      f"{len(left)} snapshots, restarted: bitwise equal: {why}")
 
 # SIGTERM / SIGINT: checkpoint, exit 128 + signal, restart bitwise
 args = ["run", case, "-q", "--threads", "2", "--set", "particles.dx=0.0073", "--set", "time.end=0.5",

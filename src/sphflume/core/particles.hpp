@@ -85,6 +85,32 @@ class ParticleStore {
     touch();
   }
 
+  /// Append a copy of owned particle s, every field (only valid while there are no images);
+  /// returns the new index.
+  std::size_t add_copy(std::size_t s) {
+    const std::size_t d = size();
+    resize_all(d + 1);
+    copy_particle(s, d);
+    n_owned_ = size();
+    touch();
+    return d;
+  }
+
+  /// Particle d's extra fields (scalar and vector) set to the w-weighted means of particles
+  /// src[0..n) (Σ w = 1); the core fields are the caller's.
+  void mean_extra_fields(std::size_t d, const std::size_t* src, const double* w, std::size_t n) {
+    for (auto& [k, f] : scalar_fields_) {
+      double s = 0.0;
+      for (std::size_t j = 0; j < n; ++j) s += w[j] * f[src[j]];
+      f[d] = s;
+    }
+    for (auto& [k, f] : vector_fields_) {
+      V s{};
+      for (std::size_t j = 0; j < n; ++j) s += w[j] * f[src[j]];
+      f[d] = s;
+    }
+  }
+
   /// Extra per-particle scalar field (e.g. a concentration, porosity). Created on first use;
   /// kept consistent through add/reorder/images like the core fields.
   std::vector<double>& scalar(const std::string& name) {

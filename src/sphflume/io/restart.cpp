@@ -28,6 +28,7 @@ std::string counters_text(const RunState& rs) {
   t += "outflow_mass=" + hexd(rs.open.outflow_mass) + "\n";
   t += fmt::format("backflow={}\nnext_id={}\n", rs.open.backflow, rs.open.next_id);
   t += "backflow_mass=" + hexd(rs.open.backflow_mass) + "\n";
+  if (rs.splits != 0 || rs.merges != 0) t += fmt::format("splits={}\nmerges={}\n", rs.splits, rs.merges);
   for (const auto& [k, v] : rs.scheme) t += "scheme." + k + "=" + hexd(v) + "\n";
   return t;
 }
@@ -49,6 +50,8 @@ void parse_counters(const std::string& text, RunState& rs, const std::string& pa
     else if (k == "outflow_mass") rs.open.outflow_mass = parse_d(v);
     else if (k == "backflow") rs.open.backflow = std::strtol(v.c_str(), nullptr, 10);
     else if (k == "backflow_mass") rs.open.backflow_mass = parse_d(v);
+    else if (k == "splits") rs.splits = std::strtol(v.c_str(), nullptr, 10);
+    else if (k == "merges") rs.merges = std::strtol(v.c_str(), nullptr, 10);
     else if (k == "next_id") rs.open.next_id = static_cast<std::uint32_t>(std::strtoul(v.c_str(), nullptr, 10));
     else if (k.rfind("removed.", 0) == 0) rs.removed_by_face[k.substr(8)] = std::strtol(v.c_str(), nullptr, 10);
     else if (k.rfind("scheme.", 0) == 0) rs.scheme[k.substr(7)] = parse_d(v);

@@ -36,6 +36,7 @@ struct RunState {
   double removed_mass = 0.0;
   std::map<std::string, long> removed_by_face;
   OpenFlowCounters open;                  // inflow/outflow masses, backflow count, next particle id
+  long splits = 0, merges = 0;            // resolution levels: particles split, groups merged (physics/resolution)
   std::map<std::string, double> scheme;   // the scheme's own state (Scheme::state)
   std::vector<SnapshotEntry> snapshots;   // the time series so far
   std::string case_text;                  // canonical case text (Case::fingerprint)

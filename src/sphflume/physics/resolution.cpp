@@ -1,6 +1,7 @@
 #include "sphflume/physics/resolution.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -18,9 +19,22 @@ void smooth_level_h(System<D>& S) {
   const auto& lv = P.require(field::level);
   const std::size_t n = P.n_owned();
   std::vector<double> out(n);  // (shared by the threads below: h is read while it is averaged)
+  // cells whose stencil holds particles of more than one level: only their particles average
+  // (elsewhere the average is the level's own h)
+  std::vector<char> mixed, near;
+  for (int l = 0; l <= S.levels; ++l) {
+    S.cells.mark_near(near, [&](std::size_t i) { return static_cast<int>(lv[i]) == l; });
+    if (mixed.empty()) mixed.assign(near.size(), 0);
+    for (std::size_t c = 0; c < near.size(); ++c) mixed[c] = static_cast<char>(mixed[c] + near[c]);
+  }
+  const bool binned = S.cells.sorted().size() >= n;  // (a store not binned yet: every particle averages)
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
+      if (binned && mixed[S.cells.cell_of(a)] <= 1) {
+        out[a] = level_h(S.h, static_cast<int>(lv[a]));
+        continue;
+      }
       double sw = 0.0, sh = 0.0;
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
         const double w = K.W(std::sqrt(r2)) * P.mass[b] / P.rho[b];
@@ -104,8 +118,134 @@ LevelRelaxReport relax_level_band(KernelType kernel, double h0, double dx0, std:
   return rep;
 }
 
+int target_level(const ResolutionConfig& res, const double* x, int dim) {
+  int l = 0;
+  for (const auto& r : res.regions)
+    if (r.level > l && r.region.contains(x, dim)) l = r.level;
+  return l;
+}
+
+template <int D>
+bool outside_levels(const ResolutionConfig& res, const Vec<D>& x, int l, double margin) {
+  constexpr int kPoints = D == 2 ? 9 : 27;  // x + margin {-1, 0, 1}^D: the corners too
+  for (int k = 0; k < kPoints; ++k) {
+    Vec<D> y = x;
+    for (int d = 0, q = k; d < D; ++d, q /= 3) y[d] += margin * double(q % 3 - 1);
+    if (target_level(res, y.c.data(), D) >= l) return false;
+  }
+  return true;
+}
+
+namespace {
+
+template <int D>
+std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id) {
+  auto& P = S.particles;
+  auto& lv = P.require(field::level);
+  const std::size_t n = P.n_owned();
+  std::vector<std::size_t> parents;
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid && target_level(res, P.pos[i].c.data(), D) > static_cast<int>(lv[i])) parents.push_back(i);
+  if (parents.empty()) return 0;
+  P.clear_images();
+  for (std::size_t a : parents) {
+    const int l = static_cast<int>(P.scalar(field::level.name)[a]);
+    const auto xs = split_positions<D>(P.pos[a], 0.5 * level_h(S.dx, l));
+    const double m = P.mass[a] / double(kChildren<D>);
+    for (std::size_t k = 0; k < kChildren<D>; ++k) {
+      const std::size_t c = k == 0 ? a : P.add_copy(a);
+      P.pos[c] = xs[k];
+      P.mass[c] = m;
+      P.scalar(field::level.name)[c] = l + 1;
+      P.scalar(field::smoothing_length.name)[c] = level_h(S.h, l + 1);
+      if (k > 0) P.id[c] = next_id++;
+    }
+  }
+  return parents.size();
+}
+
+template <int D>
+std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
+  auto& P = S.particles;
+  const auto& lv = P.require(field::level);
+  const std::size_t n = P.n_owned();
+  std::vector<char> cand(n, 0);
+  bool any = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int l = static_cast<int>(lv[i]);
+    if (P.kind[i] != Kind::Fluid || l == 0) continue;
+    cand[i] = outside_levels<D>(res, P.pos[i], l, level_h(S.h, l - 1));
+    any = any || cand[i];
+  }
+  if (!any) return 0;
+  constexpr std::size_t G = kChildren<D>;
+  std::vector<char> gone(n, 0);
+  std::vector<std::pair<double, std::uint32_t>> near;
+  std::size_t groups = 0;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (!cand[a]) continue;
+    const int l = static_cast<int>(lv[a]);
+    const double reach = level_h(S.dx, l - 1);  // a level-(l − 1) spacing
+    near.clear();
+    S.cells.for_neighbours(P.pos, P.pos[a], reach, [&](std::uint32_t b, const Vec<D>&, double r2) {
+      if (b != a && b < n && cand[b] && static_cast<int>(lv[b]) == l) near.emplace_back(r2, b);
+    });
+    if (near.size() < G - 1) continue;
+    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(G - 1), near.end());
+    std::array<std::size_t, G> g;
+    g[0] = a;
+    for (std::size_t k = 1; k < G; ++k) g[k] = near[k - 1].second;
+    double M = 0.0, vol = 0.0;
+    Vec<D> mx{}, mv{}, ma{};
+    double mdrho = 0.0;
+    for (std::size_t i : g) {
+      M += P.mass[i];
+      vol += P.mass[i] / P.rho[i];
+      mx += P.mass[i] * P.pos[i];
+      mv += P.mass[i] * P.vel[i];
+      ma += P.mass[i] * P.acc[i];
+      mdrho += P.mass[i] * P.drho[i];
+    }
+    std::array<double, G> w;
+    for (std::size_t k = 0; k < G; ++k) w[k] = P.mass[g[k]] / M;
+    P.mean_extra_fields(a, g.data(), w.data(), G);
+    P.pos[a] = (1.0 / M) * mx;
+    P.vel[a] = (1.0 / M) * mv;
+    P.acc[a] = (1.0 / M) * ma;
+    P.drho[a] = mdrho / M;
+    P.rho[a] = M / vol;
+    P.mass[a] = M;
+    P.scalar(field::level.name)[a] = l - 1;
+    P.scalar(field::smoothing_length.name)[a] = level_h(S.h, l - 1);
+    for (std::size_t k = 1; k < G; ++k) { gone[g[k]] = 1; cand[g[k]] = 0; }
+    cand[a] = 0;
+    ++groups;
+  }
+  if (groups > 0) {
+    P.clear_images();
+    P.remove_if_flagged(gone);
+  }
+  return groups;
+}
+
+}  // namespace
+
+template <int D>
+AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id) {
+  AdaptCounts c;
+  if (next_id == 0)  // the first new id: above every particle's
+    for (std::size_t i = 0; i < S.particles.n_owned(); ++i) next_id = std::max(next_id, S.particles.id[i] + 1);
+  c.merged = merge_all(S, res);  // (on the sorted store: its cell list is current)
+  c.split = split_all(S, res, next_id);
+  return c;
+}
+
 template void smooth_level_h<2>(System<2>&);
 template void smooth_level_h<3>(System<3>&);
+template bool outside_levels<2>(const ResolutionConfig&, const Vec<2>&, int, double);
+template bool outside_levels<3>(const ResolutionConfig&, const Vec<3>&, int, double);
+template AdaptCounts adapt_levels<2>(System<2>&, const ResolutionConfig&, std::uint32_t&);
+template AdaptCounts adapt_levels<3>(System<3>&, const ResolutionConfig&, std::uint32_t&);
 template LevelRelaxReport relax_level_band<2>(KernelType, double, double, std::vector<Vec<2>>&, const std::vector<int>&,
                                               const std::vector<Vec<2>>&, int);
 template LevelRelaxReport relax_level_band<3>(KernelType, double, double, std::vector<Vec<3>>&, const std::vector<int>&,

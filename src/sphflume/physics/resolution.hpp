@@ -1,5 +1,8 @@
 // Resolution levels (docs/numerics.md §14): the smoothing length each particle carries.
 #pragma once
+#include <cstdint>
+
+#include "sphflume/core/config.hpp"
 #include "sphflume/core/system.hpp"
 
 namespace sph {
@@ -42,5 +45,37 @@ struct LevelRelaxReport {
 template <int D>
 LevelRelaxReport relax_level_band(KernelType kernel, double h0, double dx0, std::vector<Vec<D>>& fluid,
                                   const std::vector<int>& level, const std::vector<Vec<D>>& walls, int iterations);
+
+/// The level a point should have: the highest level of the `resolution` regions that contain
+/// it (0 outside them all).
+int target_level(const ResolutionConfig& res, const double* x, int dim);
+
+/// Is x outside every region of level >= l by at least `margin` (x + margin {−1, 0, 1}^D all
+/// outside: a square (cube) about x, which holds the disc (ball) of radius margin)?
+template <int D>
+bool outside_levels(const ResolutionConfig& res, const Vec<D>& x, int l, double margin);
+
+/// What adapt_levels did.
+struct AdaptCounts {
+  std::size_t split = 0;   // particles split (each into 2^D children)
+  std::size_t merged = 0;  // groups of 2^D merged into one particle
+};
+
+/// Splitting and merging during the run (docs/numerics.md §14, step 2), after a step and the
+/// removal of escaped particles, on a freshly sorted store (the cell list current):
+/// - a fluid particle of level l whose place wants a higher level (target_level) is split into
+///   2^D children of level l + 1 (core/refinement.hpp: ±dx_l/4 about it, its velocity, density
+///   and other fields, mass / 2^D): mass, momentum and centre of mass kept exactly;
+/// - fluid particles of level l ≥ 1 that are outside every region of their level by at least
+///   one smoothing length of level l − 1 (the hysteresis that keeps a particle from splitting and
+///   merging back in turn) are merged in groups of 2^D of that level lying within a level-(l − 1)
+///   spacing of the group's first (taken in store order, each with its nearest partners): the
+///   merged particle has the group's mass, momentum (mass-weighted velocity) and centre of mass,
+///   the density M / Σ V_i (the volume kept), the other fields' mass-weighted means and level
+///   l − 1. Candidates without enough partners wait.
+/// New particles take ids from next_id (advanced). Serial and in store order: bitwise
+/// independent of the thread count. The caller re-sorts when anything changed.
+template <int D>
+AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id);
 
 }  // namespace sph

@@ -2,6 +2,7 @@
 #include "sphflume/setup/fill.hpp"
 
 #include "sphflume/core/refinement.hpp"
+#include "sphflume/physics/resolution.hpp"
 #include "sphflume/setup/shape_lattice.hpp"
 
 namespace sph {
@@ -301,21 +302,7 @@ template <int D>
 void refine_fill(const Case& c, double support, FillPoints<D>& f) {
   const auto& regs = c.resolution.regions;
   if (regs.empty()) return;
-  auto fmt_point = [](const Vec<D>& x) { return fmt::format("({:.4g})", fmt::join(x.c, ", ")); };
-  auto target = [&](const Vec<D>& x, std::size_t* which) {  // the finest level of the regions holding x
-    int l = 0;
-    for (std::size_t r = 0; r < regs.size(); ++r)
-      if (regs[r].level > l && regs[r].region.contains(x.c.data(), D)) {
-        l = regs[r].level;
-        *which = r;
-      }
-    return l;
-  };
   FillPoints<D> out;
-  out.wall_x = std::move(f.wall_x);
-  out.wall_s = std::move(f.wall_s);
-  out.wall_shape = std::move(f.wall_shape);
-  std::vector<std::size_t> region_of;  // (the region that refined each point)
   struct Pending { Vec<D> x; double half; int level; };
   std::vector<Pending> stack;
   for (std::size_t i = 0; i < f.fluid_x.size(); ++i) {
@@ -324,8 +311,7 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
     while (!stack.empty()) {
       const Pending p = stack.back();
       stack.pop_back();
-      std::size_t which = 0;
-      if (p.level < target(p.x, &which)) {
+      if (p.level < target_level(c.resolution, p.x.c.data(), D)) {
         const auto kids = split_positions<D>(p.x, p.half);
         for (std::size_t k = kids.size(); k-- > 0;) stack.push_back({kids[k], 0.5 * p.half, p.level + 1});
         continue;
@@ -336,34 +322,39 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
       out.fluid_half.push_back(p.half);
       out.fluid_level.push_back(p.level);
       out.drop.push_back(0);
-      std::size_t w = 0;
-      target(p.x, &w);
-      region_of.push_back(w);
     }
   }
-  // walls take no levels yet: no refined point within the level-0 support of a wall point
-  // (a bounding-box test per region, then the exact distance to the walls in that box)
-  for (std::size_t r = 0; r < regs.size(); ++r) {
-    Vec<D> lo, hi;
-    for (int d = 0; d < D; ++d) { lo[d] = 1e300; hi[d] = -1e300; }
-    bool any = false;
-    for (std::size_t i = 0; i < out.fluid_x.size(); ++i)
-      if (out.fluid_level[i] > 0 && region_of[i] == r) {
-        any = true;
-        for (int d = 0; d < D; ++d) { lo[d] = std::min(lo[d], out.fluid_x[i][d]); hi[d] = std::max(hi[d], out.fluid_x[i][d]); }
+  // walls: split to the finest level of the regions within a level-0 support (the fluid of a
+  // level, which may stray one coarser h beyond its region before it merges, meets walls of its
+  // own spacing); the surface point moves with the child along the surface
+  out.wall_x.clear();
+  out.wall_s.clear();
+  out.wall_shape.clear();
+  struct WallPending { Vec<D> x, s; double half; int level; };
+  std::vector<WallPending> wstack;
+  for (std::size_t i = 0; i < f.wall_x.size(); ++i) {
+    int want = 0;
+    for (int l = c.resolution.max_level(); l >= 1 && want == 0; --l)
+      if (!outside_levels<D>(c.resolution, f.wall_x[i], l, support)) want = l;
+    wstack.assign(1, {f.wall_x[i], f.wall_s[i], 0.5 * c.dx, 0});
+    while (!wstack.empty()) {
+      const WallPending p = wstack.back();
+      wstack.pop_back();
+      if (p.level < want) {
+        Vec<D> n = p.s - p.x;
+        const double len = norm(n);
+        if (len > 0.0) n *= 1.0 / len;
+        const auto kids = split_positions<D>(p.x, p.half);
+        for (std::size_t k = kids.size(); k-- > 0;) {
+          const Vec<D> t = kids[k] - p.x;
+          wstack.push_back({kids[k], p.s + (t - dot(t, n) * n), 0.5 * p.half, p.level + 1});
+        }
+        continue;
       }
-    if (!any) continue;
-    for (const auto& w : out.wall_x) {
-      bool near = true;
-      for (int d = 0; d < D; ++d) near = near && w[d] > lo[d] - support && w[d] < hi[d] + support;
-      if (!near) continue;
-      for (std::size_t i = 0; i < out.fluid_x.size(); ++i)
-        if (out.fluid_level[i] > 0 && region_of[i] == r && norm(out.fluid_x[i] - w) < support)
-          throw InputError(fmt::format("{}: line {}: 'resolution.regions.{}': its refined fluid at {} comes within the "
-                                       "kernel support ({:.4g} m) of a wall particle at {}; walls do not take resolution "
-                                       "levels yet: keep refined regions at least one support away from walls "
-                                       "(docs/numerics.md §14)",
-                                       c.file, regs[r].line, r, fmt_point(out.fluid_x[i]), support, fmt_point(w)));
+      out.wall_x.push_back(p.x);
+      out.wall_s.push_back(p.s);
+      out.wall_shape.push_back(f.wall_shape[i]);
+      out.wall_level.push_back(p.level);
     }
   }
   f = std::move(out);

@@ -19,6 +19,7 @@ struct FillPoints {
   std::vector<std::uint32_t> wall_shape;   // which shape made each wall point
   std::vector<char> drop;                  // fluid points inside walls (drop_inside_walls)
   std::vector<int> fluid_level;            // resolution level of each fluid point (refine_fill; empty: all 0)
+  std::vector<int> wall_level;             // resolution level of each wall point (refine_fill; empty: all 0)
 };
 
 /// Every shape's lattice points (porous zones' fluid at the zone's spacing, Kazemi eq 5.1).
@@ -33,8 +34,9 @@ void drop_inside_walls(const Case& c, FillPoints<D>& f);
 
 /// Resolution levels (docs/numerics.md §14): each fluid point inside a `resolution` region is
 /// split (core/refinement.hpp) until it reaches the region's level; a child outside every region
-/// of that level stops there. Refuses (InputError naming the region's line) a refined point
-/// within the level-0 support of a wall point: walls do not take levels yet.
+/// of that level stops there. Each wall point within the level-0 support of a region is split
+/// the same way to that region's level (the finest such), so that the fluid of a level meets a
+/// wall of its own spacing; a child's surface point is its parent's moved along the surface.
 template <int D>
 void refine_fill(const Case& c, double support, FillPoints<D>& f);
 

@@ -92,11 +92,11 @@ void add_particles(const Case& c, System<D>& S, const FillPoints<D>& f, BuildRep
   }
   const std::size_t first_wall = P.n_owned();
   rep.first_wall = first_wall;
-  for (const auto& x : f.wall_x) {
-    P.add(x, Vec<D>{}, rho_wall, m, Kind::Wall);
+  for (std::size_t i = 0; i < f.wall_x.size(); ++i) {
+    P.add(f.wall_x[i], Vec<D>{}, rho_wall, level_mass<D>(m, f.wall_level.empty() ? 0 : f.wall_level[i]), Kind::Wall);
     ++rep.wall;
   }
-  if (c.resolution.on()) {  // resolution levels: each particle's h and level (walls level 0)
+  if (c.resolution.on()) {  // resolution levels: each particle's h and level (walls: refine_fill's)
     auto& hs = P.scalar(field::smoothing_length);
     auto& lv = P.scalar(field::level);
     std::size_t k = 0;
@@ -106,7 +106,11 @@ void add_particles(const Case& c, System<D>& S, const FillPoints<D>& f, BuildRep
       hs[k] = level_h(S.h, level);
       lv[k++] = level;
     }
-    for (std::size_t i = first_wall; i < P.size(); ++i) hs[i] = S.h;
+    for (std::size_t i = first_wall; i < P.size(); ++i) {
+      const int level = f.wall_level.empty() ? 0 : f.wall_level[i - first_wall];
+      hs[i] = level_h(S.h, level);
+      lv[i] = level;
+    }
   }
   if (!c.motions.empty()) {  // moving walls: the motion of each wall particle and its place at X = 0
     auto& grp = P.scalar(field::motion_group);

@@ -17,6 +17,7 @@
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
+#include "sphflume/physics/resolution.hpp"
 #include "sphflume/io/restart.hpp"
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/scheme.hpp"
@@ -142,6 +143,7 @@ struct Run {
     // open boundaries; then re-sort if particles were created or deleted (see remove_escaped)
     if (open.any() && S.comm->any(open.update(S, rs.open))) S.update_neighbours();
     remove_escaped();
+    if (S.levels > 0) adapt_levels_now();
     health();
     const bool last = S.time >= c.t_end * (1.0 - 1e-12);
     if (!(S.time >= rs.next_output * (1.0 - 1e-9) || last)) return false;
@@ -154,6 +156,16 @@ struct Run {
     const auto h = check_health(S, limits);
     if (S.comm->any(h.has_value()))
       throw SimulationError(h ? *h : fmt::format("at step {}, t = {:.9g} s: another rank failed (its message says why)", S.step, S.time));
+  }
+
+  /// Resolution levels: split and merge where the particles' places want another level
+  /// (physics/resolution.hpp), then re-sort as remove_escaped does.
+  void adapt_levels_now() {
+    const AdaptCounts k = adapt_levels(S, c.resolution, rs.open.next_id);
+    if (k.split == 0 && k.merged == 0) return;
+    rs.splits += static_cast<long>(k.split);
+    rs.merges += static_cast<long>(k.merged);
+    S.update_neighbours();
   }
 
   /// Fluid particles outside the domain box are removed and counted per face.
