@@ -258,6 +258,7 @@ TEST(Resolution, SplitAndMergeKeepMassMomentumAndCentre) {
   ResolutionConfig moved = s.c.resolution;
   moved.regions[0].region.min[0] += 0.15;
   moved.regions[0].region.max[0] += 0.15;
+  moved.settle_iterations = 0;  // (the children where the split puts them; settled below)
   std::uint32_t next_id = 0;
   const AdaptCounts k = adapt_levels(s.S, moved, next_id);
   totals(m1, p1, x1, v1);
@@ -288,4 +289,28 @@ TEST(Resolution, SplitAndMergeKeepMassMomentumAndCentre) {
   s.S.update_neighbours();
   const AdaptCounts k2 = adapt_levels(s.S, moved, next_id);
   EXPECT_EQ(k2.split, 0u);
+
+  // the same with the children settled (resolution.settle, default 10): positions only, each
+  // child at most dx_1/4 from its place, so the centre of mass moves by less than that
+  test::Setup<2> t(pool(kBlock));
+  for (std::size_t i = 0; i < t.S.particles.n_owned(); ++i) t.S.particles.vel[i] = P.vel[0];
+  t.S.update_neighbours();
+  double n0, w0, n1, w1;
+  Vec<2> q0, c0, q1, c1;
+  auto totals_t = [&](double& m, Vec<2>& mv, Vec<2>& mx, double& vol) {
+    const auto& T = t.S.particles;
+    m = 0.0; vol = 0.0; mv = Vec<2>{}; mx = Vec<2>{};
+    for (std::size_t i = 0; i < T.n_owned(); ++i)
+      if (T.kind[i] == Kind::Fluid) { m += T.mass[i]; mv += T.mass[i] * T.vel[i]; mx += T.mass[i] * T.pos[i]; vol += T.mass[i] / T.rho[i]; }
+  };
+  totals_t(n0, q0, c0, w0);
+  moved.settle_iterations = 10;
+  std::uint32_t next_t = 0;
+  EXPECT_EQ(adapt_levels(t.S, moved, next_t).split, k.split);
+  totals_t(n1, q1, c1, w1);
+  EXPECT_NEAR(n1, n0, 1e-12 * n0);
+  for (int d = 0; d < 2; ++d) {
+    EXPECT_NEAR(q1[d], q0[d], 1e-12 * n0);
+    EXPECT_LT(std::abs(c1[d] - c0[d]) / n0, 0.25 * 0.005);
+  }
 }

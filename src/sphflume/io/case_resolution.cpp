@@ -69,6 +69,9 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
   const double relax = r.in_range("relax", 300.0, 0.0, 100000.0);
   if (relax != static_cast<int>(relax)) r.fail_at(r.get("relax"), "resolution.relax", "a whole number of iterations, 0 to 100000");
   res.relax_iterations = static_cast<int>(relax);
+  const double settle = r.in_range("settle", 10.0, 0.0, 1000.0);
+  if (settle != static_cast<int>(settle)) r.fail_at(r.get("settle"), "resolution.settle", "a whole number of iterations, 0 to 1000");
+  res.settle_iterations = static_cast<int>(settle);
   r.finish();
   check_models(root, file, c);
 }

@@ -139,7 +139,7 @@ bool outside_levels(const ResolutionConfig& res, const Vec<D>& x, int l, double 
 namespace {
 
 template <int D>
-std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id) {
+std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id, std::vector<std::size_t>& kids) {
   auto& P = S.particles;
   auto& lv = P.require(field::level);
   const std::size_t n = P.n_owned();
@@ -159,6 +159,7 @@ std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& 
       P.scalar(field::level.name)[c] = l + 1;
       P.scalar(field::smoothing_length.name)[c] = level_h(S.h, l + 1);
       if (k > 0) P.id[c] = next_id++;
+      kids.push_back(c);
     }
   }
   return parents.size();
@@ -228,6 +229,59 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
   return groups;
 }
 
+/// The children of this call's splits, shifted apart (docs/numerics.md §14): a split's pattern
+/// lands wherever its parent stood, so its children can fall closer than a fine spacing to the
+/// particles of the finer level already there; each iteration moves every child not at the
+/// free surface by relax_step against Σ_b V_b ∇W_ab (h_ab as the pair pass takes it), at most
+/// dx_l/4 from where it was placed. Positions only: mass and momentum are untouched.
+template <int D>
+void settle_children(System<D>& S, const std::vector<std::size_t>& kids, int iterations) {
+  if (kids.empty() || iterations <= 0) return;
+  auto& P = S.particles;
+  const auto& hs = P.require(field::smoothing_length);
+  const auto& lv = P.require(field::level);
+  CellList<D> cells;  // (the store is not sorted again until the caller's re-sort)
+  const std::vector<Vec<D>> placed = [&] {
+    std::vector<Vec<D>> v;
+    for (std::size_t c : kids) v.push_back(P.pos[c]);
+    return v;
+  }();
+  std::vector<Vec<D>> shift(kids.size());
+  std::vector<char> surface(kids.size(), 0);
+  S.with_kernel([&](const auto& K) {
+    for (int it = 0; it < iterations; ++it) {
+      cells.build(P.pos, P.size(), K.support);
+#pragma omp parallel for schedule(static)
+      for (std::size_t k = 0; k < kids.size(); ++k) {
+        const std::size_t a = kids[k];
+        shift[k] = Vec<D>{};
+        Vec<D> g{}, centroid{}, nearest{};
+        double wsum = 0.0, r2min = 1e300;
+        cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>& r, double r2) {
+          if (r2 <= 0.0) return;
+          const double ih = 2.0 / (hs[a] + hs[b]), rr = std::sqrt(r2);
+          g += (P.mass[b] / P.rho[b] * K.Fh(rr, ih)) * r;
+          const double w = K.Wh(rr, ih);
+          wsum += w;
+          centroid += (-w) * r;
+          if (r2 < r2min) { r2min = r2; nearest = r; }
+        });
+        if (it == 0) surface[k] = wsum <= 0.0 || norm(centroid) > 0.2 * hs[a] * wsum;
+        const int l = static_cast<int>(lv[a]);
+        const double dxl = level_h(S.dx, l);
+        if (!surface[k]) {
+          shift[k] = relax_step<D>(g, hs[a], dxl, P.pos[a], placed[k]);
+        } else if (r2min < 0.5625 * dxl * dxl) {  // at the surface: only apart from a particle within 0.75 dx_l
+          const double d = std::sqrt(r2min);
+          Vec<D> step = (0.25 * (0.75 * dxl - d) / d) * nearest;
+          if (norm(P.pos[a] + step - placed[k]) <= 0.25 * dxl) shift[k] = step;
+        }
+      }
+      for (std::size_t k = 0; k < kids.size(); ++k) P.pos[kids[k]] += shift[k];
+    }
+  });
+}
+
 }  // namespace
 
 template <int D>
@@ -236,7 +290,9 @@ AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_
   if (next_id == 0)  // the first new id: above every particle's
     for (std::size_t i = 0; i < S.particles.n_owned(); ++i) next_id = std::max(next_id, S.particles.id[i] + 1);
   c.merged = merge_all(S, res);  // (on the sorted store: its cell list is current)
-  c.split = split_all(S, res, next_id);
+  std::vector<std::size_t> kids;
+  c.split = split_all(S, res, next_id, kids);
+  settle_children(S, kids, res.settle_iterations);
   return c;
 }
 
