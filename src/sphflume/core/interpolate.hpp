@@ -20,6 +20,15 @@ const double* porosity_field(const System<D>& S) {
   return it == F.end() ? nullptr : it->second.data();
 }
 
+/// The kernel of particle b at distance r from the point: W(r, h) with one resolution; with
+/// resolution levels W(r, h_b), each particle's own h (docs/numerics.md §14), so that a point
+/// among fine particles is read at their resolution.
+template <int D, class K>
+double point_kernel(const System<D>& S, const K& k, std::uint32_t b, double r) {
+  if (S.levels == 0) return k.W(r);
+  return k.Wh(r, 1.0 / S.particles.require(field::smoothing_length)[b]);
+}
+
 /// Σ_b V_b W(x - x_b) over fluid particles: 1 inside the fluid, ~0.5 at the free surface.
 template <int D>
 double fluid_fraction(const System<D>& S, const Vec<D>& x) {
@@ -28,7 +37,7 @@ double fluid_fraction(const System<D>& S, const Vec<D>& x) {
   return S.with_kernel([&](const auto& K) {
     double s = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-      if (fluid_like(P.kind[b])) s += P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * K.W(std::sqrt(r2));
+      if (fluid_like(P.kind[b])) s += P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(S, K, b, std::sqrt(r2));
     });
     return s;
   });
@@ -53,7 +62,7 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
     int n = 0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
       if (!fluid_like(P.kind[b])) return;
-      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * K.W(std::sqrt(r2));
+      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(S, K, b, std::sqrt(r2));
       Vv q;
       q[0] = 1.0;
       for (int d = 0; d < D; ++d) q[d + 1] = -rxb[d] / K.h;  // (x_b - x)/h
@@ -95,7 +104,7 @@ std::optional<double> interpolate_shepard(const System<D>& S, const Vec<D>& x, F
     double sw = 0.0, sf = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
       if (!fluid_like(P.kind[b])) return;
-      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * K.W(std::sqrt(r2));
+      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(S, K, b, std::sqrt(r2));
       sw += w;
       sf += w * f(b);
     });

@@ -138,6 +138,17 @@ bool outside_levels(const ResolutionConfig& res, const Vec<D>& x, int l, double 
 
 namespace {
 
+/// A new particle (a split's child, a merge's result) has no step history: the Verlet
+/// integrator's u(n−1) and ρ(n−1) become its present values, so its next step is the Euler step
+/// that integrator takes every few steps anyway (with the parent's history the two-step update
+/// ρ(n+1) = ρ(n−1) + 2 Δt Dρ/Dt, whose rate changed with the new neighbours, excites the odd-even
+/// oscillation that drove a refined dam break's fine surface apart).
+template <int D>
+void restart_history(ParticleStore<D>& P, std::size_t i) {
+  if (P.has(field::v_prev)) P.vector(field::v_prev.name)[i] = P.vel[i];
+  if (P.has(field::rho_prev)) P.scalar(field::rho_prev.name)[i] = P.rho[i];
+}
+
 template <int D>
 std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id, std::vector<std::size_t>& kids) {
   auto& P = S.particles;
@@ -160,6 +171,7 @@ std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& 
       P.scalar(field::smoothing_length.name)[c] = level_h(S.h, l + 1);
       if (k > 0) P.id[c] = next_id++;
       kids.push_back(c);
+      restart_history(P, c);
     }
   }
   return parents.size();
@@ -218,6 +230,7 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
     P.mass[a] = M;
     P.scalar(field::level.name)[a] = l - 1;
     P.scalar(field::smoothing_length.name)[a] = level_h(S.h, l - 1);
+    restart_history(P, a);
     for (std::size_t k = 1; k < G; ++k) { gone[g[k]] = 1; cand[g[k]] = 0; }
     cand[a] = 0;
     ++groups;
