@@ -140,9 +140,9 @@ namespace {
 
 /// A new particle (a split's child, a merge's result) has no step history: the Verlet
 /// integrator's u(n−1) and ρ(n−1) become its present values, so its next step is the Euler step
-/// that integrator takes every few steps anyway (with the parent's history the two-step update
-/// ρ(n+1) = ρ(n−1) + 2 Δt Dρ/Dt, whose rate changed with the new neighbours, excites the odd-even
-/// oscillation that drove a refined dam break's fine surface apart).
+/// that integrator takes every few steps anyway, rather than the two-step update
+/// ρ(n+1) = ρ(n−1) + 2 Δt Dρ/Dt across the change of neighbours. (It did not cure the clustering
+/// of a refined dam break's fine surface under Verlet: docs/numerics.md §14.)
 template <int D>
 void restart_history(ParticleStore<D>& P, std::size_t i) {
   if (P.has(field::v_prev)) P.vector(field::v_prev.name)[i] = P.vel[i];
