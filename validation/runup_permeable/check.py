@@ -11,8 +11,9 @@ Parts (--parts, comma-separated; default all):
           fit R = 73.157 Dc^-0.050 mm;
   layers: the 1:2.08 porous layer 0.13 m thick on an impermeable slope, Dc = 2 and 100 mm, against the beach, which
           is also the thesis's 0.433 m layer in the 3 m flume (§5.5);
-  b:      the 1:20 triangular beach (Flume B), H = 0.0588 m (breaking), Dc = 0.25, 1, 10 mm (§6.4); fit
-          R = 41.824 Dc^-0.119 mm;
+  b:      the 1:20 triangular beach (Flume B), H = 0.0588 m (breaking), Dc = 0.25, 1, 2, 10, 100 mm (the thesis ran
+          0.25, 1 and 10, §6.4; issue 40's decision 5 asks for the full series on both slopes); fit
+          R = 41.824 Dc^-0.119 mm (extrapolated at 2 and 100 mm);
   a2:     the 1:2.08 beach with the larger wave, H = 0.0525 m (H/h0 = 0.25, the thesis's second wave), Dc = 1,
           100 mm; fit R = 131.46 Dc^-0.054 mm (eq 5.4.2);
   layers_b: the 1:20 porous layer 0.075 m thick on an impermeable slope (cases/runup_layer_b.yaml), Dc = 10 mm,
@@ -58,7 +59,7 @@ PARTS = {
           "toe": (2.07, 0.0), "gradient": 1 / 2.08},
     "layers": {"case": "runup_layer_a.yaml", "end": 4.5, "dcs": [2.0, 100.0]},
     "b": {"case": "runup_permeable_b.yaml", "solid": "runup_flume_b.yaml", "end": 11.0, "H": 0.0588,
-          "dcs": [0.25, 1.0, 10.0], "fit": (41.824, -0.119), "law": (0.27, -0.120),
+          "dcs": [0.25, 1.0, 2.0, 10.0, 100.0], "fit": (41.824, -0.119), "law": (0.27, -0.120),
           "toe": (2.0, 0.0), "gradient": 1 / 20},
     "a2": {"case": "runup_permeable_a.yaml", "solid": "runup_flume_a.yaml", "end": 4.5, "H": 0.0525,
            "dcs": [1.0, 100.0], "fit": (131.46, -0.054), "law": (0.61, -0.052), "toe": (2.07, 0.0), "gradient": 1 / 2.08},
