@@ -314,3 +314,18 @@ TEST(Resolution, SplitAndMergeKeepMassMomentumAndCentre) {
     EXPECT_LT(std::abs(c1[d] - c0[d]) / n0, 0.25 * 0.005);
   }
 }
+
+TEST(Resolution, SettleTakesAWholeNumberOfIterations) {
+  for (const char* o : {"resolution.settle=1.5", "resolution.settle=-1", "resolution.settle=2000"}) {
+    SCOPED_TRACE(o);
+    std::string msg;
+    try {
+      const Case c = parse_case(pool(kBlock), "case.yaml", {o});
+    } catch (const InputError& e) {
+      msg = e.what();
+    }
+    EXPECT_HAS(msg, "resolution.settle");
+  }
+  const Case ok = parse_case(pool(kBlock), "case.yaml", {"resolution.settle=0"});
+  EXPECT_EQ(ok.resolution.settle_iterations, 0);
+}
