@@ -30,7 +30,9 @@ Metrics (dx = 0.01 m, twice the thesis's d0):
 Information: at Dc = 0.25 mm the mean speed of the water inside the beach (more than 2h below the face) at the time of the
 run-up (< 0.05 m/s: the beach acts as solid, §5.4.2); wall times.
 Modes: fine = all parts; coarse = part a at Dc = 1 mm (CTest).
-Usage: /usr/bin/python3 validation/runup_permeable/check.py [--mode coarse|fine] [--parts a,layers,b] [--out DIR] [--reuse]
+Usage: /usr/bin/python3 validation/runup_permeable/check.py [--mode coarse|fine] [--parts a,layers,b] [--dcs 1,10] [--out DIR] [--reuse]
+(--dcs: the grain diameters in mm for every part of the call, e.g. --parts b,layers_b --dcs 10 runs the 1:20 layer
+against the beach's Dc = 10 mm run without the beach's other grains)
 """
 import glob
 import math
@@ -69,7 +71,10 @@ MODES = {"coarse": {"parts": "a", "dcs": {"a": [1.0]}}, "fine": {"parts": "a,lay
 
 
 def args():
-    return validation_args(NAME, __doc__, MODES, extra=lambda ap: ap.add_argument("--parts", default=None))
+    def extra(ap):
+        ap.add_argument("--parts", default=None)
+        ap.add_argument("--dcs", default=None, help="comma-separated grain diameters (mm) for every part of this call")
+    return validation_args(NAME, __doc__, MODES, extra=extra)
 
 
 def runup(out):
@@ -132,7 +137,7 @@ def main():
 
     for part in parts:
         P = PARTS[part]
-        dcs = m["dcs"].get(part, P["dcs"])
+        dcs = [float(v) for v in a.dcs.split(",")] if a.dcs else m["dcs"].get(part, P["dcs"])
         if part in ("a", "b", "a2"):
             out, _ = run(part, P["solid"], "solid", {"particles.h_over_dx": 2.0, "motions.0.height": P["H"]})
             Rs = runup(out)[0]
