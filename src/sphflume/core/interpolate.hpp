@@ -20,13 +20,20 @@ const double* porosity_field(const System<D>& S) {
   return it == F.end() ? nullptr : it->second.data();
 }
 
-/// The kernel of particle b at distance r from the point: W(r, h) with one resolution; with
-/// resolution levels W(r, h_b), each particle's own h (docs/numerics.md §14), so that a point
-/// among fine particles is read at their resolution.
-template <int D, class K>
-double point_kernel(const System<D>& S, const K& k, std::uint32_t b, double r) {
-  if (S.levels == 0) return k.W(r);
-  return k.Wh(r, 1.0 / S.particles.require(field::smoothing_length)[b]);
+/// The particles' smoothing lengths with resolution levels (docs/numerics.md §14), null with one
+/// resolution: fetched once per interpolation, for point_kernel.
+template <int D>
+const double* level_h_field(const System<D>& S) {
+  return S.levels == 0 ? nullptr : S.particles.require(field::smoothing_length).data();
+}
+
+/// The kernel of particle b at distance r from the point: W(r, h) with one resolution (hs null);
+/// with resolution levels W(r, h_b), each particle's own h (hs = level_h_field(S)), so that a
+/// point among fine particles is read at their resolution.
+template <class K>
+double point_kernel(const K& k, const double* hs, std::uint32_t b, double r) {
+  if (!hs) return k.W(r);
+  return k.Wh(r, 1.0 / hs[b]);
 }
 
 /// Σ_b V_b W(x - x_b) over fluid particles: 1 inside the fluid, ~0.5 at the free surface.
@@ -34,10 +41,11 @@ template <int D>
 double fluid_fraction(const System<D>& S, const Vec<D>& x) {
   const auto& P = S.particles;
   const double* phi = porosity_field(S);
+  const double* hs = level_h_field(S);
   return S.with_kernel([&](const auto& K) {
     double s = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-      if (fluid_like(P.kind[b])) s += P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(S, K, b, std::sqrt(r2));
+      if (fluid_like(P.kind[b])) s += P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(K, hs, b, std::sqrt(r2));
     });
     return s;
   });
@@ -53,6 +61,7 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
   using M = Eigen::Matrix<double, D + 1, D + 1>;
   using Vv = Eigen::Matrix<double, D + 1, 1>;
   const double* phi = porosity_field(S);
+  const double* hs = level_h_field(S);
   return S.with_kernel([&](const auto& K) -> std::optional<std::array<double, NF>> {
     M A = M::Zero();
     std::array<Vv, NF> rhs;
@@ -62,7 +71,7 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
     int n = 0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
       if (!fluid_like(P.kind[b])) return;
-      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(S, K, b, std::sqrt(r2));
+      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(K, hs, b, std::sqrt(r2));
       Vv q;
       q[0] = 1.0;
       for (int d = 0; d < D; ++d) q[d + 1] = -rxb[d] / K.h;  // (x_b - x)/h
@@ -100,11 +109,12 @@ template <int D, class Field>
 std::optional<double> interpolate_shepard(const System<D>& S, const Vec<D>& x, Field&& f) {
   const auto& P = S.particles;
   const double* phi = porosity_field(S);
+  const double* hs = level_h_field(S);
   return S.with_kernel([&](const auto& K) -> std::optional<double> {
     double sw = 0.0, sf = 0.0;
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
       if (!fluid_like(P.kind[b])) return;
-      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(S, K, b, std::sqrt(r2));
+      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(K, hs, b, std::sqrt(r2));
       sw += w;
       sf += w * f(b);
     });
