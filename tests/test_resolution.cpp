@@ -329,3 +329,60 @@ TEST(Resolution, SettleTakesAWholeNumberOfIterations) {
   const Case ok = parse_case(pool(kBlock), "case.yaml", {"resolution.settle=0"});
   EXPECT_EQ(ok.resolution.settle_iterations, 0);
 }
+
+// `shape: band` (issue 42: "a band along a slope"): the fluid within `above` and `below` of a
+// slope's face, between z_min and z_max, is refined at set-up; the fluid clearly outside it is
+// not (a margin of one level-0 spacing for the interface's relaxation, at most dx/4); a band
+// named by an index that is not a slope is refused with its line.
+TEST(Resolution, BandAlongASlopeRefinesTheSwashZone) {
+  auto beach = [](const std::string& band) {
+    return R"(dimension: 2
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+scheme: {viscosity: artificial, alpha: 0.02}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.4, 0.5]}
+  - {type: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.4, 0.2]}
+resolution:
+  regions:
+    - )" + band + R"(
+time: {end: 0.1}
+)";
+  };
+  const char* kBand = "{shape: band, slope: 1, above: 0.06, below: 0.03, z_min: 0.1, z_max: 0.35, level: 1}";
+  test::Setup<2> T(beach(kBand));
+  const auto& P = T.S.particles;
+  const auto& lv = P.require(field::level);
+  const double ux = 2.0 / std::sqrt(5.0), uz = 1.0 / std::sqrt(5.0), dx = 0.01;
+  std::size_t inside = 0, outside = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const double rx = P.pos[i][0] - 0.5, rz = P.pos[i][1];
+    const double n = rz * ux - rx * uz, along = rx * ux + rz * uz;  // above the face, normal to it; along it
+    const double z = P.pos[i][1];
+    if (along > 0.0 && along < std::sqrt(0.8) - dx && z > 0.1 + dx && z < 0.35 - dx && n < 0.06 - dx && n > -0.03 + dx) {
+      EXPECT_EQ(lv[i], 1.0) << P.pos[i][0] << " " << z;
+      ++inside;
+    } else if (z < 0.1 - dx || n > 0.06 + dx || along > std::sqrt(0.8) + dx) {  // (the lee basin behind the top)
+      EXPECT_EQ(lv[i], 0.0) << P.pos[i][0] << " " << z;
+      ++outside;
+    }
+  }
+  EXPECT_GT(inside, 100u);
+  EXPECT_GT(outside, 1000u);
+  RegionConfig r;  // the shape itself, also below the face (a porous beach's layer)
+  r.type = "band";
+  r.vertices = {{{0.5, 0.0}}, {{1.3, 0.4}}};
+  r.above = 0.06;
+  r.below = 0.03;
+  r.z_min = 0.1;
+  r.z_max = 0.35;
+  const double below[2] = {0.5 + 0.3 * ux + 0.02 * uz, 0.3 * uz - 0.02 * ux}, far[2] = {0.5 + 0.3 * ux + 0.04 * uz, 0.3 * uz - 0.04 * ux};
+  EXPECT_TRUE(r.contains(below, 2));
+  EXPECT_FALSE(r.contains(far, 2));
+  EXPECT_HAS(test::build_error<2>(beach("{shape: band, slope: 0, above: 0.06, below: 0.03, level: 1}")),
+             "resolution.regions.0.slope");
+  EXPECT_HAS(test::build_error<2>(beach("{shape: band, slope: 1, above: 0.06, below: 0.03, z_min: 0.3, z_max: 0.2, level: 1}")),
+             "z_max > z_min");
+}

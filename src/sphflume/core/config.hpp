@@ -291,7 +291,9 @@ struct RegionConfig {
   std::string type = "box";
   std::vector<double> min, max, center;
   double radius = 0.0;
-  std::vector<std::array<double, 2>> vertices;
+  std::vector<std::array<double, 2>> vertices;  // polygon; band: the slope's surface line from its toe
+  double above = 0.0, below = 0.0;              // band: its extent normal to the line, above and below it
+  double z_min = 0.0, z_max = 0.0;              // band: its elevations
   /// Is x (D coordinates) inside?
   bool contains(const double* x, int dim) const;
 };

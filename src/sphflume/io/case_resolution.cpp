@@ -43,6 +43,28 @@ void check_models(const Node& root, const std::string& file, const Case& c) {
     refuse(file, rl, line_of(root, "porous", "field"), "porous.field: particles");
 }
 
+/// `shape: band` (2D): a band along a slope of the geometry (`slope: N`, the index of a `type: slope`
+/// shape, typed or surveyed), `above` and `below` its surface normal to it, between elevations
+/// `z_min` and `z_max` (the swash zone: from below the still water to above the highest run-up).
+RegionConfig read_band(Reader& q, const Node& n, const Case& c) {
+  if (c.dimension != 2) q.fail_at(q.get("shape"), q.key_path("shape"), "box or circle (a band along a slope is 2D)");
+  (void)q.choice("shape", "band", {"band"});
+  RegionConfig g;
+  g.type = "band";
+  const char* what = "the index of a `type: slope` shape in `geometry` (0-based), e.g. slope: 2";
+  const double idx = q.required<double>("slope", what);
+  const auto k = static_cast<std::size_t>(std::max(idx, 0.0));
+  if (idx < 0.0 || idx != static_cast<double>(k) || k >= c.shapes.size() || !c.shapes[k].slope)
+    q.fail_at(q.get("slope"), q.key_path("slope"), what);
+  g.vertices = c.shapes[k].surface;
+  g.above = q.positive("above", 0.0, true);
+  g.below = q.positive("below", 0.0, true);
+  g.z_min = q.scalar<double>("z_min", g.vertices.front()[1]);
+  g.z_max = q.scalar<double>("z_max", g.vertices.back()[1]);
+  if (!(g.z_max > g.z_min)) q.fail_at(q.has("z_max") ? q.get("z_max") : n, q.key_path("z_max"), "z_max > z_min");
+  return g;
+}
+
 }  // namespace
 
 void read_resolution(const Node& root, const std::string& file, Case& c) {
@@ -59,7 +81,10 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
     Reader q(regs[i], file, fmt::format("resolution.regions.{}", i));
     ResolutionRegionConfig g;
     g.line = regs[i].line();
-    g.region = read_region(q, regs[i], c.dimension);
+    if (q.scalar<std::string>("shape", "box") == "band")
+      g.region = read_band(q, regs[i], c);
+    else
+      g.region = read_region(q, regs[i], c.dimension);
     const double level = q.in_range("level", 1.0, 1.0, 3.0);
     if (level != static_cast<int>(level)) q.fail_at(q.get("level"), q.key_path("level"), "a whole number of halvings: 1, 2 or 3");
     g.level = static_cast<int>(level);
