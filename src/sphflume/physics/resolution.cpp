@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "sphflume/core/cell_list.hpp"
 #include "sphflume/core/kernels.hpp"
+#include "sphflume/core/pair_pass.hpp"
 #include "sphflume/core/refinement.hpp"
 #include "sphflume/physics/relax_step.hpp"
 
@@ -17,8 +19,9 @@ void smooth_level_h(System<D>& S) {
   auto& P = S.particles;
   auto& hs = P.require(field::smoothing_length);
   const auto& lv = P.require(field::level);
-  const std::size_t n = P.n_owned();
-  std::vector<double> out(n);  // (shared by the threads below: h is read while it is averaged)
+  const std::size_t n = P.n_owned(), np = P.size();
+  if (S.cells.sorted().size() < np)
+    throw std::logic_error("smooth_level_h: the cell list does not hold every particle (update_neighbours first)");
   // cells whose stencil holds particles of more than one level: only their particles average
   // (elsewhere the average is the level's own h)
   std::vector<char> mixed, near;
@@ -27,24 +30,55 @@ void smooth_level_h(System<D>& S) {
     if (mixed.empty()) mixed.assign(near.size(), 0);
     for (std::size_t c = 0; c < near.size(); ++c) mixed[c] = static_cast<char>(mixed[c] + near[c]);
   }
-  const bool binned = S.cells.sorted().size() >= n;  // (a store not binned yet: every particle averages)
-  S.with_kernel([&](const auto& K) {
+  std::vector<float> vol(np), hl(np);  // each candidate's m/ρ and its level's h
 #pragma omp parallel for schedule(static)
-    for (std::size_t a = 0; a < n; ++a) {
-      if (binned && mixed[S.cells.cell_of(a)] <= 1) {
-        out[a] = level_h(S.h, static_cast<int>(lv[a]));
-        continue;
+  for (std::size_t b = 0; b < np; ++b) {
+    vol[b] = static_cast<float>(P.mass[b] / P.rho[b]);
+    hl[b] = static_cast<float>(level_h(S.h, static_cast<int>(lv[b])));
+  }
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < n; ++a) hs[a] = level_h(S.h, static_cast<int>(lv[a]));
+  // the mixed cells' particles: Σ_b V_b W_ab h_b / Σ_b V_b W_ab over the level-0 support, in float
+  // columns over the cell's stencil (the pair-pass seam, core/pair_pass.hpp): this average was
+  // half a swash-band run's time as a double-precision neighbour loop (bench/README.md)
+  const auto& cells = S.cells;
+  const std::uint32_t* sorted = cells.sorted().data();
+  constexpr std::size_t L = 16;
+  const double h_fine = S.finest_h();
+  S.with_kernel([&](const auto& K) {
+    sweep_cells<float>(cells, D + 2, L, [&](std::size_t cell) -> std::size_t {
+      if (mixed[cell] <= 1) return 0;
+      std::size_t m = 0;
+      for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) m += sorted[k] < n ? 1 : 0;
+      return m;
+    }, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<float>& B) {
+      const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+      const Vec<D> origin = P.pos[sorted[c0k]];
+      gather_columns(st, B, P.pos.data(), origin, column(D, 0.0f, [&](std::size_t j) { return vol[j]; }),
+                     column(D + 1, 1.0f, [&](std::size_t j) { return hl[j]; }));
+      const float* __restrict bx0 = B[0];
+      const float* __restrict bx1 = B[1];
+      const float* __restrict bx2 = B[D - 1];
+      const float* __restrict bv = B[D];
+      const float* __restrict bh = B[D + 1];
+      for (std::uint32_t k = c0k; k < c1k; ++k) {
+        const std::uint32_t a = sorted[k];
+        if (a >= n) continue;
+        const float xa0 = float(P.pos[a][0] - origin[0]), xa1 = float(P.pos[a][1] - origin[1]),
+                    xa2 = float(P.pos[a][D - 1] - origin[D - 1]);
+        float sw = 0.0f, sh = 0.0f;
+#pragma omp simd reduction(+ : sw, sh)
+        for (std::size_t m = 0; m < st.padded; ++m) {
+          const float r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2 = D == 3 ? xa2 - bx2[m] : 0.0f;
+          const float w = K.W(std::sqrt(r0 * r0 + r1 * r1 + r2 * r2)) * bv[m];
+          sw += w;
+          sh += w * bh[m];
+        }
+        if (sw > 0.0f) hs[a] = std::clamp(double(sh / sw), h_fine, S.h);  // (float round-off kept inside the levels' h)
       }
-      double sw = 0.0, sh = 0.0;
-      S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-        const double w = K.W(std::sqrt(r2)) * P.mass[b] / P.rho[b];
-        sw += w;
-        sh += w * level_h(S.h, static_cast<int>(lv[b]));
-      });
-      out[a] = sw > 0.0 ? sh / sw : level_h(S.h, static_cast<int>(lv[a]));
-    }
+      return std::uint64_t(0);
+    });
   });
-  std::copy(out.begin(), out.end(), hs.begin());
   S.refresh_halos(hs.data());
 }
 
