@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include "sphflume/core/refinement.hpp"
+#include "sphflume/physics/porous.hpp"
 #include "sphflume/physics/resolution.hpp"
 #include "test_helpers.hpp"
 
@@ -385,4 +386,57 @@ time: {end: 0.1}
              "resolution.regions.0.slope");
   EXPECT_HAS(test::build_error<2>(beach("{shape: band, slope: 1, above: 0.06, below: 0.03, z_min: 0.3, z_max: 0.2, level: 1}")),
              "z_max > z_min");
+}
+
+TEST(Resolution, PorousBeachBandTakesEachLevelsPorosityField) {
+  // a permeable 1:2 beach (Tsurudome's porous-particle field, `field: particles`) with a band along
+  // its surface refined (`porous: 0`): the band's particles below the surface are fine, and every
+  // particle reads the porosity that a uniform run at its own spacing reads at its place (the field
+  // of its level's porous lattice and h; issue 42, check 5)
+  const std::string yaml = R"(dimension: 2
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+scheme: {viscosity: artificial, alpha: 0.02}
+porous:
+  field: particles
+  regions:
+    - {shape: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4, porosity: 0.49, diameter: 0.001,
+       closure: {type: tsurudome, c1: 150, c2: 1.75}}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.4, 0.5]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.4, 0.2]}
+resolution:
+  regions:
+    - {shape: band, porous: 0, above: 0.04, below: 0.04, z_min: 0.05, z_max: 0.35, level: 1}
+time: {end: 0.1}
+)";
+  test::Setup<2> T(yaml);
+  const auto& P = T.S.particles;
+  ASSERT_TRUE(T.S.porous);
+  const auto& lv = P.require(field::level);
+  const auto& phi = P.require(field::porosity);
+  const double h = T.S.h;
+  PorousMedia<2> coarse(T.c.porous, T.c.kernel, h, 0.01), fine(T.c.porous, T.c.kernel, 0.5 * h, 0.005);
+  const double ux = 2.0 / std::sqrt(5.0), uz = 1.0 / std::sqrt(5.0);
+  std::size_t fine_in_body = 0, fine_at_face = 0, coarse_in_body = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const bool f = lv[i] == 1.0;
+    EXPECT_EQ(phi[i], (f ? fine : coarse).porosity(P.pos[i])) << P.pos[i][0] << " " << P.pos[i][1];
+    const double n = P.pos[i][1] * ux - (P.pos[i][0] - 0.5) * uz;  // above the face, normal to it
+    if (f && n < -0.01) ++fine_in_body;
+    if (f && std::abs(n) < 0.01 && phi[i] > 0.6 && phi[i] < 0.9) ++fine_at_face;
+    if (!f && n < -0.06 && P.pos[i][1] > 0.05) ++coarse_in_body;
+  }
+  EXPECT_GT(fine_in_body, 100u);
+  EXPECT_GT(coarse_in_body, 100u);
+  EXPECT_GT(fine_at_face, 10u);
+  // where the two fields differ (the face's transition, one support of each level wide), a fine
+  // particle would read the coarse field without its level: the test can tell them apart
+  double most = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid && lv[i] == 1.0) most = std::max(most, std::abs(coarse.porosity(P.pos[i]) - phi[i]));
+  EXPECT_GT(most, 0.05);
+  EXPECT_HAS(test::build_error<2>(std::string(yaml).replace(yaml.find("porous: 0"), 9, "porous: 1")),
+             "resolution.regions.0.porous");
 }

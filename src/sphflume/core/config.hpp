@@ -252,6 +252,7 @@ struct PorousRegionConfig {
   std::string shape = "box";  // box | polygon | profile | mesh
   std::vector<double> min, max;
   std::vector<std::array<double, 2>> vertices;
+  std::vector<std::array<double, 2>> surface;  // shape slope: its surface line from the toe (a band follows it)
   std::shared_ptr<const SolidMesh> mesh;  // mesh (3D): the solid, read and checked by the reader
   double porosity = 1.0;      // phi0 (shapes)
   double diameter = 0.0;      // grain diameter d_s [m]

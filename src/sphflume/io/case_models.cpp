@@ -36,7 +36,7 @@ PorousRegionConfig read_porous_region(const Node& n, const std::string& file, co
   g.shape = r.choice("shape", "box", {"box", "polygon", "profile", "slope", "mesh"});
   if (g.shape == "slope") {  // a permeable beach or an armour layer: its polygon
     if (dim != 2) r.fail_at(n, path, "a box (slopes are 2D only)");
-    g.vertices = read_slope(r, n);
+    g.vertices = read_slope(r, n, 0.0, nullptr, &g.surface);
     g.shape = "polygon";
   }
   const std::size_t d = static_cast<std::size_t>(dim);

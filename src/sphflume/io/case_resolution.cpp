@@ -39,24 +39,34 @@ void check_models(const Node& root, const std::string& file, const Case& c) {
   if (c.transport.on()) refuse(file, rl, line_of(root, "transport"), "transported scalars (transport)");
   if (c.multiphase.on()) refuse(file, rl, line_of(root, "multiphase"), "several phases (multiphase)");
   if (!c.open_boundaries.empty()) refuse(file, rl, line_of(root, "geometry"), "open boundaries (inflow/outflow shapes)");
-  if (c.porous.on() && c.porous.field == "particles")
-    refuse(file, rl, line_of(root, "porous", "field"), "porous.field: particles");
 }
 
 /// `shape: band` (2D): a band along a slope of the geometry (`slope: N`, the index of a `type: slope`
-/// shape, typed or surveyed), `above` and `below` its surface normal to it, between elevations
-/// `z_min` and `z_max` (the swash zone: from below the still water to above the highest run-up).
+/// shape, typed or surveyed) or along a porous beach (`porous: N`, the index of a `shape: slope`
+/// porous region), `above` and `below` its surface normal to it, between elevations `z_min` and
+/// `z_max` (the swash zone: from below the still water to above the highest run-up; a porous
+/// beach's surface layer).
 RegionConfig read_band(Reader& q, const Node& n, const Case& c) {
   if (c.dimension != 2) q.fail_at(q.get("shape"), q.key_path("shape"), "box or circle (a band along a slope is 2D)");
   (void)q.choice("shape", "band", {"band"});
   RegionConfig g;
   g.type = "band";
-  const char* what = "the index of a `type: slope` shape in `geometry` (0-based), e.g. slope: 2";
-  const double idx = q.required<double>("slope", what);
-  const auto k = static_cast<std::size_t>(std::max(idx, 0.0));
-  if (idx < 0.0 || idx != static_cast<double>(k) || k >= c.shapes.size() || !c.shapes[k].slope)
-    q.fail_at(q.get("slope"), q.key_path("slope"), what);
-  g.vertices = c.shapes[k].surface;
+  if (q.has("porous") && !q.has("slope")) {
+    const char* what = "the index of a `shape: slope` region in `porous.regions` (0-based), e.g. porous: 0";
+    const double idx = q.required<double>("porous", what);
+    const auto k = static_cast<std::size_t>(std::max(idx, 0.0));
+    if (idx < 0.0 || idx != static_cast<double>(k) || k >= c.porous.regions.size() || c.porous.regions[k].surface.size() < 2)
+      q.fail_at(q.get("porous"), q.key_path("porous"), what);
+    g.vertices = c.porous.regions[k].surface;
+  } else {
+    const char* what = "the index of a `type: slope` shape in `geometry` (0-based), e.g. slope: 2 "
+                       "(or `porous: N`, a `shape: slope` porous region)";
+    const double idx = q.required<double>("slope", what);
+    const auto k = static_cast<std::size_t>(std::max(idx, 0.0));
+    if (idx < 0.0 || idx != static_cast<double>(k) || k >= c.shapes.size() || !c.shapes[k].slope)
+      q.fail_at(q.get("slope"), q.key_path("slope"), what);
+    g.vertices = c.shapes[k].surface;
+  }
   g.above = q.positive("above", 0.0, true);
   g.below = q.positive("below", 0.0, true);
   g.z_min = q.scalar<double>("z_min", g.vertices.front()[1]);

@@ -12,55 +12,66 @@
 namespace sph {
 
 template <int D>
-PorousMedia<D>::PorousMedia(const PorousConfig& c, KernelType kernel, double h, double dx)
+PorousMedia<D>::PorousMedia(const PorousConfig& c, KernelType kernel, double h, double dx, int levels)
     : cfg_(c), kernel_(kernel), dx_(dx) {
-  const double fac = kernel_support_factor(kernel);
   for (const auto& rc : c.regions) {
-    Region g;
-    g.cfg = rc;
     phi_min_ = std::min(phi_min_, rc.porosity);
-    if (rc.shape == "profile") {
-      regions_.push_back(g);
-      continue;
-    }
-    if (rc.shape == "box") {
-      for (int d = 0; d < D; ++d) { g.lo[d] = rc.min[d]; g.hi[d] = rc.max[d]; }
-    } else if (rc.shape == "mesh") {
-      for (int d = 0; d < D; ++d) { g.lo[d] = rc.mesh->lo()[static_cast<std::size_t>(d)]; g.hi[d] = rc.mesh->hi()[static_cast<std::size_t>(d)]; }
-    } else {  // polygon (2D)
-      g.lo = Vec<D>{};
-      for (int d = 0; d < D; ++d) { g.lo[d] = 1e300; g.hi[d] = -1e300; }
-      for (const auto& v : rc.vertices)
-        for (int d = 0; d < 2 && d < D; ++d) {
-          g.lo[d] = std::min(g.lo[d], v[d]);
-          g.hi[d] = std::max(g.hi[d], v[d]);
-        }
-    }
-    if (c.field == "particles") {
-      g.spacing = fill_spacing_of(rc.porosity, dx);
-      g.h = h;
-      g.reach = fac * h;
-    } else {  // smoothed: r_Ω = layer/2 (default d_s/2), h_Ω = r_Ω/2, mesh h_Ω / mesh_ratio
-      const double layer = rc.layer > 0.0 ? rc.layer : rc.diameter;
-      g.reach = 0.5 * layer;
-      g.h = g.reach / fac;
-      g.spacing = 0.5 * g.reach / c.mesh_ratio;
-    }
-    // a box's lattice fits it: the spacing in each direction is adjusted to a whole number of
-    // nodes across the box, so that the indicator's half level lies on every face (a lattice
-    // started at one face puts the opposite face up to one node inside the box; a face off by
-    // 1 mm put still water over a porous block in motion). Tsurudome's literal normalisation
-    // keeps the printed dx / phi0^(1/D).
-    for (int d = 0; d < D; ++d) {
-      g.step[d] = g.spacing;
-      if (rc.shape == "box" && !(c.field == "particles" && c.literal_normalisation)) {
-        const double len = g.hi[d] - g.lo[d];
-        g.step[d] = len / std::max(1.0, std::round(len / g.spacing));
-      }
-      g.origin[d] = g.lo[d] + 0.5 * g.step[d];
-    }
-    regions_.push_back(g);
+    regions_.push_back(make_region(rc, h, dx));
   }
+  // resolution levels: the porous particles' lattice and h at each level (the smoothed field's
+  // mesh is set by the layer, not by dx: one field serves every level)
+  if (c.field == "particles")
+    for (int l = 1; l <= levels; ++l) {
+      const double f = 1.0 / double(1 << l);
+      finer_.emplace_back();
+      for (const auto& rc : c.regions) finer_.back().push_back(make_region(rc, f * h, f * dx));
+    }
+}
+
+template <int D>
+typename PorousMedia<D>::Region PorousMedia<D>::make_region(const PorousRegionConfig& rc, double h, double dx) const {
+  const double fac = kernel_support_factor(kernel_);
+  const auto& c = cfg_;
+  Region g;
+  g.cfg = rc;
+  if (rc.shape == "profile") return g;
+  if (rc.shape == "box") {
+    for (int d = 0; d < D; ++d) { g.lo[d] = rc.min[d]; g.hi[d] = rc.max[d]; }
+  } else if (rc.shape == "mesh") {
+    for (int d = 0; d < D; ++d) { g.lo[d] = rc.mesh->lo()[static_cast<std::size_t>(d)]; g.hi[d] = rc.mesh->hi()[static_cast<std::size_t>(d)]; }
+  } else {  // polygon (2D)
+    g.lo = Vec<D>{};
+    for (int d = 0; d < D; ++d) { g.lo[d] = 1e300; g.hi[d] = -1e300; }
+    for (const auto& v : rc.vertices)
+      for (int d = 0; d < 2 && d < D; ++d) {
+        g.lo[d] = std::min(g.lo[d], v[d]);
+        g.hi[d] = std::max(g.hi[d], v[d]);
+      }
+  }
+  if (c.field == "particles") {
+    g.spacing = fill_spacing_of(rc.porosity, dx);
+    g.h = h;
+    g.reach = fac * h;
+  } else {  // smoothed: r_Ω = layer/2 (default d_s/2), h_Ω = r_Ω/2, mesh h_Ω / mesh_ratio
+    const double layer = rc.layer > 0.0 ? rc.layer : rc.diameter;
+    g.reach = 0.5 * layer;
+    g.h = g.reach / fac;
+    g.spacing = 0.5 * g.reach / c.mesh_ratio;
+  }
+  // a box's lattice fits it: the spacing in each direction is adjusted to a whole number of
+  // nodes across the box, so that the indicator's half level lies on every face (a lattice
+  // started at one face puts the opposite face up to one node inside the box; a face off by
+  // 1 mm put still water over a porous block in motion). Tsurudome's literal normalisation
+  // keeps the printed dx / phi0^(1/D).
+  for (int d = 0; d < D; ++d) {
+    g.step[d] = g.spacing;
+    if (rc.shape == "box" && !(c.field == "particles" && c.literal_normalisation)) {
+      const double len = g.hi[d] - g.lo[d];
+      g.step[d] = len / std::max(1.0, std::round(len / g.spacing));
+    }
+    g.origin[d] = g.lo[d] + 0.5 * g.step[d];
+  }
+  return g;
 }
 
 template <int D>
@@ -100,7 +111,7 @@ bool PorousMedia<D>::inside(std::size_t r, const Vec<D>& x) const {
 }
 
 template <int D>
-double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x) const {
+double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x, double dx) const {
   if (cfg_.field == "sharp") return inside(g, x) ? 1.0 : 0.0;
   for (int d = 0; d < D; ++d)
     if (x[d] < g.lo[d] - g.reach || x[d] > g.hi[d] + g.reach) return 0.0;
@@ -138,7 +149,7 @@ double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x) const {
         }
       }
     }
-    if (literal) return std::pow(dx_, D) * in;  // ρ_p / ρ_w with m_p = ρ_w dx^D
+    if (literal) return std::pow(dx, D) * in;  // ρ_p / ρ_w with m_p = ρ_w dx^D
     return all > 0.0 ? in / all : 0.0;
   });
 }
@@ -168,12 +179,15 @@ double PorousMedia<D>::profile(const Region& g, const Vec<D>& x) const {
 }
 
 template <int D>
-double PorousMedia<D>::porosity(const Vec<D>& x, int* region) const {
+double PorousMedia<D>::porosity(const Vec<D>& x, int* region, int level) const {
   double phi = 1.0, best = 0.0;
   int which = -1;
-  for (std::size_t r = 0; r < regions_.size(); ++r) {
-    const Region& g = regions_[r];
-    const double c = g.cfg.shape == "profile" ? 1.0 - profile(g, x) : (1.0 - g.cfg.porosity) * indicator(g, x);
+  const bool fine = level > 0 && static_cast<std::size_t>(level) <= finer_.size();
+  const auto& regs = fine ? finer_[static_cast<std::size_t>(level - 1)] : regions_;
+  const double dx = fine ? dx_ / double(1 << level) : dx_;
+  for (std::size_t r = 0; r < regs.size(); ++r) {
+    const Region& g = regs[r];
+    const double c = g.cfg.shape == "profile" ? 1.0 - profile(g, x) : (1.0 - g.cfg.porosity) * indicator(g, x, dx);
     phi -= c;
     if (c > best) { best = c; which = static_cast<int>(r); }
   }
@@ -187,10 +201,11 @@ void PorousMedia<D>::update(System<D>& S) {
   auto& phi = P.scalar(field::porosity);
   const std::size_t n = P.n_owned();
   region_of_.assign(n, -1);
+  const double* lv = S.levels > 0 && !finer_.empty() ? P.require(field::level).data() : nullptr;
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] == Kind::Wall) { phi[i] = 1.0; continue; }
-    phi[i] = porosity(P.pos[i], &region_of_[i]);
+    phi[i] = porosity(P.pos[i], &region_of_[i], lv ? static_cast<int>(lv[i]) : 0);
   }
   S.refresh_halos(phi.data());
 }

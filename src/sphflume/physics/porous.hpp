@@ -43,7 +43,10 @@ template <int D>
 class PorousMedia {
  public:
   /// `kernel` and `h` are the run's (the particles field and the smoothed field's kernel shape).
-  PorousMedia(const PorousConfig& c, KernelType kernel, double h, double dx);
+  /// `levels` > 0 (resolution levels, docs/numerics.md §14): the porous-particle field of `field:
+  /// particles` is also built at each level's spacing dx/2^l and h/2^l, so that a particle of
+  /// level l sees the porosity a uniform run at its spacing sees.
+  PorousMedia(const PorousConfig& c, KernelType kernel, double h, double dx, int levels = 0);
 
   std::size_t size() const { return regions_.size(); }
   const PorousRegionConfig& region(std::size_t r) const { return regions_[r].cfg; }
@@ -52,7 +55,8 @@ class PorousMedia {
 
   /// Porosity at x; `region` (optional) receives the index of the dominating region, -1 where
   /// phi = 1.
-  double porosity(const Vec<D>& x, int* region = nullptr) const;
+  /// `level`: the particle's resolution level (the field of that level's lattice; 0 without levels).
+  double porosity(const Vec<D>& x, int* region = nullptr, int level = 0) const;
   /// Is x inside region r's shape (box or polygon; a profile region contains nothing)?
   bool inside(std::size_t r, const Vec<D>& x) const;
   /// Lattice spacing of the fluid initially inside region r: dx / phi0^(1/D); 0 for profiles.
@@ -78,7 +82,8 @@ class PorousMedia {
     Vec<D> step{};              // lattice spacing per direction (a box's lattice fits it)
     double h = 0.0, reach = 0.0;  // G's smoothing length and support radius
   };
-  double indicator(const Region& g, const Vec<D>& x) const;
+  Region make_region(const PorousRegionConfig& rc, double h, double dx) const;
+  double indicator(const Region& g, const Vec<D>& x, double dx) const;
   double profile(const Region& g, const Vec<D>& x) const;
   bool inside(const Region& g, const Vec<D>& x) const;
 
@@ -87,6 +92,7 @@ class PorousMedia {
   double dx_;
   double phi_min_ = 1.0;
   std::vector<Region> regions_;
+  std::vector<std::vector<Region>> finer_;  // levels 1.. of the porous-particle field (field: particles)
   std::vector<int> region_of_;  // per owned particle, set by update()
 };
 

@@ -34,7 +34,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
   // porous media: the fluid inside a porous region (or a `porous.fill` box) starts on a lattice
   // dx / phi0^(1/D) (Kazemi eq 5.1), so that every particle keeps the mass rho0 dx^D and the
   // volume m / (phi rho)
-  if (c.porous.on()) S.porous = std::make_shared<PorousMedia<D>>(c.porous, c.kernel, S.h, dx);
+  if (c.porous.on()) S.porous = std::make_shared<PorousMedia<D>>(c.porous, c.kernel, S.h, dx, c.resolution.max_level());
   FillPoints<D> f = fill_shapes<D>(c, layers, S.porous.get());
   drop_inside_walls<D>(c, f);
   relax_porous_interface<D>(c, S, f, rep);
