@@ -1,21 +1,26 @@
 #!/usr/bin/python3
-"""Flume A with a fine swash band against the uniform runs (issue 42, check 3; docs/numerics.md §14).
+"""Flume A or B with a fine swash band against the uniform runs (issue 42, checks 3 and 4; docs/numerics.md §14).
 
-cases/runup_flume_a.yaml (the 1:2.08 beach, a solitary wave of H/h0 given by --ratio) run three ways, one after
-the other, on the same threads, to the end validation/runup_flume_a/check.py uses:
+cases/runup_flume_a.yaml (the 1:2.08 beach; --flume a) or cases/runup_flume_b.yaml (the 1:20 beach, breaking;
+--flume b), a solitary wave of H/h0 given by --ratio, run three ways (--runs picks some), one after the other, on
+the same threads, to the end validation/runup_flume_a/check.py (or runup_flume_b/check.py) uses:
   fine     uniform dx/2 (the thesis's d0 = 5 mm with the default dx = 0.01);
   band     dx with level 1 (dx/2) in a band along the beach (`shape: band`, slope geometry.2): 8 cm above its face,
-           1 cm into it, from z = 0.15 m (6 cm below the still water) to 0.45 m (above every run-up);
+           1 cm into it, from z = 0.15 m (6 cm below the still water) to the slope's top (above every run-up);
   coarse   uniform dx.
-For each: the run-up R/h0 against Li & Raichlen (2001) and against the fine run, wall time, steps, particle counts,
-particle-steps per second; the band run's wall time as a ratio to the fine run's. Issue 42's gate for this pair
-(5 mm in the band, 10 mm elsewhere): R within 2 % of the uniform 5 mm run's at <= 1/3 of its wall time.
-Usage: /usr/bin/python3 bench/resolution_band.py [--sphflume build/sphflume] [--out DIR] [--threads 1]
-       [--ratio 0.163] [--dx 0.01] [--reuse]
+For each: the run-up R/h0 against Li & Raichlen (2001; Flume A) or Synolakis (1986, breaking; Flume B) and against
+the fine run, wall and CPU time (the child's user + system seconds, kept in cpu.json beside the run), steps, particle
+counts, particle-steps per second; the band run's time as a ratio to the fine run's. Issue 42's gates: Flume A
+(5 mm in the band, 10 mm elsewhere): R within 2 % of the uniform 5 mm run's at <= 1/3 of its wall time; Flume B at
+H/h0 = 0.28: R within 10 % of Synolakis at <= 1/3 of the uniform 5 mm run's wall time.
+Usage: /usr/bin/python3 bench/resolution_band.py [--sphflume build/sphflume] [--out DIR] [--threads 1] [--flume a]
+       [--ratio 0.163] [--dx 0.01] [--runs fine,band,coarse] [--reuse]
 """
 import argparse
+import json
 import math
 import os
+import resource
 import sys
 import tempfile
 
@@ -24,13 +29,17 @@ import numpy as np
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "validation"))
 from common import run_case  # noqa: E402
-CASE = os.path.join(ROOT, "cases", "runup_flume_a.yaml")
 H0, G, COT = 0.21, 9.81, 2.08
-BAND = "{regions: [{shape: band, slope: 2, above: 0.08, below: 0.01, z_min: 0.15, z_max: 0.45, level: 1}]}"
+BAND = "{{regions: [{{shape: band, slope: 2, above: 0.08, below: 0.01, z_min: 0.15, z_max: {top}, level: 1}}]}}"
 
 
 def li_raichlen(r):
     return 2.831 * math.sqrt(COT) * r ** 1.25 + 0.293 * COT ** 1.5 * r ** 2.25
+
+
+def synolakis_breaking(r):
+    """validation/runup_flume_b/check.py's reference."""
+    return 1.109 * r ** 0.582
 
 
 def end_time(r):
@@ -41,13 +50,35 @@ def end_time(r):
     return round((7.6 / beta + 2 * r / beta) / c + 2.07 / c + 1.5, 1)
 
 
+# per flume: the case, the reference R/h0, the end time (each validation check's), the band's top
+FLUMES = {"a": {"case": "runup_flume_a.yaml", "ref": li_raichlen, "ref_name": "Li & Raichlen", "end": end_time, "top": 0.45},
+          "b": {"case": "runup_flume_b.yaml", "ref": synolakis_breaking, "ref_name": "Synolakis", "end": lambda r: 11.0,
+                "top": 0.40}}
+
+
+def children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def run(a, tag, sets):
     out = os.path.join(a.out, tag)
-    s, wall, rc = run_case(a.sphflume, CASE, out, sets, a.threads, a.reuse)
+    c0 = children_cpu()
+    s, wall, rc = run_case(a.sphflume, os.path.join(ROOT, "cases", FLUMES[a.flume]["case"]), out, sets, a.threads, a.reuse)
     if s is None:
         sys.exit(f"{tag} failed ({rc})")
+    cpu_file = os.path.join(out, "cpu.json")
+    cpu = children_cpu() - c0
+    if cpu > 0.5 * wall:  # run here (a reused run spent none): keep its CPU time beside it
+        with open(cpu_file, "w") as f:
+            json.dump({"cpu_seconds": cpu, "wall_seconds": wall}, f)
+    elif os.path.exists(cpu_file):
+        with open(cpu_file) as f:
+            cpu = json.load(f)["cpu_seconds"]
+    else:
+        cpu = float("nan")
     rows = np.genfromtxt(os.path.join(out, "gauges", "runup.csv"), delimiter=",", names=True)
-    return {"R": float(np.nanmax(rows["runup"])) / H0, "wall": wall, "steps": s["steps"],
+    return {"R": float(np.nanmax(rows["runup"])) / H0, "wall": wall, "cpu": cpu, "steps": s["steps"],
             "particles": s["particles"]["total"], "fluid": s["particles"]["fluid"],
             "rate": s["particle_steps_per_second"], "levels": s.get("resolution", {}).get("fluid_per_level")}
 
@@ -57,23 +88,36 @@ def main():
     ap.add_argument("--sphflume", default=os.environ.get("SPHFLUME", os.path.join(ROOT, "build", "sphflume")))
     ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-bench", "resolution_band"))
     ap.add_argument("--threads", type=int, default=1)
-    ap.add_argument("--ratio", type=float, default=0.163)
+    ap.add_argument("--flume", choices=sorted(FLUMES), default="a")
+    ap.add_argument("--ratio", type=float, default=None, help="H/h0 (default 0.163 on Flume A, 0.28 on Flume B)")
+    ap.add_argument("--runs", default="fine,band,coarse", help="which of fine, band, coarse to run (comma-separated)")
     ap.add_argument("--dx", type=float, default=0.01)
     ap.add_argument("--reuse", action="store_true", help="re-read finished runs in --out (validation/common.py run_case)")
     a = ap.parse_args()
-    base = {"time.end": end_time(a.ratio), "motions.0.height": a.ratio * H0}
-    res = {"fine": run(a, "fine", {**base, "particles.dx": a.dx / 2}),
-           "band": run(a, "band", {**base, "particles.dx": a.dx, "resolution": BAND}),
-           "coarse": run(a, "coarse", {**base, "particles.dx": a.dx})}
-    ref = li_raichlen(a.ratio)
-    print(f"Flume A, H/h0 = {a.ratio:g}, to t = {base['time.end']} s, {a.threads} thread(s); Li & Raichlen R/h0 = {ref:.4f}")
-    print(f"{'run':8} {'R/h0':>7} {'vs L&R':>8} {'vs fine':>8} {'wall s':>8} {'steps':>7} {'particles':>9} {'M p-steps/s':>11}  fluid per level")
+    F = FLUMES[a.flume]
+    if a.ratio is None:
+        a.ratio = 0.163 if a.flume == "a" else 0.28
+    if a.flume == "b":  # (Flume A's runs keep their folder names of session 20)
+        a.out = os.path.join(a.out, f"flume_b_{a.ratio:g}")
+    base = {"time.end": F["end"](a.ratio), "motions.0.height": a.ratio * H0}
+    sets = {"fine": {**base, "particles.dx": a.dx / 2},
+            "band": {**base, "particles.dx": a.dx, "resolution": BAND.format(top=F["top"])},
+            "coarse": {**base, "particles.dx": a.dx}}
+    res = {tag: run(a, tag, sets[tag]) for tag in ("fine", "band", "coarse") if tag in a.runs.split(",")}
+    ref = F["ref"](a.ratio)
+    print(f"Flume {a.flume.upper()}, H/h0 = {a.ratio:g}, to t = {base['time.end']} s, {a.threads} thread(s); "
+          f"{F['ref_name']} R/h0 = {ref:.4f}")
+    print(f"{'run':8} {'R/h0':>7} {'vs ref':>8} {'vs fine':>8} {'wall s':>8} {'cpu s':>8} {'steps':>7} {'particles':>9} "
+          f"{'M p-steps/s':>11}  fluid per level")
     for tag, v in res.items():
-        print(f"{tag:8} {v['R']:7.4f} {100 * (v['R'] / ref - 1):+7.1f}% {100 * (v['R'] / res['fine']['R'] - 1):+7.1f}% "
-              f"{v['wall']:8.1f} {v['steps']:7d} {v['particles']:9d} {v['rate'] / 1e6:11.2f}  {v['levels'] or '-'}")
-    q = res["band"]["wall"] / res["fine"]["wall"]
-    d = res["band"]["R"] / res["fine"]["R"] - 1
-    print(f"band / fine: wall time {q:.3f} (gate <= 1/3), run-up {100 * d:+.2f} % (gate within 2 %)")
+        vs = f"{100 * (v['R'] / res['fine']['R'] - 1):+7.1f}%" if "fine" in res else "       -"
+        print(f"{tag:8} {v['R']:7.4f} {100 * (v['R'] / ref - 1):+7.1f}% {vs} "
+              f"{v['wall']:8.1f} {v['cpu']:8.1f} {v['steps']:7d} {v['particles']:9d} {v['rate'] / 1e6:11.2f}  {v['levels'] or '-'}")
+    if "fine" in res and "band" in res:
+        q = res["band"]["wall"] / res["fine"]["wall"]
+        qc = res["band"]["cpu"] / res["fine"]["cpu"]
+        d = res["band"]["R"] / res["fine"]["R"] - 1
+        print(f"band / fine: wall time {q:.3f}, CPU time {qc:.3f} (gate <= 1/3), run-up {100 * d:+.2f} % (Flume A's gate: within 2 %)")
     return 0
 
 
