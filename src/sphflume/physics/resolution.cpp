@@ -191,6 +191,12 @@ std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& 
   std::vector<std::size_t> parents;
   for (std::size_t i = 0; i < n; ++i)
     if (P.kind[i] == Kind::Fluid && target_level(res, P.pos[i].c.data(), D) > static_cast<int>(lv[i])) parents.push_back(i);
+  // ids: each rank's new particles take a block after the lower ranks' (the same ids on any
+  // number of ranks as the splits' order; one process: next_id, next_id + 1, ...)
+  std::uint64_t total = 0;
+  const std::uint64_t first = S.comm->exscan(parents.size() * (kChildren<D> - 1), total);
+  std::uint32_t id = next_id + static_cast<std::uint32_t>(first);
+  next_id += static_cast<std::uint32_t>(total);
   if (parents.empty()) return 0;
   P.clear_images();
   for (std::size_t a : parents) {
@@ -203,7 +209,7 @@ std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& 
       P.mass[c] = m;
       P.scalar(field::level.name)[c] = l + 1;
       P.scalar(field::smoothing_length.name)[c] = level_h(S.h, l + 1);
-      if (k > 0) P.id[c] = next_id++;
+      if (k > 0) P.id[c] = id++;
       kids.push_back(c);
       restart_history(P, c);
     }
@@ -283,7 +289,10 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
 /// dx_l/4 from where it was placed. Positions only: mass and momentum are untouched.
 template <int D>
 void settle_children(System<D>& S, const std::vector<std::size_t>& kids, int iterations) {
-  if (kids.empty() || iterations <= 0) return;
+  // (a distributed run: every rank iterates, refreshing the halo copies after each iteration, so
+  // that children on either side of a rank's edge move together as in one process)
+  const bool distributed = S.comm->size() > 1;
+  if ((kids.empty() && !distributed) || iterations <= 0) return;
   auto& P = S.particles;
   const auto& hs = P.require(field::smoothing_length);
   const auto& lv = P.require(field::level);
@@ -325,6 +334,7 @@ void settle_children(System<D>& S, const std::vector<std::size_t>& kids, int ite
         }
       }
       for (std::size_t k = 0; k < kids.size(); ++k) P.pos[kids[k]] += shift[k];
+      if (distributed) S.refresh_halos();
     }
   });
 }
@@ -334,12 +344,31 @@ void settle_children(System<D>& S, const std::vector<std::size_t>& kids, int ite
 template <int D>
 AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id) {
   AdaptCounts c;
-  if (next_id == 0)  // the first new id: above every particle's
-    for (std::size_t i = 0; i < S.particles.n_owned(); ++i) next_id = std::max(next_id, S.particles.id[i] + 1);
+  if (next_id == 0) {  // the first new id: above every particle's (on every rank)
+    double top = 0.0;
+    for (std::size_t i = 0; i < S.particles.n_owned(); ++i) top = std::max(top, double(S.particles.id[i]) + 1.0);
+    S.comm->max(&top, 1);
+    next_id = static_cast<std::uint32_t>(top);
+  }
   c.merged = merge_all(S, res);  // (on the sorted store: its cell list is current)
   std::vector<std::size_t> kids;
   c.split = split_all(S, res, next_id, kids);
-  settle_children(S, kids, res.settle_iterations);
+  const bool settle = res.settle_iterations > 0 && (S.comm->size() == 1 || S.comm->any(!kids.empty()));
+  if (S.comm->size() > 1 && settle) {
+    // a distributed run: the children settle against the particles across the ranks' edges too
+    // (the split cleared the halo copies): re-sort with halos, then find the children by id
+    // (every rank's: the re-sort hands a child that crossed a rank's edge to its new owner)
+    auto& P = S.particles;
+    std::vector<double> mine;
+    for (std::size_t k : kids) mine.push_back(double(P.id[k]));
+    std::vector<char> child(next_id, 0);
+    for (const double id : S.comm->allgather(mine)) child[static_cast<std::size_t>(id)] = 1;
+    S.update_neighbours();
+    kids.clear();
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.id[i] < next_id && child[P.id[i]]) kids.push_back(i);
+  }
+  if (settle) settle_children(S, kids, res.settle_iterations);
   return c;
 }
 

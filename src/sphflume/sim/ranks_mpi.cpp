@@ -104,10 +104,24 @@ std::vector<std::byte> exchange(const std::vector<std::vector<std::byte>>& send,
   return rbuf;
 }
 
-/// Cuts along `axis` that give each of `size` ranks the same number of fluid particles: a
-/// histogram of every rank's owned fluid (every particle if there is no fluid) between the
-/// global extremes, summed over the ranks; the same cuts on every rank. `only_root`: every rank
-/// holds the same particles (the start), count rank 0's.
+/// The work of particle i in a pair pass, relative to a level-0 fluid particle's: resolution
+/// levels (docs/numerics.md §14) keep the level-0 cell list, so a particle of level l among its
+/// level's particles scans 2^(D l) times the candidates (`lv`: the level field, or null).
+template <int D>
+double work_of(const double* lv, std::size_t i) {
+  return lv ? double(1 << (D * static_cast<int>(lv[i]))) : 1.0;
+}
+
+template <int D>
+const double* level_field(const ParticleStore<D>& P) {
+  return P.has(field::level) ? P.require(field::level).data() : nullptr;
+}
+
+/// Cuts along `axis` that give each of `size` ranks the same work: a histogram of every rank's
+/// owned fluid (every particle if there is no fluid), each weighted by work_of (1 without
+/// resolution levels: the same number of fluid particles), between the global extremes, summed
+/// over the ranks; the same cuts on every rank. `only_root`: every rank holds the same particles
+/// (the start), count rank 0's.
 template <int D>
 std::vector<double> balanced_cuts(const ParticleStore<D>& P, int axis, int size, bool only_root) {
   int rank = 0;
@@ -120,11 +134,12 @@ std::vector<double> balanced_cuts(const ParticleStore<D>& P, int axis, int size,
   std::vector<double> hist(kBins, 0.0);
   const double span = std::max(hi - lo, 1e-300), scale = kBins / span;
   double total = 0.0;
+  const double* lv = level_field(P);
   for (bool all : {false, true}) {
     if (!only_root || rank == 0)
       for (std::size_t i = 0; i < P.n_owned(); ++i) {
         if (!all && !fluid_like(P.kind[i])) continue;
-        hist[std::min<std::size_t>(kBins - 1, static_cast<std::size_t>((P.pos[i][axis] - lo) * scale))] += 1.0;
+        hist[std::min<std::size_t>(kBins - 1, static_cast<std::size_t>((P.pos[i][axis] - lo) * scale))] += work_of<D>(lv, i);
       }
     MPI_Allreduce(MPI_IN_PLACE, hist.data(), static_cast<int>(kBins), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
     for (double h : hist) total += h;
@@ -165,10 +180,12 @@ class Slabs final : public Halo<D> {
   }
 
   void migrate(ParticleStore<D>& P) override {
-    // every kCheckEvery builds: new cuts when the fluid counts drifted apart (the flow moved)
+    // every kCheckEvery builds: new cuts when the fluid counts (their work, with resolution
+    // levels) drifted apart (the flow moved, particles were split or merged)
     if (++builds_ % kCheckEvery == 0) {
       double nf = 0.0;
-      for (std::size_t i = 0; i < P.n_owned(); ++i) nf += fluid_like(P.kind[i]);
+      const double* lv = level_field(P);
+      for (std::size_t i = 0; i < P.n_owned(); ++i) nf += fluid_like(P.kind[i]) ? work_of<D>(lv, i) : 0.0;
       double mx = nf, sum = nf;
       MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
       MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);

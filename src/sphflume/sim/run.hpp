@@ -162,9 +162,11 @@ struct Run {
   /// (physics/resolution.hpp), then re-sort as remove_escaped does.
   void adapt_levels_now() {
     const AdaptCounts k = adapt_levels(S, c.resolution, rs.open.next_id);
-    if (k.split == 0 && k.merged == 0) return;
-    rs.splits += static_cast<long>(k.split);
-    rs.merges += static_cast<long>(k.merged);
+    std::uint64_t n[2] = {k.split, k.merged};
+    S.comm->sum(n, 2);  // (every rank counts the run's splits and merges, and re-sorts if any rank changed)
+    if (n[0] == 0 && n[1] == 0) return;
+    rs.splits += static_cast<long>(n[0]);
+    rs.merges += static_cast<long>(n[1]);
     S.update_neighbours();
   }
 

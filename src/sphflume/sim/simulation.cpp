@@ -79,10 +79,6 @@ void load_and_distribute(Run<D>& R, const Case& c, const RunOptions& o, const Co
     if (const std::string why = R.scheme->distributed_refusal(); !why.empty())
       throw InputError(fmt::format("{}: {} in a distributed run (mpirun -np {}) is not supported: run it in one "
                                    "process (without mpirun)", c.file, why, comm.size()));
-    if (c.resolution.on())  // (the ranks' slabs would be balanced by count, not by work: docs/numerics.md §14)
-      throw InputError(fmt::format("{}: line {}: 'resolution': refined regions in a distributed run (mpirun -np {}) are "
-                                   "not supported yet: run the case in one process (without mpirun)",
-                                   c.file, c.resolution.line, comm.size()));
     distribute<D>(S, shared);  // (every gauge reduces its value over the ranks: io/gauges.cpp)
   }
   if (distributed && restart && !comm.root()) {  // the restart point's counters are global: the first rank keeps them

@@ -45,6 +45,13 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   const RunState& rs = R.rs;
   const Totals<D> tot(S, rs);
   const RankStats ranks = rank_stats(S, res.steps);
+  std::vector<std::uint64_t> per(static_cast<std::size_t>(S.levels) + 1, 0);  // fluid per resolution level
+  if (S.levels > 0) {
+    const auto& lv = S.particles.require(field::level);
+    for (std::size_t i = 0; i < S.particles.n_owned(); ++i)
+      if (S.particles.kind[i] == Kind::Fluid) ++per[static_cast<std::size_t>(lv[i])];
+    S.comm->sum(per.data(), per.size());
+  }
   if (!S.comm->root()) return;
   // the output contract (docs/output.md): keys in this order, numbers as JSON numbers (NaN: null)
   nlohmann::ordered_json j;
@@ -84,13 +91,8 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
                {"backflow", tot.backflow_mass}, {"removed", tot.removed_mass}, {"final", tot.final_mass},
                {"relative_error", res.mass_error}};
   j["backflow"] = {{"particles", tot.backflow}, {"mass", tot.backflow_mass}};
-  if (S.levels > 0) {  // resolution levels: the splits and merges of the run (physics/resolution.hpp)
-    std::vector<long> per(static_cast<std::size_t>(S.levels) + 1, 0);
-    const auto& lv = S.particles.require(field::level);
-    for (std::size_t i = 0; i < S.particles.n_owned(); ++i)
-      if (S.particles.kind[i] == Kind::Fluid) ++per[static_cast<std::size_t>(lv[i])];
+  if (S.levels > 0)  // resolution levels: the splits and merges of the run (physics/resolution.hpp)
     j["resolution"] = {{"levels", S.levels}, {"fluid_per_level", per}, {"splits", rs.splits}, {"merges", rs.merges}};
-  }
   long removed = 0;
   nlohmann::ordered_json faces = nlohmann::ordered_json::object();
   for (const auto& [f, n] : tot.removed_by_face) {
