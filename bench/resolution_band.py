@@ -7,6 +7,8 @@ the same threads, to the end validation/runup_flume_a/check.py (or runup_flume_b
   fine     uniform dx/2 (the thesis's d0 = 5 mm with the default dx = 0.01);
   band     dx with level 1 (dx/2) in a band along the beach (`shape: band`, slope geometry.2): 8 cm above its face,
            1 cm into it, from z = 0.15 m (6 cm below the still water) to the slope's top (above every run-up);
+  follow   the same band, its elevations following the waterline (`follow: waterline`: from 6 cm below the
+           waterline to 5 cm above it);
   coarse   uniform dx.
 For each: the run-up R/h0 against Li & Raichlen (2001; Flume A) or Synolakis (1986, breaking; Flume B) and against
 the fine run, wall and CPU time (the child's user + system seconds, kept in cpu.json beside the run), steps, particle
@@ -31,6 +33,9 @@ sys.path.insert(0, os.path.join(ROOT, "validation"))
 from common import run_case  # noqa: E402
 H0, G, COT = 0.21, 9.81, 2.08
 BAND = "{{regions: [{{shape: band, slope: 2, above: 0.08, below: 0.01, z_min: 0.15, z_max: {top}, level: 1}}]}}"
+# --follow: the band's elevations follow the waterline (6 cm below it to 5 cm above), within the fixed band's
+FOLLOW = ("{{regions: [{{shape: band, slope: 2, above: 0.08, below: 0.01, z_min: 0.15, z_max: {top}, follow: waterline, "
+          "waterline_below: 0.06, waterline_above: 0.05, level: 1}}]}}")
 
 
 def li_raichlen(r):
@@ -90,7 +95,7 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--flume", choices=sorted(FLUMES), default="a")
     ap.add_argument("--ratio", type=float, default=None, help="H/h0 (default 0.163 on Flume A, 0.28 on Flume B)")
-    ap.add_argument("--runs", default="fine,band,coarse", help="which of fine, band, coarse to run (comma-separated)")
+    ap.add_argument("--runs", default="fine,band,coarse", help="which of fine, band, follow, coarse to run (comma-separated)")
     ap.add_argument("--dx", type=float, default=0.01)
     ap.add_argument("--reuse", action="store_true", help="re-read finished runs in --out (validation/common.py run_case)")
     a = ap.parse_args()
@@ -102,8 +107,9 @@ def main():
     base = {"time.end": F["end"](a.ratio), "motions.0.height": a.ratio * H0}
     sets = {"fine": {**base, "particles.dx": a.dx / 2},
             "band": {**base, "particles.dx": a.dx, "resolution": BAND.format(top=F["top"])},
+            "follow": {**base, "particles.dx": a.dx, "resolution": FOLLOW.format(top=F["top"])},
             "coarse": {**base, "particles.dx": a.dx}}
-    res = {tag: run(a, tag, sets[tag]) for tag in ("fine", "band", "coarse") if tag in a.runs.split(",")}
+    res = {tag: run(a, tag, sets[tag]) for tag in ("fine", "band", "follow", "coarse") if tag in a.runs.split(",")}
     ref = F["ref"](a.ratio)
     print(f"Flume {a.flume.upper()}, H/h0 = {a.ratio:g}, to t = {base['time.end']} s, {a.threads} thread(s); "
           f"{F['ref_name']} R/h0 = {ref:.4f}")

@@ -440,3 +440,51 @@ time: {end: 0.1}
   EXPECT_HAS(test::build_error<2>(std::string(yaml).replace(yaml.find("porous: 0"), 9, "porous: 1")),
              "resolution.regions.0.porous");
 }
+
+TEST(Resolution, BandFollowsTheWaterline) {
+  // `follow: waterline`: the band's elevations are a window about the waterline on its line; at
+  // set-up the still water's, during the run wherever the water reaches up the face
+  const std::string yaml = R"(dimension: 2
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+scheme: {viscosity: artificial, alpha: 0.02}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.4, 0.5]}
+  - {type: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.4, 0.2]}
+resolution:
+  regions:
+    - {shape: band, slope: 1, above: 0.06, below: 0.03, follow: waterline, waterline_below: 0.05, waterline_above: 0.05, level: 1}
+time: {end: 0.1}
+)";
+  test::Setup<2> T(yaml);
+  const auto& P = T.S.particles;
+  const auto& lv = P.require(field::level);
+  const double ux = 2.0 / std::sqrt(5.0), uz = 1.0 / std::sqrt(5.0), dx = 0.01;
+  const double zw = 0.195;  // the top row of the still water (the waterline on the face)
+  std::size_t fine = 0, below = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const double rx = P.pos[i][0] - 0.5, z = P.pos[i][1];
+    const double n = z * ux - rx * uz;
+    if (n > 0.06 - dx || n < -0.03 + dx) continue;
+    if (z > zw - 0.05 + dx) { EXPECT_EQ(lv[i], 1.0) << P.pos[i][0] << " " << z; ++fine; }
+    if (z < zw - 0.05 - dx) { EXPECT_EQ(lv[i], 0.0) << P.pos[i][0] << " " << z; ++below; }
+  }
+  EXPECT_GT(fine, 30u);
+  EXPECT_GT(below, 30u);
+  // the walk: a film up the face to z = 0.30 and a splash beyond a dry stretch at 0.38
+  ResolutionConfig res = T.c.resolution;
+  std::vector<Vec<2>> pts;
+  for (double s = 0.0; s * uz < 0.30; s += 0.005) pts.push_back(Vec<2>{{0.5 + s * ux - 0.004 * uz, s * uz + 0.004 * ux}});
+  pts.push_back(Vec<2>{{0.5 + 0.38 / uz * ux, 0.38 + 0.005}});
+  set_waterline_windows<2>(res, pts.data(), nullptr, pts.size(), dx, Communicator{});
+  const auto& g = res.regions[0].region;
+  EXPECT_NEAR(g.win_lo + 0.05, 0.30, 0.006);
+  EXPECT_NEAR(g.win_hi - 0.05, 0.30, 0.006);
+  set_waterline_windows<2>(res, pts.data(), nullptr, 0, dx, Communicator{});
+  const double on_face[2] = {0.5 + 0.2 / uz * ux + 0.01 * uz, 0.2};
+  EXPECT_FALSE(res.regions[0].region.contains(on_face, 2));  // no water on the line: empty
+  EXPECT_HAS(test::build_error<2>(std::string(yaml).replace(yaml.find("follow: waterline, "), 19, "")),
+             "without `follow: waterline`");
+}

@@ -7,7 +7,7 @@ namespace sph {
 bool RegionConfig::contains(const double* x, int dim) const {
   if (type == "band") {  // (2D) within [-below, above] of a segment of the line, normal to it, and in [z_min, z_max]
     const double px = x[0], pz = x[dim - 1];
-    if (pz < z_min || pz > z_max) return false;
+    if (pz < z_min || pz > z_max || pz < win_lo || pz > win_hi) return false;
     for (std::size_t k = 0; k + 1 < vertices.size(); ++k) {
       const double tx = vertices[k + 1][0] - vertices[k][0], tz = vertices[k + 1][1] - vertices[k][1];
       const double len = std::sqrt(tx * tx + tz * tz), rx = px - vertices[k][0], rz = pz - vertices[k][1];

@@ -295,6 +295,12 @@ struct RegionConfig {
   std::vector<std::array<double, 2>> vertices;  // polygon; band: the slope's surface line from its toe
   double above = 0.0, below = 0.0;              // band: its extent normal to the line, above and below it
   double z_min = 0.0, z_max = 0.0;              // band: its elevations
+  // band, `follow: waterline`: the elevations [z_w - waterline_below, z_w + waterline_above] about the
+  // waterline z_w on the line, within [z_min, z_max]; the run sets the window (win_lo, win_hi) each
+  // step (physics/resolution.hpp, set_waterline_windows); unset, the band is the fixed one
+  bool follow_waterline = false;
+  double waterline_below = 0.0, waterline_above = 0.0;
+  double win_lo = -1e300, win_hi = 1e300;
   /// Is x (D coordinates) inside?
   bool contains(const double* x, int dim) const;
 };

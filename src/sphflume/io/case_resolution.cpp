@@ -72,6 +72,15 @@ RegionConfig read_band(Reader& q, const Node& n, const Case& c) {
   g.z_min = q.scalar<double>("z_min", g.vertices.front()[1]);
   g.z_max = q.scalar<double>("z_max", g.vertices.back()[1]);
   if (!(g.z_max > g.z_min)) q.fail_at(q.has("z_max") ? q.get("z_max") : n, q.key_path("z_max"), "z_max > z_min");
+  // `follow: waterline`: the band's elevations follow the waterline on its line during the run
+  g.follow_waterline = q.choice("follow", "none", {"none", "waterline"}) == "waterline";
+  if (g.follow_waterline) {
+    g.waterline_below = q.positive("waterline_below", 0.0, true);
+    g.waterline_above = q.positive("waterline_above", 0.0, true);
+  } else {
+    for (const char* k : {"waterline_below", "waterline_above"})
+      if (q.has(k)) q.fail_at(q.get(k), q.key_path(k), "no waterline window without `follow: waterline`");
+  }
   return g;
 }
 

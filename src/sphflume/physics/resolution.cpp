@@ -160,6 +160,47 @@ int target_level(const ResolutionConfig& res, const double* x, int dim) {
 }
 
 template <int D>
+void set_waterline_windows(ResolutionConfig& res, const Vec<D>* x, const Kind* kind, std::size_t n, double dx,
+                           const Communicator& comm) {
+  for (auto& rr : res.regions) {
+    RegionConfig& g = rr.region;
+    if (!g.follow_waterline || g.vertices.size() < 2) continue;
+    const auto& v = g.vertices;
+    std::vector<double> cum(v.size(), 0.0);
+    for (std::size_t k = 1; k < v.size(); ++k) cum[k] = cum[k - 1] + std::hypot(v[k][0] - v[k - 1][0], v[k][1] - v[k - 1][1]);
+    const double w = 2.0 * dx, reach = 1.5 * dx;
+    const std::size_t nb = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(cum.back() / w)));
+    std::vector<double> wet(nb, 0.0), top(nb, -1e300);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (kind && kind[i] != Kind::Fluid) continue;
+      const double px = x[i][0], pz = x[i][D - 1];
+      for (std::size_t k = 0; k + 1 < v.size(); ++k) {
+        const double tx = v[k + 1][0] - v[k][0], tz = v[k + 1][1] - v[k][1];
+        const double len = cum[k + 1] - cum[k], rx = px - v[k][0], rz = pz - v[k][1];
+        const double along = (rx * tx + rz * tz) / len, normal = (rz * tx - rx * tz) / len;
+        if (along < 0.0 || along > len || normal < -g.below || normal > reach) continue;
+        const std::size_t b = std::min(nb - 1, static_cast<std::size_t>((cum[k] + along) / w));
+        wet[b] = 1.0;
+        top[b] = std::max(top[b], pz);
+        break;
+      }
+    }
+    comm.max(wet.data(), nb);
+    comm.max(top.data(), nb);
+    std::size_t k = 0;
+    while (k < nb && wet[k] == 0.0) ++k;
+    std::size_t last = nb;
+    for (; k < nb && wet[k] != 0.0; ++k) last = k;
+    if (last == nb) {  // no water on the line: the band holds nothing
+      g.win_lo = g.win_hi = 1e300;
+      continue;
+    }
+    g.win_lo = top[last] - g.waterline_below;
+    g.win_hi = top[last] + g.waterline_above;
+  }
+}
+
+template <int D>
 bool outside_levels(const ResolutionConfig& res, const Vec<D>& x, int l, double margin) {
   constexpr int kPoints = D == 2 ? 9 : 27;  // x + margin {-1, 0, 1}^D: the corners too
   for (int k = 0; k < kPoints; ++k) {
@@ -350,9 +391,19 @@ AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_
     S.comm->max(&top, 1);
     next_id = static_cast<std::uint32_t>(top);
   }
-  c.merged = merge_all(S, res);  // (on the sorted store: its cell list is current)
+  // bands that follow the waterline: their windows from the present state (every step, so a
+  // restart needs no state of its own)
+  bool follow = false;
+  for (const auto& r : res.regions) follow = follow || r.region.follow_waterline;
+  ResolutionConfig live;
+  if (follow) {
+    live = res;
+    set_waterline_windows<D>(live, S.particles.pos.data(), S.particles.kind.data(), S.particles.n_owned(), S.dx, *S.comm);
+  }
+  const ResolutionConfig& now = follow ? live : res;
+  c.merged = merge_all(S, now);  // (on the sorted store: its cell list is current)
   std::vector<std::size_t> kids;
-  c.split = split_all(S, res, next_id, kids);
+  c.split = split_all(S, now, next_id, kids);
   const bool settle = res.settle_iterations > 0 && (S.comm->size() == 1 || S.comm->any(!kids.empty()));
   if (S.comm->size() > 1 && settle) {
     // a distributed run: the children settle against the particles across the ranks' edges too
@@ -374,6 +425,8 @@ AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_
 
 template void smooth_level_h<2>(System<2>&);
 template void smooth_level_h<3>(System<3>&);
+template void set_waterline_windows<2>(ResolutionConfig&, const Vec<2>*, const Kind*, std::size_t, double, const Communicator&);
+template void set_waterline_windows<3>(ResolutionConfig&, const Vec<3>*, const Kind*, std::size_t, double, const Communicator&);
 template bool outside_levels<2>(const ResolutionConfig&, const Vec<2>&, int, double);
 template bool outside_levels<3>(const ResolutionConfig&, const Vec<3>&, int, double);
 template AdaptCounts adapt_levels<2>(System<2>&, const ResolutionConfig&, std::uint32_t&);

@@ -55,6 +55,18 @@ int target_level(const ResolutionConfig& res, const double* x, int dim);
 template <int D>
 bool outside_levels(const ResolutionConfig& res, const Vec<D>& x, int l, double margin);
 
+/// Bands that follow the waterline (`shape: band`, `follow: waterline`): each such region's
+/// window [z_w − waterline_below, z_w + waterline_above] (RegionConfig::win_lo, win_hi) from the
+/// waterline z_w of the points x[0, n) on its line: the line is cut into stretches 2 dx long
+/// (dx the level-0 spacing), a stretch is wet when a point lies in it within the band's `below`
+/// under the face and 1.5 dx above it (the run-up gauge's reach, docs/gauges), and the walk
+/// goes up from the first wet stretch while they stay wet; z_w is the highest such point of the
+/// last one. No wet stretch: the band is empty. `kind` null: every point is fluid (the set-up's
+/// fill points). `comm`: the stretches are reduced over the ranks.
+template <int D>
+void set_waterline_windows(ResolutionConfig& res, const Vec<D>* x, const Kind* kind, std::size_t n, double dx,
+                           const Communicator& comm);
+
 /// What adapt_levels did.
 struct AdaptCounts {
   std::size_t split = 0;   // particles split (each into 2^D children)

@@ -307,6 +307,14 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
   const auto& regs = c.resolution.regions;
   if (regs.empty()) return;
   FillPoints<D> out;
+  // bands that follow the waterline start about the still water's (walls take the whole band)
+  ResolutionConfig fluid_res = c.resolution;
+  {
+    std::vector<Vec<D>> kept;
+    for (std::size_t i = 0; i < f.fluid_x.size(); ++i)
+      if (!f.drop[i]) kept.push_back(f.fluid_x[i]);
+    set_waterline_windows<D>(fluid_res, kept.data(), nullptr, kept.size(), c.dx, Communicator{});
+  }
   struct Pending { Vec<D> x; double half; int level; };
   std::vector<Pending> stack;
   for (std::size_t i = 0; i < f.fluid_x.size(); ++i) {
@@ -315,7 +323,7 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
     while (!stack.empty()) {
       const Pending p = stack.back();
       stack.pop_back();
-      if (p.level < target_level(c.resolution, p.x.c.data(), D)) {
+      if (p.level < target_level(fluid_res, p.x.c.data(), D)) {
         const auto kids = split_positions<D>(p.x, p.half);
         for (std::size_t k = kids.size(); k-- > 0;) stack.push_back({kids[k], 0.5 * p.half, p.level + 1});
         continue;
