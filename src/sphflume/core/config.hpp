@@ -388,6 +388,8 @@ struct ResolutionConfig {
   std::vector<ResolutionRegionConfig> regions;
   int relax_iterations = 300;  // the level interface's relaxation at set-up (physics/resolution.hpp)
   int settle_iterations = 10;  // the shifts of each split's children (physics/resolution.hpp adapt_levels)
+  bool multirate = false;      // the finest level sub-cycled at half the others' step (schemes/wcsph_multirate.cpp)
+  int multirate_line = 0;
   int line = 0;
   bool on() const { return !regions.empty(); }
   int max_level() const {

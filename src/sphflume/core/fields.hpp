@@ -31,6 +31,8 @@ inline constexpr ScalarField psi{"_psi"};                   // ISPH scratch
 inline constexpr ScalarField motion_group{"motion_group"};  // 0 fixed, k + 1 the k-th wall motion
 inline constexpr ScalarField smoothing_length{"h"};         // per-particle h (resolution levels, core/refinement)
 inline constexpr ScalarField level{"level"};                // resolution level: spacing dx / 2^level
+inline constexpr ScalarField fast{"_fast"};                 // multirate levels: sub-cycled in this step (scratch)
+inline constexpr ScalarField rho_mid{"_rho_mid"};           // multirate levels: a slow particle's mid-step ρ (scratch)
 // vectors
 inline constexpr VectorField wall_to_surface{"wall_to_surface"};  // wall particle -> its surface point
 inline constexpr VectorField wall_normal{"wall_normal"};          // repulsive walls' unit normal

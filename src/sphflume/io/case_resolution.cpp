@@ -116,6 +116,15 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
   const double settle = r.in_range("settle", 10.0, 0.0, 1000.0);
   if (settle != static_cast<int>(settle)) r.fail_at(r.get("settle"), "resolution.settle", "a whole number of iterations, 0 to 1000");
   res.settle_iterations = static_cast<int>(settle);
+  res.multirate = r.scalar<bool>("multirate", false);
+  if (res.multirate) {
+    res.multirate_line = r.get("multirate").key_line();
+    if (c.scheme.integrator != Integrator::Symplectic)
+      r.fail_at(r.get("multirate"), "resolution.multirate",
+                fmt::format("false with scheme.integrator: {} (line {}): the multirate step is symplectic; set "
+                            "scheme.integrator: symplectic", c.scheme.integrator == Integrator::Verlet ? "verlet" : "predictor_corrector",
+                            line_of(root, "scheme", "integrator")));
+  }
   r.finish();
   check_models(root, file, c);
 }

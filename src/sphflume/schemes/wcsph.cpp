@@ -62,11 +62,12 @@ double WCSPH<D>::time_step(const System<D>& S) const {
     const double dts = S.transport ? S.transport->time_step(S, cfg_.viscous_coefficient) : 1.0;
     return std::min(dts, 1.0);
   }
+  if (multirate_ && S.levels > 0) return multirate_time_step(S);
   return explicit_time_step(S, cfg_, turb_.on() ? turb_.nu_t_max() : 0.0, max_acc_);
 }
 
 template <int D>
-double explicit_time_step(const System<D>& S, const SchemeConfig& cfg_, double nu_t_max, double max_acc_) {
+double explicit_time_step(const System<D>& S, const SchemeConfig& cfg_, double nu_t_max, double max_acc_, double h_step) {
   const auto& P = S.particles;
   double umax2 = 0.0, cmax = S.eos.sound_speed(S.eos.rho0);
   const std::size_t n = P.n_owned();
@@ -77,7 +78,7 @@ double explicit_time_step(const System<D>& S, const SchemeConfig& cfg_, double n
     cmax = std::max(cmax, S.eos_of(i).sound_speed(P.rho[i]));
   }
   for (const auto& e : S.phase_eos) cmax = std::max(cmax, e.c0);
-  const double h = S.finest_h();  // (one level: S.h)
+  const double h = h_step > 0.0 ? h_step : S.finest_h();  // (one level: S.h)
   double dt = cfg_.cfl * h / (cmax + std::sqrt(umax2));
   if (S.transport) dt = std::min(dt, S.transport->time_step(S, cfg_.viscous_coefficient));
   if (cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0)
@@ -114,7 +115,8 @@ void WCSPH<D>::step(System<D>& S, double dt) {
     if (cfg_.integrator != Integrator::Verlet) S.update_neighbours();
     shift_.compute(S, dt);
   }
-  if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
+  if (multirate_ && S.levels > 0) multirate_step(S, dt);
+  else if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
   else two_stage_step(S, dt);
   if (shift_.on()) shift_.apply(S);
   S.periodic.wrap(S.particles);
@@ -304,8 +306,8 @@ template void eos_pressure(System<2>&);
 template void eos_pressure(System<3>&);
 template void check_finite(const System<2>&);
 template void check_finite(const System<3>&);
-template double explicit_time_step(const System<2>&, const SchemeConfig&, double, double);
-template double explicit_time_step(const System<3>&, const SchemeConfig&, double, double);
+template double explicit_time_step(const System<2>&, const SchemeConfig&, double, double, double);
+template double explicit_time_step(const System<3>&, const SchemeConfig&, double, double, double);
 
 
 }  // namespace sph

@@ -31,7 +31,7 @@ namespace sph {
 template <int D>
 class WCSPH final : public Scheme<D> {
  public:
-  explicit WCSPH(const Case& c) : WCSPH(c.scheme, c.turbulence) {}
+  explicit WCSPH(const Case& c) : WCSPH(c.scheme, c.turbulence) { multirate_ = c.resolution.on() && c.resolution.multirate; }
   /// From the plain configurations; `cfg.pressure = false` makes rates() the force pass of a
   /// projection scheme (gravity, viscosity, turbulence, walls, force terms, porous drag rate).
   WCSPH(const SchemeConfig& cfg, const TurbulenceConfig& turb) : cfg_(cfg), turb_(turb), shift_(cfg.shifting) {}
@@ -70,12 +70,21 @@ class WCSPH final : public Scheme<D> {
   void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);
+  /// Resolution levels with `resolution.multirate` (schemes/wcsph_multirate.cpp): one symplectic
+  /// step dt for the slow particles, two of dt/2 for the fast ones (the finest level and the
+  /// particles whose h the level interface lowered).
+  void multirate_step(System<D>& S, double dt);
+  /// The step of a multirate run: the slow particles' limits (CFL and force with the next-coarser
+  /// level's h) and twice the fast particles' (the viscous limit, which goes with h²).
+  double multirate_time_step(const System<D>& S) const;
   void shepard_filter(System<D>& S) const;
 
   SchemeConfig cfg_;
   Turbulence<D> turb_;
   Shifting<D> shift_;
   bool verlet_started_ = false;
+  bool multirate_ = false;
+  bool fast_only_ = false;  // a multirate pass: the rates of the fast particles only (the others' kept)
   double max_acc_ = 0.0;
   std::vector<float> pack_;  // the per-particle columns of the rates pass (wcsph_rates.cpp)
 };

@@ -15,7 +15,7 @@ void eos_pressure(System<D>& S);
 /// The explicit step: cfl h/(c_max + |u|_max), the scalars' limit, the viscous limits with ν
 /// and ν_t,max, and force_coefficient sqrt(h/|a|_max) (Federico §3.5; docs/numerics.md).
 template <int D>
-double explicit_time_step(const System<D>& S, const SchemeConfig& cfg, double nu_t_max, double max_acc);
+double explicit_time_step(const System<D>& S, const SchemeConfig& cfg, double nu_t_max, double max_acc, double h = 0.0);
 
 /// Throws a SimulationError naming the first owned particle with a non-finite state.
 template <int D>

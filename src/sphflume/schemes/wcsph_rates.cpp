@@ -92,7 +92,10 @@ struct RatesPass {
   /// imposed-state particles need no rates: walls (unless dynamic) and outflow particles; inflow
   /// particles get theirs (unused while they are inflow) so that one turning into fluid has the
   /// rates of its state, which the Verlet integrator's next step uses
-  [[gnu::always_inline]] bool runs(std::uint32_t a) const { return !((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow); }
+  [[gnu::always_inline]] bool runs(std::uint32_t a) const {
+    return !((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow) && (!fast || fast[a] != 0.0);
+  }
+  const double* fast = nullptr;  // a multirate pass of the fast particles only (schemes/wcsph_multirate.cpp)
 };
 
 /// The candidates' columns, packed once per pass in store order (a particle's values computed
@@ -358,6 +361,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   q.xs = cfg_.xsph > 0.0 ? P.vector(field::xsph).data() : nullptr;
   q.n_owned = P.n_owned();
   q.dyn = S.walls->evolves_density();
+  q.fast = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;
   for (int d = 0; d < D; ++d) q.g[d] = S.gravity[d];
   q.rho0 = S.eos.rho0; q.c0 = S.eos.c0; q.xsph = cfg_.xsph;
   q.fdiff = (cfg_.density_diffusion != DensityDiffusion::None && cfg_.delta > 0.0) ? 1.0 : 0.0;
@@ -415,6 +419,20 @@ void WCSPH<D>::rates(System<D>& S) {
     return;
   }
   if (S.before_rates) S.before_rates(S);
+  // a multirate pass of the fast particles: the slow ones keep the rates of their stage (restored
+  // below: the walls, force terms and drag write every particle's)
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  struct Kept { std::vector<Vec<D>> acc, xs; std::vector<double> drho, kr, im; } kept;
+  if (fast_only_) {
+    kept.acc.assign(P.acc.begin(), P.acc.begin() + static_cast<std::ptrdiff_t>(n));
+    kept.drho.assign(P.drho.begin(), P.drho.begin() + static_cast<std::ptrdiff_t>(n));
+    if (cfg_.xsph > 0.0) kept.xs.assign(P.vector(field::xsph).begin(), P.vector(field::xsph).begin() + static_cast<std::ptrdiff_t>(n));
+    if (S.porous) {
+      kept.kr.assign(P.scalar(field::drag_rate).begin(), P.scalar(field::drag_rate).begin() + static_cast<std::ptrdiff_t>(n));
+      kept.im.assign(P.scalar(field::inertia).begin(), P.scalar(field::inertia).begin() + static_cast<std::ptrdiff_t>(n));
+    }
+  }
   if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
   if (S.grenier) grenier_gamma(S);  // Γ of Grenier's pressure gradient
   if (S.levels > 0) smooth_level_h(S);  // resolution levels: h at the particles' places
@@ -424,9 +442,20 @@ void WCSPH<D>::rates(System<D>& S) {
   for (auto& f : S.forces) f->add(S);
   if (S.porous) S.porous->drag(S);  // the drag rate the integrator applies point-implicitly
   if (S.transport) S.transport->rates(S);  // after the pair loop: the advection variants use drho
-  auto& P = S.particles;
+  if (fast_only_) {
+    const double* fast = P.scalar(field::fast.name).data();
+    Vec<D>* xs = kept.xs.empty() ? nullptr : P.vector(field::xsph).data();
+    double* kr = kept.kr.empty() ? nullptr : P.scalar(field::drag_rate).data();
+    double* im = kept.kr.empty() ? nullptr : P.scalar(field::inertia).data();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (fast[i] != 0.0) continue;
+      P.acc[i] = kept.acc[i];
+      P.drho[i] = kept.drho[i];
+      if (xs) xs[i] = kept.xs[i];
+      if (kr) { kr[i] = kept.kr[i]; im[i] = kept.im[i]; }
+    }
+  }
   double amax = 0.0;
-  const std::size_t n = P.n_owned();
 #pragma omp parallel for schedule(static) reduction(max : amax)
   for (std::size_t i = 0; i < n; ++i)
     if (P.kind[i] == Kind::Fluid) amax = std::max(amax, dot(P.acc[i], P.acc[i]));

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -105,6 +106,7 @@ LoopEnd step_loop(Run<D>& R, RunOutput<D>& out, const Case& c, const RunOptions&
   System<D>& S = R.S;
   const bool distributed = comm.size() > 1;
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   LoopEnd end;
   const bool tty = isatty(fileno(stderr));
@@ -165,6 +167,7 @@ LoopEnd step_loop(Run<D>& R, RunOutput<D>& out, const Case& c, const RunOptions&
   }
   if (o.progress && tty) fmt::print(stderr, "\n");
   res.wall_seconds = elapsed();
+  res.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   return end;
 }
 
@@ -191,7 +194,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   S.particles.clear_images();
   finish_result<D>(R, n, res.wall_seconds, res);
   const bool distributed = comm->size() > 1;
-  Summary sm{end.status, end.failure, end.last_good, o.restart, end.dt, out.snapshot_count(), res.wall_seconds,
+  Summary sm{end.status, end.failure, end.last_good, o.restart, end.dt, out.snapshot_count(), res.wall_seconds, res.cpu_seconds,
              !distributed ? "one process" : out.collective() ? "collective" : "gathered"};
   try {
     write_summary<D>(o, c, R, sm, res);

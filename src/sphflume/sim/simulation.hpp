@@ -22,6 +22,7 @@ struct RunResult {
   int exit_code = 0;  // 0 done, 3 failed (last good state written), 128 + signal when interrupted
   long steps = 0;
   double wall_seconds = 0.0;
+  double cpu_seconds = 0.0;  // the process's CPU time in the time loop, every thread (std::clock)
   std::size_t fluid = 0, total = 0;
   double particle_steps_per_second = 0.0, fluid_particle_steps_per_second = 0.0;
   double pair_interactions_per_second = 0.0, bytes_per_particle = 0.0;

@@ -76,6 +76,7 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   j["simulated_time"] = S.time;
   j["end_time"] = c.t_end;
   j["wall_seconds"] = sm.wall;
+  j["cpu_seconds"] = sm.cpu;
   j["threads"] = thread_count();
   j["ranks"] = {{"count", S.comm->size()}, {"halo_bytes_per_step", ranks.halo_bytes_per_step},
                 {"imbalance", ranks.imbalance}, {"fluid_imbalance", ranks.fluid_imbalance},

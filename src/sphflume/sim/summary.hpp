@@ -15,6 +15,7 @@ struct Summary {
   double last_dt = 0.0;
   std::size_t snapshots = 0;
   double wall = 0.0;
+  double cpu = 0.0;  // the first rank's CPU time in the time loop (every thread)
   std::string snapshot_writes = "one process";  // distributed: "collective" (parallel HDF5) or "gathered"
 };
 
