@@ -29,7 +29,7 @@ class DummyWalls final : public WallModel<D> {
     if (this->cfg.no_slip) corr_.resize(P.size() * D);
     // walls with no fluid within the kernel support keep the background state: skip their
     // neighbour search (most of a tank's walls, most of the time)
-    S.cells.mark_near(this->near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
+    S.cells.mark_near(this->near_, [&, fast = S.fast_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); });
     const auto& cells = S.cells;
     const Pass p{cells.sorted().data(), P.pos.data(), P.vel.data(), P.rho.data(), P.p.data(), P.kind.data(),
                  P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr,  // moving walls
@@ -421,7 +421,7 @@ void WallModel<D>::add_backup(System<D>& S) const {
   // the cell's first particle (gather_if) and pre-tested in float (backup_candidates); the few
   // candidates it passes are tested again in double, as the force uses them. The rare pairs
   // found are applied serially, sorted, so the sums do not depend on the threads.
-  S.cells.mark_near(this->near_, [&](std::size_t j) { return fluid_like(P.kind[j]); });
+  S.cells.mark_near(this->near_, [&, fast = S.fast_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); });
   hits_.clear();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();

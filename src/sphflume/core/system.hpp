@@ -35,6 +35,9 @@ struct System {
   /// h / 2^level, mass / 2^(D level)). dx, h and support stay level 0's: the cell list is built
   /// with the largest support, so the 3^D stencil holds every pair.
   int levels = 0;
+  /// A multirate pass of the fast particles only (schemes/wcsph_multirate.cpp): their flags (the
+  /// store field "_fast"), so that the walls set the states only near them; null otherwise.
+  const double* fast_only = nullptr;
   /// The smallest smoothing length (the time step's).
   double finest_h() const { return levels > 0 ? h / double(1 << levels) : h; }
   Eos eos;

@@ -435,10 +435,14 @@ void WCSPH<D>::rates(System<D>& S) {
   }
   if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
   if (S.grenier) grenier_gamma(S);  // Γ of Grenier's pressure gradient
-  if (S.levels > 0) smooth_level_h(S);  // resolution levels: h at the particles' places
+  // resolution levels: h at the particles' places (a multirate fast pass keeps the h of the last
+  // full pass, a quarter step old: h is a smooth field, and both sides of a pair read the same)
+  if (S.levels > 0 && !fast_only_) smooth_level_h(S);
+  S.fast_only = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;  // (the walls near the fast ones)
   S.walls->prepare(S);
   S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
   S.walls->add_forces(S);
+  S.fast_only = nullptr;
   for (auto& f : S.forces) f->add(S);
   if (S.porous) S.porous->drag(S);  // the drag rate the integrator applies point-implicitly
   if (S.transport) S.transport->rates(S);  // after the pair loop: the advection variants use drho
