@@ -44,6 +44,7 @@ class DummyWalls final : public WallModel<D> {
           const std::uint32_t i = p.sorted[k];
           if (i >= p.n || p.kind[i] != Kind::Wall) continue;
           if (!this->near_[cell]) {  // no fluid within reach: the background state
+            if (S.fast_only) continue;  // (a multirate fast pass: no fast fluid near; the state of the last full pass stays)
             P.p[i] = S.eos.background;
             P.rho[i] = p.rho_bg;
             if (p.gv)
