@@ -132,6 +132,14 @@ check(ok and adapt.get("splits", 0) > 0 and adapt.get("merges", 0) > 0,
       f"dam break through a refined box (splits {adapt.get('splits')}, merges {adapt.get('merges')}): killed after "
       f"{len(left)} snapshots, restarted: bitwise equal: {why}")
 
+# multirate time stepping (issue 42): the same dam break, the fine level sub-cycled; the step keeps no state between steps
+ok, why, rref, rkill, left = killed_and_restarted(
+    "levels_multirate", ["run", case, "-q", "--threads", "2"] + sets_of(
+        "particles.dx=0.0146", "time.end=0.3", "time.output_interval=0.01", "scheme.integrator=symplectic",
+        "resolution={regions: [{shape: box, min: [0.2, 0.04], max: [0.35, 0.2], level: 1}], multirate: true}"),
+    rng.randint(8, 22))
+check(ok, f"dam break through a refined box, multirate: killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
+
 # SIGTERM / SIGINT: checkpoint, exit 128 + signal, restart bitwise
 args = ["run", case, "-q", "--threads", "2", "--set", "particles.dx=0.0073", "--set", "time.end=0.5",
         "--set", "time.output_interval=0.02", "--set", "scheme.integrator=verlet"]
