@@ -12,7 +12,7 @@ the same threads, to the end validation/runup_flume_a/check.py (or runup_flume_b
   band_mr, follow_mr  the same with `multirate: true` (the fine level sub-cycled at half the coarse step);
   coarse   uniform dx.
 For each: the run-up R/h0 against Li & Raichlen (2001; Flume A) or Synolakis (1986, breaking; Flume B) and against
-the fine run, wall and CPU time (the child's user + system seconds, kept in cpu.json beside the run), steps, particle
+the fine run, wall and CPU time (summary.json's cpu_seconds), steps, particle
 counts, particle-steps per second; the band run's time as a ratio to the fine run's. Issue 42's gates: Flume A
 (5 mm in the band, 10 mm elsewhere): R within 2 % of the uniform 5 mm run's at <= 1/3 of its wall time; Flume B at
 H/h0 = 0.28: R within 10 % of Synolakis at <= 1/3 of the uniform 5 mm run's wall time.
@@ -20,10 +20,8 @@ Usage: /usr/bin/python3 bench/resolution_band.py [--sphflume build/sphflume] [--
        [--ratio 0.163] [--dx 0.01] [--runs fine,band,coarse] [--reuse]
 """
 import argparse
-import json
 import math
 import os
-import resource
 import sys
 import tempfile
 
@@ -67,27 +65,12 @@ def multirate(res):
     return res[:-1] + ", multirate: true}"
 
 
-def children_cpu():
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
-
-
 def run(a, tag, sets):
     out = os.path.join(a.out, tag)
-    c0 = children_cpu()
     s, wall, rc = run_case(a.sphflume, os.path.join(ROOT, "cases", FLUMES[a.flume]["case"]), out, sets, a.threads, a.reuse)
     if s is None:
         sys.exit(f"{tag} failed ({rc})")
-    cpu_file = os.path.join(out, "cpu.json")
-    cpu = s.get("cpu_seconds", children_cpu() - c0)
-    if cpu > 1.0:  # run here (a reused run spent none): keep its CPU time beside it
-        with open(cpu_file, "w") as f:
-            json.dump({"cpu_seconds": cpu, "wall_seconds": wall}, f)
-    elif os.path.exists(cpu_file):
-        with open(cpu_file) as f:
-            cpu = json.load(f)["cpu_seconds"]
-    else:
-        cpu = float("nan")
+    cpu = s.get("cpu_seconds", float("nan"))  # (summary.json: the time loop's CPU seconds)
     rows = np.genfromtxt(os.path.join(out, "gauges", "runup.csv"), delimiter=",", names=True)
     return {"R": float(np.nanmax(rows["runup"])) / H0, "wall": wall, "cpu": cpu, "steps": s["steps"],
             "particles": s["particles"]["total"], "fluid": s["particles"]["fluid"],

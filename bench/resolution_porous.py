@@ -9,17 +9,14 @@ per grain diameter Dc, one after the other, on the same threads, to validation/r
          still water) to 0.45 m (above every run-up). Each particle reads the porosity field of its own level's
          porous lattice (docs/numerics.md §14).
 --multirate: the band runs sub-cycle the fine level (`multirate: true`, docs/numerics.md §14).
-For each: the run-up R (the `runup` gauge's maximum, as the validation), wall and CPU time (the child's user + system
-seconds, kept in cpu.json beside the run, so that --reuse reports them too), steps and particle counts. Issue 42's
+For each: the run-up R (the `runup` gauge's maximum, as the validation), wall and CPU time (summary.json's cpu_seconds), steps and particle counts. Issue 42's
 gate: R's fall with Dc (from the first to the last Dc given) as in the uniform d0 runs, at <= 1/2 of their time.
 CPU time is the gate's measure: it counts the work a one-thread run did, also where other runs share the cores.
 Usage: /usr/bin/python3 bench/resolution_porous.py [--sphflume build/sphflume] [--out DIR] [--threads 1]
        [--dcs 0.25,100] [--dx 0.01] [--reuse]
 """
 import argparse
-import json
 import os
-import resource
 import sys
 import tempfile
 
@@ -33,27 +30,12 @@ END, H = 4.5, 0.03423
 BAND = "{regions: [{shape: band, porous: 0, above: 0.08, below: 0.04, z_min: 0.15, z_max: 0.45, level: 1}]}"
 
 
-def children_cpu():
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
-
-
 def run(a, tag, sets):
     out = os.path.join(a.out, tag)
-    c0 = children_cpu()
     s, wall, rc = run_case(a.sphflume, CASE, out, sets, a.threads, a.reuse)
     if s is None:
         sys.exit(f"{tag} failed ({rc})")
-    cpu_file = os.path.join(out, "cpu.json")
-    cpu = s.get("cpu_seconds", children_cpu() - c0)
-    if cpu > 1.0:  # run here (a reused run spent none): keep its CPU time beside it
-        with open(cpu_file, "w") as f:
-            json.dump({"cpu_seconds": cpu, "wall_seconds": wall}, f)
-    elif os.path.exists(cpu_file):
-        with open(cpu_file) as f:
-            cpu = json.load(f)["cpu_seconds"]
-    else:
-        cpu = float("nan")
+    cpu = s.get("cpu_seconds", float("nan"))  # (summary.json: the time loop's CPU seconds)
     rows = np.genfromtxt(os.path.join(out, "gauges", "runup.csv"), delimiter=",", names=True)
     return {"R": float(np.nanmax(rows["runup"])), "wall": wall, "cpu": cpu, "steps": s["steps"],
             "particles": s["particles"]["total"], "levels": s.get("resolution", {}).get("fluid_per_level")}

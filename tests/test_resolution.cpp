@@ -496,16 +496,14 @@ TEST(Resolution, MultirateSubCyclesTheFineLevel) {
   // half the steps, keeps the mass exact, and stays as close to the fixed-step run (every particle
   // at the fine step) as a run with every particle at the doubled step does, within the factor below
   struct Out { long steps; double ke, zc, mass; };
-  auto run = [](const std::string& extra_res, double factor) {
-    std::string y = pool(kBlock);
-    y.replace(y.find("time: {end: 0.1}"), 16, "time: {end: 0.1}\n" + extra_res);
-    test::Setup<2> T(y);
+  // to 0.05 s with steps of `factor` times the scheme's
+  auto run = [](const std::string& yaml, double factor) {
+    test::Setup<2> T(yaml);
     T.named->initialise(T.S);
     const double end = 0.05;
     long steps = 0;
     while (T.S.time < end * (1.0 - 1e-12)) {
-      const double dt = std::min(factor * T.named->time_step(T.S), end - T.S.time);
-      T.named->step(T.S, dt);
+      T.named->step(T.S, std::min(factor * T.named->time_step(T.S), end - T.S.time));
       ++steps;
     }
     T.S.particles.clear_images();
@@ -520,33 +518,12 @@ TEST(Resolution, MultirateSubCyclesTheFineLevel) {
     o.zc /= o.mass;
     return o;
   };
-  // (the resolution mapping continues: `multirate` is one of its keys)
-  const Out fixed = run("", 1.0), dbl = run("", 2.0);
-  std::string ymr = pool(kBlock);
+  const Out fixed = run(pool(kBlock), 1.0), dbl = run(pool(kBlock), 2.0);
+  std::string ymr = pool(kBlock);  // (`multirate` is a key of the resolution mapping)
   ymr.replace(ymr.find("level: 1}"), 9, "level: 1}\n  multirate: true");
   test::Setup<2> probe(ymr);
   ASSERT_TRUE(probe.c.resolution.multirate);
-  auto run_mr = [&] {
-    test::Setup<2> T(ymr);
-    T.named->initialise(T.S);
-    long steps = 0;
-    while (T.S.time < 0.05 * (1.0 - 1e-12)) {
-      T.named->step(T.S, std::min(T.named->time_step(T.S), 0.05 - T.S.time));
-      ++steps;
-    }
-    T.S.particles.clear_images();
-    const auto& P = T.S.particles;
-    Out o{steps, 0.0, 0.0, 0.0};
-    for (std::size_t i = 0; i < P.n_owned(); ++i) {
-      if (P.kind[i] != Kind::Fluid) continue;
-      o.ke += 0.5 * P.mass[i] * dot(P.vel[i], P.vel[i]);
-      o.zc += P.mass[i] * P.pos[i][1];
-      o.mass += P.mass[i];
-    }
-    o.zc /= o.mass;
-    return o;
-  };
-  const Out m = run_mr();
+  const Out m = run(ymr, 1.0);
   EXPECT_LE(m.steps, static_cast<long>(0.55 * fixed.steps)) << m.steps << " vs " << fixed.steps;
   EXPECT_NEAR(m.mass, fixed.mass, 1e-12 * fixed.mass);
   // within 3 times what a doubled global step changes (the time-discretisation error at the coarse

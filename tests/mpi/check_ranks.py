@@ -132,6 +132,36 @@ def variant(src, name, sets, gauges, ulp=False):
     return path
 
 
+def ulp_gate(label, one, out, ulps, gname, col, exact=False):
+    """Gauge `gname`.`col` of the ranks' run `out` against the one-process run `one`: within 5 times the larger of
+    what the one-ulp runs `ulps` differ from `one` by (exact: equal); the same number of rows."""
+    a, b = gauge(one, gname), gauge(out, gname)
+    scale = max(abs(x) for x in a[col] if x == x) or 1.0
+
+    def dmax(x, y):
+        return max((abs(p - q) if p == p and q == q else (0.0 if p != p and q != q else math.inf)) for p, q in zip(x, y))
+    d_ranks = dmax(a[col], b[col])
+    d_ulp = max(dmax(a[col], gauge(u, gname)[col]) for u in ulps)
+    gate = 0.0 if exact else 5.0 * max(d_ulp, 1e-6 * scale)
+    check(len(a["time"]) == len(b["time"]) and d_ranks <= gate,
+          f"{label}: {gname}.{col} differs by {d_ranks:.3g} (one ulp of gravity, ±: {d_ulp:.3g}; gate {gate:.3g}; "
+          f"largest value {scale:.3g})")
+
+
+def one_and_ulps(tag, src, sets, gauges):
+    """The one-process run of a variant of case src and its two one-ulp runs (gravity one ulp larger, smaller):
+    ({"one", "ulp", "ulpm": output folder}, the variant's case file, whether all three ran)."""
+    cases = {"one": variant(src, tag, sets, gauges), "ulp": variant(src, tag + "_ulp", sets, gauges, ulp=True),
+             "ulpm": variant(src, tag + "_ulpm", sets, gauges, ulp=-1)}
+    outs = {k: os.path.join(args.work, f"{tag}_{k}") for k in cases}
+    ok = True
+    for k, c in cases.items():
+        p = run(1, c, outs[k])
+        ok &= p.returncode == 0
+        check(p.returncode == 0, f"{tag} ({k}): one process ran ({p.returncode}) {p.stderr.strip()[-300:]}")
+    return outs, cases["one"], ok
+
+
 def diffs(a, b):
     """The largest differences between two runs' gauges: energy (relative to its largest value), front, wall pressure
     (NaN where both are NaN; inf where only one is)."""
@@ -355,18 +385,10 @@ for name, src, sets, gauges in channels:
 with open(os.path.join(ROOT, "cases", "runup_flume_a.yaml")) as f:
     RU_GAUGES = yaml.safe_load(f)["gauges"]
 ru_sets = {"particles.dx": 0.02, "time.end": 2.5, "time.output_interval": 0.05, "time.snapshot_interval": 0.5}
-ru = {"one": variant("runup_flume_a.yaml", "runup", ru_sets, RU_GAUGES),
-      "ulp": variant("runup_flume_a.yaml", "runup_ulp", ru_sets, RU_GAUGES, ulp=True),
-      "ulpm": variant("runup_flume_a.yaml", "runup_ulpm", ru_sets, RU_GAUGES, ulp=-1)}
-ru_out = {k: os.path.join(args.work, "runup_" + k) for k in ("one", "ulp", "ulpm")}
-ok = True
-for k in ("one", "ulp", "ulpm"):
-    p = run(1, ru[k], ru_out[k])
-    ok &= p.returncode == 0
-    check(p.returncode == 0, f"runup flume ({k}): one process ran ({p.returncode}) {p.stderr.strip()[-300:]}")
+ru_out, ru_case, ok = one_and_ulps("runup", "runup_flume_a.yaml", ru_sets, RU_GAUGES)
 for n in RANKS if ok else []:
     out = os.path.join(args.work, f"runup_{n}")
-    p = run(n, ru["one"], out)
+    p = run(n, ru_case, out)
     check(p.returncode == 0, f"runup flume: {n} ranks ran ({p.returncode}) {p.stderr.strip()[-300:]}")
     if p.returncode != 0:
         continue
@@ -374,16 +396,8 @@ for n in RANKS if ok else []:
     check(sa["particles"] == sb["particles"], f"runup flume {n} ranks: particle counts {sb['particles']}")
     for gname, col in (("paddle", "displacement"), ("paddle", "force_x"), ("eta_1", "level"), ("eta_toe", "level"),
                        ("runup", "runup")):
-        a, b = gauge(ru_out["one"], gname), gauge(out, gname)
-        u, um = gauge(ru_out["ulp"], gname), gauge(ru_out["ulpm"], gname)
-        scale = max(abs(x) for x in a[col] if x == x) or 1.0
-        def dmax(x, y):
-            return max((abs(p - q) if p == p and q == q else (0.0 if p != p and q != q else math.inf)) for p, q in zip(x, y))
-        d_ranks, d_ulp = dmax(a[col], b[col]), max(dmax(a[col], u[col]), dmax(a[col], um[col]))
-        gate = 0.0 if col == "displacement" else 5.0 * max(d_ulp, 1e-6 * scale)
-        check(len(a["time"]) == len(b["time"]) and d_ranks <= gate,
-              f"runup flume {n} ranks: {gname}.{col} differs by {d_ranks:.3g} (one ulp of gravity, ±: {d_ulp:.3g}; gate "
-              f"{gate:.3g}; largest value {scale:.3g})")
+        ulp_gate(f"runup flume {n} ranks", ru_out["one"], out, (ru_out["ulp"], ru_out["ulpm"]), gname, col,
+                 exact=col == "displacement")
 
 # resolution levels (issue 42): the 2D dam break at a/10 with a level-1 box over the downstream wall, symplectic, to
 # t = 0.6 s (the surge is split as it enters the box, about 120 splits). The ranks balance work (a level-1 particle
@@ -395,18 +409,10 @@ with open(os.path.join(ROOT, "cases", "dambreak_2d.yaml")) as f:
 lv_sets = {"particles.dx": 0.0146, "scheme.integrator": "symplectic", "time.end": 0.6, "time.output_interval": 0.01,
            "time.snapshot_interval": 0.1,
            "resolution": {"regions": [{"shape": "box", "min": [0.38, 0.0], "max": [0.6, 0.8], "level": 1}]}}
-lv = {"one": variant("dambreak_2d.yaml", "levels", lv_sets, DB_GAUGES),
-      "ulp": variant("dambreak_2d.yaml", "levels_ulp", lv_sets, DB_GAUGES, ulp=True),
-      "ulpm": variant("dambreak_2d.yaml", "levels_ulpm", lv_sets, DB_GAUGES, ulp=-1)}
-lv_out = {k: os.path.join(args.work, "levels_" + k) for k in ("one", "ulp", "ulpm")}
-ok = True
-for k in ("one", "ulp", "ulpm"):
-    p = run(1, lv[k], lv_out[k])
-    ok &= p.returncode == 0
-    check(p.returncode == 0, f"levels ({k}): one process ran ({p.returncode}) {p.stderr.strip()[-300:]}")
+lv_out, lv_case, ok = one_and_ulps("levels", "dambreak_2d.yaml", lv_sets, DB_GAUGES)
 for n in RANKS if ok else []:
     out = os.path.join(args.work, f"levels_{n}")
-    p = run(n, lv["one"], out)
+    p = run(n, lv_case, out)
     check(p.returncode == 0, f"levels: {n} ranks ran ({p.returncode}) {p.stderr.strip()[-300:]}")
     if p.returncode != 0:
         continue
@@ -422,17 +428,8 @@ for n in RANKS if ok else []:
         ids = list(f["id"][:])
     check(len(set(ids)) == len(ids), f"levels {n} ranks: the last snapshot's {len(ids)} ids are unique")
     for gname in ("front", "p_wall_right"):
-        a, b = gauge(lv_out["one"], gname), gauge(out, gname)
-        u, um = gauge(lv_out["ulp"], gname), gauge(lv_out["ulpm"], gname)
-        col = [h for h in a if h != "time"][0]
-        scale = max(abs(x) for x in a[col] if x == x) or 1.0
-        def dmax(x, y):
-            return max((abs(p - q) if p == p and q == q else (0.0 if p != p and q != q else math.inf)) for p, q in zip(x, y))
-        d_ranks, d_ulp = dmax(a[col], b[col]), max(dmax(a[col], u[col]), dmax(a[col], um[col]))
-        gate = 5.0 * max(d_ulp, 1e-6 * scale)
-        check(len(a["time"]) == len(b["time"]) and d_ranks <= gate,
-              f"levels {n} ranks: {gname}.{col} differs by {d_ranks:.3g} (one ulp of gravity, ±: {d_ulp:.3g}; gate "
-              f"{gate:.3g}; largest value {scale:.3g})")
+        col = [h for h in gauge(lv_out["one"], gname) if h != "time"][0]
+        ulp_gate(f"levels {n} ranks", lv_out["one"], out, (lv_out["ulp"], lv_out["ulpm"]), gname, col)
 
 # restart on another rank count: the one-process 2D run's snapshot at t = 1 continued on 2 ranks to t = 2
 snaps = sorted(os.listdir(os.path.join(args.work, "dambreak_2d_1", "snapshots")))
