@@ -42,6 +42,32 @@ time: {end: 0.1}
 const char* kBlock = "{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 1}";
 const char* kAboveWater = "{shape: box, min: [0.2, 0.33], max: [0.4, 0.4], level: 1}";
 
+// A still pool 0.2 m deep in front of a 1:2 beach (toe x = 0.5 m, top 0.4 m); `porous`: the beach a
+// porous region (Tsurudome's porous-particle field) instead of a wall slope; `region`: the refined one.
+std::string beach_case(const std::string& region, bool porous = false) {
+  std::string y = R"(dimension: 2
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+scheme: {viscosity: artificial, alpha: 0.02}
+)";
+  if (porous)
+    y += R"(porous:
+  field: particles
+  regions:
+    - {shape: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4, porosity: 0.49, diameter: 0.001,
+       closure: {type: tsurudome, c1: 150, c2: 1.75}}
+)";
+  y += R"(geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.4, 0.5]}
+)";
+  if (!porous) y += "  - {type: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4}\n";
+  y += R"(  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.4, 0.2]}
+resolution:
+  regions:
+    - )" + region + "\ntime: {end: 0.1}\n";
+  return y;
+}
+
 template <int D>
 Vec<D> momentum(const System<D>& S) {
   Vec<D> p{};
@@ -337,21 +363,8 @@ TEST(Resolution, SettleTakesAWholeNumberOfIterations) {
 // not (a margin of one level-0 spacing for the interface's relaxation, at most dx/4); a band
 // named by an index that is not a slope is refused with its line.
 TEST(Resolution, BandAlongASlopeRefinesTheSwashZone) {
-  auto beach = [](const std::string& band) {
-    return R"(dimension: 2
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
-fluid: {density: 1000.0, viscosity: 1.0e-6}
-scheme: {viscosity: artificial, alpha: 0.02}
-geometry:
-  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.4, 0.5]}
-  - {type: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.4, 0.2]}
-resolution:
-  regions:
-    - )" + band + R"(
-time: {end: 0.1}
-)";
-  };
+  auto beach = [](const std::string& band) { return beach_case(band); };
+
   const char* kBand = "{shape: band, slope: 1, above: 0.06, below: 0.03, z_min: 0.1, z_max: 0.35, level: 1}";
   test::Setup<2> T(beach(kBand));
   const auto& P = T.S.particles;
@@ -394,23 +407,7 @@ TEST(Resolution, PorousBeachBandTakesEachLevelsPorosityField) {
   // its surface refined (`porous: 0`): the band's particles below the surface are fine, and every
   // particle reads the porosity that a uniform run at its own spacing reads at its place (the field
   // of its level's porous lattice and h; issue 42, check 5)
-  const std::string yaml = R"(dimension: 2
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
-fluid: {density: 1000.0, viscosity: 1.0e-6}
-scheme: {viscosity: artificial, alpha: 0.02}
-porous:
-  field: particles
-  regions:
-    - {shape: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4, porosity: 0.49, diameter: 0.001,
-       closure: {type: tsurudome, c1: 150, c2: 1.75}}
-geometry:
-  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.4, 0.5]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.4, 0.2]}
-resolution:
-  regions:
-    - {shape: band, porous: 0, above: 0.04, below: 0.04, z_min: 0.05, z_max: 0.35, level: 1}
-time: {end: 0.1}
-)";
+  const std::string yaml = beach_case("{shape: band, porous: 0, above: 0.04, below: 0.04, z_min: 0.05, z_max: 0.35, level: 1}", true);
   test::Setup<2> T(yaml);
   const auto& P = T.S.particles;
   ASSERT_TRUE(T.S.porous);
@@ -445,19 +442,8 @@ time: {end: 0.1}
 TEST(Resolution, BandFollowsTheWaterline) {
   // `follow: waterline`: the band's elevations are a window about the waterline on its line; at
   // set-up the still water's, during the run wherever the water reaches up the face
-  const std::string yaml = R"(dimension: 2
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
-fluid: {density: 1000.0, viscosity: 1.0e-6}
-scheme: {viscosity: artificial, alpha: 0.02}
-geometry:
-  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.4, 0.5]}
-  - {type: slope, toe: [0.5, 0.0], gradient: '1:2', top: 0.4}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.4, 0.2]}
-resolution:
-  regions:
-    - {shape: band, slope: 1, above: 0.06, below: 0.03, follow: waterline, waterline_below: 0.05, waterline_above: 0.05, level: 1}
-time: {end: 0.1}
-)";
+  const std::string yaml = beach_case(
+      "{shape: band, slope: 1, above: 0.06, below: 0.03, follow: waterline, waterline_below: 0.05, waterline_above: 0.05, level: 1}");
   test::Setup<2> T(yaml);
   const auto& P = T.S.particles;
   const auto& lv = P.require(field::level);
