@@ -41,16 +41,21 @@ RGH = 1000.0 * 9.81 * 0.292  # rho g H, H = 2a
 def main():
     a = validation_args(NAME, __doc__, MODES)
     dx = MODES[a.mode]["dx"]
+    extra = parse_sets(a.set)
+    # (--set resolution.multirate=true: the refined run sub-cycles its fine level; the uniform runs have no levels)
+    multirate = str(extra.pop("resolution.multirate", "false")).lower() == "true"
+    region = REGION[:-1] + ", multirate: true}" if multirate else REGION
     runs = {"coarse": ({"particles.dx": dx}, f"uniform dx = {dx:g}"),
             "fine": ({"particles.dx": dx / 2}, f"uniform dx = {dx / 2:g}"),
-            "refined": ({"particles.dx": dx, "resolution": REGION}, f"dx = {dx:g}, level 1 at x >= 0.38 m")}
+            "refined": ({"particles.dx": dx, "resolution": region},
+                        f"dx = {dx:g}, level 1 at x >= 0.38 m" + (", multirate" if multirate else ""))}
     rep = Report()
     res = {}
     for tag, (sets, label) in runs.items():
         out = os.path.join(a.out, tag, f"dx{dx:g}")
         s, wall, rc = run_case(a.sphflume, CASE, out, {**sets, "scheme.integrator": "symplectic", "time.end": END,
                                                        "time.output_interval": GAUGE_DT, "time.snapshot_interval": 0.02,
-                                                       **parse_sets(a.set)}, a.threads, a.reuse)
+                                                       **extra}, a.threads, a.reuse)
         if s is None:
             print(f"[FAIL] {tag} ({label}): run exit code = {rc}   (threshold: 0)")
             return 2
