@@ -92,10 +92,7 @@ struct RatesPass {
   /// imposed-state particles need no rates: walls (unless dynamic) and outflow particles; inflow
   /// particles get theirs (unused while they are inflow) so that one turning into fluid has the
   /// rates of its state, which the Verlet integrator's next step uses
-  [[gnu::always_inline]] bool runs(std::uint32_t a) const {
-    return !((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow) && (!fast || fast[a] != 0.0);
-  }
-  const double* fast = nullptr;  // a multirate pass of the fast particles only (schemes/wcsph_multirate.cpp)
+  [[gnu::always_inline]] bool runs(std::uint32_t a) const { return !((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow); }
 };
 
 /// The candidates' columns, packed once per pass in store order (a particle's values computed
@@ -361,7 +358,6 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   q.xs = cfg_.xsph > 0.0 ? P.vector(field::xsph).data() : nullptr;
   q.n_owned = P.n_owned();
   q.dyn = S.walls->evolves_density();
-  q.fast = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;
   for (int d = 0; d < D; ++d) q.g[d] = S.gravity[d];
   q.rho0 = S.eos.rho0; q.c0 = S.eos.c0; q.xsph = cfg_.xsph;
   q.fdiff = (cfg_.density_diffusion != DensityDiffusion::None && cfg_.delta > 0.0) ? 1.0 : 0.0;
@@ -385,12 +381,15 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const std::uint32_t* __restrict sorted = cells.sorted().data();
   // a cell needs the loop when it holds owned particles that need rates (fluid; walls only when
   // dynamic); the others get zero rates here
+  // (a multirate fast pass: only the fast particles run, schemes/wcsph_multirate.cpp; the others'
+  // rates are restored after the pass)
+  const double* fast = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;
   auto needs = [&](std::size_t cell) {
     std::size_t m = 0;  // the particles the pass runs
     for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) {
       const std::uint32_t a = sorted[k];
       if (a >= q.n_owned) continue;
-      if (q.runs(a)) { ++m; continue; }
+      if (q.runs(a) && (!fast || fast[a] != 0.0)) { ++m; continue; }
       q.acc[a] = Vec<D>{};
       q.drho[a] = 0.0;
     }
@@ -406,7 +405,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
     std::uint64_t pairs = 0;
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t a = sorted[k];
-      if (a < q.n_owned && q.runs(a)) pairs += rates_particle<D, K, Xsph, Turb, Porous, Multi, Press, VarH>(q, kl, c, origin, a);
+      if (a < q.n_owned && q.runs(a) && (VarH ? !fast || fast[a] != 0.0 : true))
+        pairs += rates_particle<D, K, Xsph, Turb, Porous, Multi, Press, VarH>(q, kl, c, origin, a);
     }
     return pairs;
   });
