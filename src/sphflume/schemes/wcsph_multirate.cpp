@@ -31,83 +31,99 @@ double WCSPH<D>::multirate_time_step(const System<D>& S) const {
   return std::min(slow, 2.0 * fast);
 }
 
+namespace {
+
+/// The per-particle updates of a multirate step: the symplectic stages of schemes/wcsph.cpp's
+/// two_stage_step over a given step from the start state (x0, v0, ρ0), with the store fields
+/// looked up again after every re-sort (`look_up`; a lookup by name per particle was a sixth of
+/// the step).
+template <int D>
+class Stages {
+ public:
+  Stages(System<D>& S, bool xsph, bool dyn) : S_(S), P_(S.particles), xsph_(xsph), dyn_(dyn) { look_up(); }
+  void look_up() {
+    x0_ = P_.vector(field::x0.name).data();
+    v0_ = P_.vector(field::v0.name).data();
+    xs_ = xsph_ ? P_.vector(field::xsph).data() : nullptr;
+    r0_ = P_.scalar(field::rho0.name).data();
+    fast_ = P_.scalar(field::fast.name).data();
+    rm_ = P_.scalar(field::rho_mid.name).data();
+    kr_ = S_.porous ? P_.scalar(field::drag_rate).data() : nullptr;
+    im_ = S_.porous ? P_.scalar(field::inertia).data() : nullptr;
+  }
+  bool fast(std::size_t i) const { return fast_[i] != 0.0; }
+  double& rho_mid(std::size_t i) { return rm_[i]; }
+  /// x0, v0, ρ0 from the present state (fast_only: the fast particles' second step)
+  void start(bool fast_only) {
+    for (std::size_t i = 0; i < P_.n_owned(); ++i) {
+      if (fast_only && !fast(i)) continue;
+      x0_[i] = P_.pos[i];
+      v0_[i] = P_.vel[i];
+      r0_[i] = P_.rho[i];
+    }
+  }
+  /// the first stage: `step` from the start along the start's rates
+  void stage1(std::size_t i, double step) {
+    if (P_.kind[i] == Kind::Fluid) {
+      Vec<D> u = v0_[i];
+      if (xs_) u += xs_[i];
+      P_.pos[i] = x0_[i] + step * u;
+      P_.vel[i] = advance(i, v0_[i], step);
+      P_.rho[i] = r0_[i] + step * P_.drho[i];
+    } else if (P_.kind[i] == Kind::Wall && dyn_) {
+      P_.rho[i] = r0_[i] + step * P_.drho[i];
+    }
+  }
+  /// the symplectic close over `step` with the mid-step rates, ρ_stage the stage's density
+  void stage2(std::size_t i, double step, double rho_stage) {
+    if (P_.kind[i] != Kind::Fluid && !(P_.kind[i] == Kind::Wall && dyn_)) return;
+    const double eps = -P_.drho[i] / rho_stage * step;
+    P_.rho[i] = r0_[i] * (2.0 - eps) / (2.0 + eps);
+    if (P_.kind[i] != Kind::Fluid) return;
+    Vec<D> xcorr{};
+    if (xs_) xcorr = xs_[i];
+    P_.vel[i] = advance(i, v0_[i], step);
+    P_.pos[i] = x0_[i] + step * (0.5 * (P_.vel[i] + v0_[i]) + xcorr);
+  }
+
+ private:
+  // the point-implicit porous drag of two_stage_step: K/M and 1/M of the particle's last rates
+  Vec<D> advance(std::size_t i, const Vec<D>& base, double step) const {
+    if (!kr_) return base + step * P_.acc[i];
+    return (1.0 / (1.0 + step * kr_[i])) * (base + (step * im_[i]) * P_.acc[i]);
+  }
+  System<D>& S_;
+  ParticleStore<D>& P_;
+  bool xsph_, dyn_;
+  Vec<D>*x0_ = nullptr, *v0_ = nullptr, *xs_ = nullptr;
+  double *r0_ = nullptr, *fast_ = nullptr, *rm_ = nullptr, *kr_ = nullptr, *im_ = nullptr;
+};
+
+/// This step's fast set (store field "_fast"): the finest level, and every fluid particle whose
+/// h the interface lowered below the next-coarser level's by more than the float average's
+/// round-off (its CFL limit is then below the slow step).
+template <int D>
+void mark_fast(System<D>& S) {
+  auto& P = S.particles;
+  auto& fast = P.scalar(field::fast.name);
+  const auto& lv = P.require(field::level);
+  const auto& hs = P.require(field::smoothing_length);
+  const double h_slow = level_h(S.h, S.levels - 1);
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    fast[i] = P.kind[i] == Kind::Fluid && (static_cast<int>(lv[i]) == S.levels || hs[i] < (1.0 - 1e-3) * h_slow) ? 1.0 : 0.0;
+}
+
+}  // namespace
+
 template <int D>
 void WCSPH<D>::multirate_step(System<D>& S, double dt) {
   auto& P = S.particles;
-  const bool dyn = S.walls->evolves_density();
   const double t0 = S.time, half = 0.5 * dt, quarter = 0.25 * dt;
-  // rates at t for every particle
-  S.update_neighbours();
+  S.update_neighbours();  // rates at t for every particle
   fast_only_ = false;
   rates(S);
-  // this step's fast set: the finest level, and every particle whose h the interface lowered
-  // below the next-coarser level's by more than the float average's round-off (its CFL limit
-  // is then below the slow step)
-  {
-    auto& fast = P.scalar(field::fast.name);
-    const auto& lv = P.require(field::level);
-    const auto& hs = P.require(field::smoothing_length);
-    const double h_slow = level_h(S.h, S.levels - 1);
-    for (std::size_t i = 0; i < P.n_owned(); ++i)
-      fast[i] = P.kind[i] == Kind::Fluid && (static_cast<int>(lv[i]) == S.levels || hs[i] < (1.0 - 1e-3) * h_slow) ? 1.0 : 0.0;
-  }
-  // the store fields of the step, looked up again after every re-sort (a lookup by name per
-  // particle was a sixth of the step)
-  struct Fields {
-    Vec<D>*x0, *v0, *xs;
-    double *r0, *fast, *rm, *kr, *im;
-  } f{};
-  auto fields = [&] {
-    f.x0 = P.vector(field::x0.name).data();
-    f.v0 = P.vector(field::v0.name).data();
-    f.xs = cfg_.xsph > 0.0 ? P.vector(field::xsph).data() : nullptr;
-    f.r0 = P.scalar(field::rho0.name).data();
-    f.fast = P.scalar(field::fast.name).data();
-    f.rm = P.scalar(field::rho_mid.name).data();
-    f.kr = S.porous ? P.scalar(field::drag_rate).data() : nullptr;
-    f.im = S.porous ? P.scalar(field::inertia).data() : nullptr;
-  };
-  fields();
-  // the point-implicit porous drag of two_stage_step, K/M and 1/M of the particle's last rates
-  auto advance = [&](std::size_t i, const Vec<D>& base, double step) {
-    if (!f.kr) return base + step * P.acc[i];
-    return (1.0 / (1.0 + step * f.kr[i])) * (base + (step * f.im[i]) * P.acc[i]);
-  };
-  auto symplectic_rho = [&P](std::size_t i, double rho_start, double rho_stage, double step) {
-    const double eps = -P.drho[i] / rho_stage * step;
-    return rho_start * (2.0 - eps) / (2.0 + eps);
-  };
-  auto start = [&](bool fast_only) {  // x0, v0, ρ0: the step's start (fast_only: the fast particles' second step)
-    for (std::size_t i = 0; i < P.n_owned(); ++i) {
-      if (fast_only && f.fast[i] == 0.0) continue;
-      f.x0[i] = P.pos[i];
-      f.v0[i] = P.vel[i];
-      f.r0[i] = P.rho[i];
-    }
-  };
-  // stage 1 (a half step `step` from the start along the start's rates): every particle at t + Δ/4,
-  // the fast ones again at t + 3Δ/4, and the slow ones to their mid-step at t + Δ/2
-  auto stage1 = [&](std::size_t i, double step) {
-    if (P.kind[i] == Kind::Fluid) {
-      Vec<D> u = f.v0[i];
-      if (f.xs) u += f.xs[i];
-      P.pos[i] = f.x0[i] + step * u;
-      P.vel[i] = advance(i, f.v0[i], step);
-      P.rho[i] = f.r0[i] + step * P.drho[i];
-    } else if (P.kind[i] == Kind::Wall && dyn) {
-      P.rho[i] = f.r0[i] + step * P.drho[i];
-    }
-  };
-  // stage 2 (the symplectic close with the mid-step rates over `step`)
-  auto stage2 = [&](std::size_t i, double step, double rho_stage) {
-    if (P.kind[i] != Kind::Fluid && !(P.kind[i] == Kind::Wall && dyn)) return;
-    P.rho[i] = symplectic_rho(i, f.r0[i], rho_stage, step);
-    if (P.kind[i] != Kind::Fluid) return;
-    Vec<D> xcorr{};
-    if (f.xs) xcorr = f.xs[i];
-    P.vel[i] = advance(i, f.v0[i], step);
-    P.pos[i] = f.x0[i] + step * (0.5 * (P.vel[i] + f.v0[i]) + xcorr);
-  };
+  mark_fast(S);
+  Stages<D> g(S, cfg_.xsph > 0.0, S.walls->evolves_density());
   auto pass = [&](double t, bool fast_only) {
     move_walls(S, t);
     eos_pressure(S);
@@ -115,32 +131,33 @@ void WCSPH<D>::multirate_step(System<D>& S, double dt) {
     fast_only_ = fast_only;
     rates(S);
     fast_only_ = false;
-    fields();
+    g.look_up();
   };
-  start(false);
-  // t + Δ/4: every particle along its first stage (the fast ones' first half step, the slow ones'
-  // prediction along theirs)
-  for (std::size_t i = 0; i < P.n_owned(); ++i) stage1(i, quarter);
+  g.start(false);
+  // t + Δ/4: every particle along its first stage (the fast ones' first half step, the slow
+  // ones' prediction along theirs)
+  for (std::size_t i = 0; i < P.n_owned(); ++i) g.stage1(i, quarter);
   pass(t0 + quarter, true);
-  // t + Δ/2: the fast ones close their first step; the slow ones reach their mid-step
+  // t + Δ/2: the fast ones close their first step (ρ at t + Δ/4 is their stage's); the slow
+  // ones reach their mid-step
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
-    if (f.fast[i] != 0.0) stage2(i, half, P.rho[i]);  // (ρ at t + Δ/4: the stage's)
-    else stage1(i, half);
+    if (g.fast(i)) g.stage2(i, half, P.rho[i]);
+    else g.stage1(i, half);
   }
   pass(t0 + half, false);  // every particle: the fast ones' start rates, the slow ones' mid-step rates
   for (std::size_t i = 0; i < P.n_owned(); ++i)
-    if (f.fast[i] == 0.0) f.rm[i] = P.rho[i];
-  start(true);
+    if (!g.fast(i)) g.rho_mid(i) = P.rho[i];
+  g.start(true);
   // t + 3Δ/4: the fast ones' second first stage; the slow ones predicted along their close
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
-    if (f.fast[i] != 0.0) stage1(i, quarter);
-    else stage2(i, 3.0 * quarter, f.rm[i]);
+    if (g.fast(i)) g.stage1(i, quarter);
+    else g.stage2(i, 3.0 * quarter, g.rho_mid(i));
   }
   pass(t0 + 3.0 * quarter, true);
   // t + Δ: both close
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
-    if (f.fast[i] != 0.0) stage2(i, half, P.rho[i]);  // (ρ at t + 3Δ/4: the stage's)
-    else stage2(i, dt, f.rm[i]);
+    if (g.fast(i)) g.stage2(i, half, P.rho[i]);
+    else g.stage2(i, dt, g.rho_mid(i));
   }
   move_walls(S, t0 + dt);
 }
