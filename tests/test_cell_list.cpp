@@ -248,3 +248,51 @@ TEST(CellList, SweepRunsEveryNeededCellOnce) {
   omp_set_num_threads(saved);
 #endif
 }
+
+// Resolution levels (docs/numerics.md §14): cells as wide as the fine pairs' support, each cell's
+// stencil narrowed to its own pairs (set_reach) holds every pair within kappa (h_i + h_j)/2;
+// the fine cells away from the coarse particles scan ±1 cell, the others ±2; a query of the
+// largest support still finds every particle.
+template <int D>
+void variable_reach_holds_every_pair(int n, double h_fine, unsigned seed) {
+  std::mt19937 rng(seed);
+  const std::vector<Vec<D>> pos = random_positions<D>(n, rng);
+  const double kappa = 2.0, h_coarse = 2.0 * h_fine;
+  std::vector<double> h(pos.size());
+  for (std::size_t i = 0; i < pos.size(); ++i)  // fine for x < 0.9, coarse beyond 1.1, a ramp between
+    h[i] = h_fine + (h_coarse - h_fine) * std::clamp((pos[i][0] - 0.9) / 0.2, 0.0, 1.0);
+  CellList<D> cl;
+  cl.build(pos, pos.size(), kappa * h_coarse, false, kappa * h_fine * (1.0 + 1.0e-6));
+  cl.set_reach([&](std::uint32_t j) { return h[j]; }, kappa);
+  int fine_cells = 0, wide_cells = 0;
+  std::uint32_t rg[CellList<D>::kMaxRanges][2];
+  for (const std::uint32_t c : cl.occupied()) {
+    (cl.reach(c) == 1 ? fine_cells : wide_cells) += 1;
+    std::set<std::uint32_t> stencil;
+    const int nr = cl.cell_ranges(c, rg);
+    for (int r = 0; r < nr; ++r)
+      for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) stencil.insert(cl.sorted()[k]);
+    for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) {
+      const std::uint32_t i = cl.sorted()[k];
+      for (std::size_t j = 0; j < pos.size(); ++j) {
+        const Vec<D> r = pos[i] - pos[j];
+        const double s = 0.5 * kappa * (h[i] + h[j]);
+        if (dot(r, r) < s * s) {
+          ASSERT_TRUE(stencil.count(static_cast<std::uint32_t>(j))) << i << " misses " << j;
+        }
+      }
+    }
+  }
+  EXPECT_GT(fine_cells, 0);
+  EXPECT_GT(wide_cells, 0);
+  // the widest query still holds everything within the build radius
+  const double R = kappa * h_coarse;
+  for (std::size_t i = 0; i < pos.size(); i += 7) {
+    std::size_t found = 0, brute = 0;
+    cl.for_neighbours(pos, pos[i], R, [&](std::uint32_t, const Vec<D>&, double) { ++found; });
+    for (std::size_t j = 0; j < pos.size(); ++j) brute += dot(pos[i] - pos[j], pos[i] - pos[j]) < R * R ? 1 : 0;
+    EXPECT_EQ(found, brute);
+  }
+}
+TEST(CellList, VariableReachHoldsEveryPair2D) { variable_reach_holds_every_pair<2>(3000, 0.012, 6); }
+TEST(CellList, VariableReachHoldsEveryPair3D) { variable_reach_holds_every_pair<3>(6000, 0.03, 7); }

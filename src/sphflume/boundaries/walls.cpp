@@ -422,7 +422,8 @@ void WallModel<D>::add_backup(System<D>& S) const {
   // the cell's first particle (gather_if) and pre-tested in float (backup_candidates); the few
   // candidates it passes are tested again in double, as the force uses them. The rare pairs
   // found are applied serially, sorted, so the sums do not depend on the threads.
-  S.cells.mark_near(this->near_, [&, fast = S.fast_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); });
+  const int R = S.cells.reach_for(reach);  // (levels: cells may be narrower than the reach)
+  S.cells.mark_near(this->near_, [&, fast = S.fast_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); }, R);
   hits_.clear();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
@@ -471,7 +472,8 @@ void WallModel<D>::add_backup(System<D>& S) const {
           });
         }
         return std::uint64_t(0);
-      });
+      },
+      R);
   if (hits_.empty()) return;
   std::sort(hits_.begin(), hits_.end());
   apply_backup(S);

@@ -26,6 +26,10 @@ class CellList {
   /// at h/dx 1.5) beat a tighter stencil (kReach = 2: (5/2)^D instead of 3^D candidates, but
   /// 2.25 particles per cell): 1.6x faster in 2D, 1.2x in 3D, and 4-8x fewer cells in memory.
   static constexpr int kReach = 1;
+  /// The widest stencil a list may use (resolution levels, docs/numerics.md §14): cells then as
+  /// wide as the finest pairs' support (or half the largest), so that the coarse pairs need
+  /// ±2 cells and the fine ones ±1 (reach(), set_reach()).
+  static constexpr int kMaxReach = 2;
 
   /// Bin positions [0, n) for neighbour queries up to distance `radius` (the bounds and the
   /// cells in parallel; the same result for any thread count). `in_order`: the caller promises
@@ -33,14 +37,21 @@ class CellList {
   /// was told of (the store was permuted by sorted() and nothing was added, removed or moved
   /// since); then, with the same bounds, only the particles that changed cell are re-placed
   /// (update(): parallel, the same result as the full counting sort).
-  void build(const std::vector<V>& pos, std::size_t n, double radius, bool in_order = false) {
-    const double cell = radius / kReach;
+  ///
+  /// `cell` > 0 (resolution levels): cells of that side instead (at least radius / kMaxReach);
+  /// every cell's stencil then spans reach_for(radius) cells until set_reach() narrows it.
+  void build(const std::vector<V>& pos, std::size_t n, double radius, bool in_order = false, double cell = 0.0) {
+    if (cell <= 0.0) cell = radius / kReach;
+    if (radius > cell * kMaxReach) throw std::logic_error("cell list: cells narrower than radius / kMaxReach");
     const bool same_cell = cell == cell_;
     const V lo_before = lo_;
     int dims_before[D];
     for (int d = 0; d < D; ++d) dims_before[d] = dims_[d];
     cell_ = cell;
     inv_cell_ = 1.0 / cell;
+    reach_.clear();
+    hcell_.clear();
+    reach_max_ = reach_for(radius);
     V hi;
     for (int d = 0; d < D; ++d) { lo_[d] = std::numeric_limits<double>::max(); hi[d] = -std::numeric_limits<double>::max(); }
     double lo0 = lo_[0], lo1 = lo_[1], lo2 = lo_[D - 1], hi0 = hi[0], hi1 = hi[1], hi2 = hi[D - 1];
@@ -120,23 +131,85 @@ class CellList {
   bool identity() const { return identity_; }
 
   /// Max number of ranges returned by ranges().
-  static constexpr int kMaxRanges = D == 2 ? 2 * kReach + 1 : (2 * kReach + 1) * (2 * kReach + 1);
-  /// Index ranges [begin, end) into sorted() that cover the stencil around x (at most 3^(D-1)
-  /// ranges: cells adjacent along x are contiguous). Returns the number of ranges. For hot
-  /// loops that want plain code instead of a callback.
-  int ranges(const V& x, std::uint32_t (*out)[2]) const {
+  /// (a row of a cell's own stencil may split into runs: at most kMaxReach + 1 per row)
+  static constexpr int kMaxRanges = (kMaxReach + 1) * (D == 2 ? 2 * kMaxReach + 1 : (2 * kMaxReach + 1) * (2 * kMaxReach + 1));
+  /// Index ranges [begin, end) into sorted() that cover the particles within `radius` of x
+  /// (default: the build radius; at most (2 reach + 1)^(D-1) ranges: cells adjacent along x are
+  /// contiguous). Returns the number of ranges. For hot loops that want plain code instead of a
+  /// callback.
+  int ranges(const V& x, std::uint32_t (*out)[2], double radius = 0.0) const {
     int c[D];
     for (int d = 0; d < D; ++d) c[d] = coord(x, d);
-    return stencil_ranges(c, out);
+    return stencil_ranges(c, out, radius > 0.0 ? reach_for(radius) : reach_max_);
   }
-  /// The same ranges for every particle of cell `cell` (they share one stencil).
-  int cell_ranges(std::size_t cell, std::uint32_t (*out)[2]) const {
+  /// The same ranges for every particle of cell `cell` (they share one stencil): ±reach cells,
+  /// by default the cell's own reach (reach()).
+  int cell_ranges(std::size_t cell, std::uint32_t (*out)[2], int reach = -1) const {
+    const bool own = reach < 0;
+    const std::size_t self = cell;
+    if (own) reach = this->reach(cell);
     int c[D];
     for (int d = 0; d < D; ++d) {
       c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
       cell /= static_cast<std::size_t>(dims_[d]);
     }
-    return stencil_ranges(c, out);
+    return stencil_ranges(c, out, reach, own ? static_cast<std::int64_t>(self) : -1);
+  }
+  /// The stencil (± cells) that holds every particle within `radius` of any point of a cell.
+  int reach_for(double radius) const {
+    const double q = std::ceil(radius * inv_cell_);
+    if (!(q <= kMaxReach)) throw std::logic_error("cell list: a query wider than the widest stencil");
+    return std::max(1, static_cast<int>(q));
+  }
+  /// The stencil of cell `cell`'s pair passes: ±1 cell for one resolution, or what set_reach()
+  /// found (the build radius's until then).
+  int reach(std::size_t cell) const { return reach_.empty() ? reach_max_ : reach_[cell]; }
+  /// Resolution levels (docs/numerics.md §14): narrow each occupied cell's stencil to the pairs
+  /// of its particles, whose support is kappa (h_a + h_b) / 2 with h(j) particle j's smoothing
+  /// length: ±ceil(kappa (max h in the cell + max h within the widest stencil) / (2 cell))
+  /// cells. A fine particle far from the coarse ones then scans its own level's neighbourhood,
+  /// not the coarse support's. Valid until the next build or until h changes (call it again).
+  template <class H>
+  void set_reach(H&& h, double kappa) {
+    const std::size_t ncell = cell_count(), nocc = occupied_.size();
+    if (reach_max_ <= 1) { reach_.clear(); hcell_.clear(); return; }
+    hcell_.assign(ncell, 0.0f);
+    reach_.resize(ncell);
+    pair_reach_ = kappa * 0.5 * inv_cell_ * (1.0 + 1.0e-7);
+    float* __restrict hc = hcell_.data();
+#pragma omp parallel if (sorted_.size() > 4096)
+    {
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        const std::uint32_t c = occupied_[oc];
+        double m = 0.0;
+        for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) m = std::max(m, double(h(sorted_[k])));
+        hc[c] = static_cast<float>(m);
+      }
+      const int R = reach_max_;
+      // (the cell's side carries a margin of 1e-6 over the finest support: a fine cell's
+      // ceil(1 - 1e-6) is 1; float h's rounding is below it)
+      const double f = kappa * 0.5 * inv_cell_;
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        std::size_t cell = occupied_[oc];
+        int c[D];
+        for (int d = 0; d < D; ++d) {
+          c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
+          cell /= static_cast<std::size_t>(dims_[d]);
+        }
+        float win = 0.0f;
+        const int z0 = D == 3 ? std::max(c[D - 1] - R, 0) : 0;
+        const int z1 = D == 3 ? std::min(c[D - 1] + R, dims_[D - 1] - 1) : 0;
+        for (int z = z0; z <= z1; ++z)
+          for (int y = std::max(c[1] - R, 0); y <= std::min(c[1] + R, dims_[1] - 1); ++y) {
+            const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+            for (int x = std::max(c[0] - R, 0); x <= std::min(c[0] + R, dims_[0] - 1); ++x) win = std::max(win, hc[row + x]);
+          }
+        const double q = std::ceil(f * (double(hc[occupied_[oc]]) + double(win)) * (1.0 + 1.0e-7));
+        reach_[occupied_[oc]] = static_cast<std::uint8_t>(std::clamp(static_cast<int>(q), 1, R));
+      }
+    }
   }
   /// The cells that hold at least one particle, ascending (a tank is mostly empty cells: loops
   /// over these hand out work, not empty cells, to the threads).
@@ -147,35 +220,60 @@ class CellList {
   std::uint32_t cell_end(std::size_t c) const { return cell_start_[c + 1]; }
 
  private:
-  int stencil_ranges(const int* c, std::uint32_t (*out)[2]) const {
+  /// The stencil ±R cells around cell coordinates c as ranges of sorted(). `self` >= 0 (a cell's
+  /// own stencil after set_reach): of the cells beyond ±1 only those that may hold a pair of
+  /// cell `self` are taken, those whose gap g (in cells) to it is below f (h_self + h_cell),
+  /// f = kappa / (2 cell), with each cell's largest h (empty cells are taken: they join ranges
+  /// and cost nothing). The ranges of one row are its runs of taken cells.
+  int stencil_ranges(const int* c, std::uint32_t (*out)[2], int R, std::int64_t self = -1) const {
     int n = 0;
-    const int x0 = std::max(c[0] - kReach, 0), x1 = std::min(c[0] + kReach, dims_[0] - 1);
-    if constexpr (D == 2) {
-      for (int z = std::max(c[1] - kReach, 0); z <= std::min(c[1] + kReach, dims_[1] - 1); ++z) {
-        const std::size_t row = static_cast<std::size_t>(z) * dims_[0];
-        out[n][0] = cell_start_[row + x0];
-        out[n][1] = cell_start_[row + x1 + 1];
-        ++n;
-      }
-    } else {
-      for (int z = std::max(c[2] - kReach, 0); z <= std::min(c[2] + kReach, dims_[2] - 1); ++z)
-        for (int y = std::max(c[1] - kReach, 0); y <= std::min(c[1] + kReach, dims_[1] - 1); ++y) {
-          const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+    const int x0 = std::max(c[0] - R, 0), x1 = std::min(c[0] + R, dims_[0] - 1);
+    const int z0 = D == 3 ? std::max(c[D - 1] - R, 0) : 0, z1 = D == 3 ? std::min(c[D - 1] + R, dims_[D - 1] - 1) : 0;
+    const bool filter = self >= 0 && R > 1 && !hcell_.empty();
+    const double hs = filter ? double(hcell_[static_cast<std::size_t>(self)]) : 0.0;
+    for (int z = z0; z <= z1; ++z)
+      for (int y = std::max(c[1] - R, 0); y <= std::min(c[1] + R, dims_[1] - 1); ++y) {
+        const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+        const int gz = D == 3 ? std::max(std::abs(z - c[D - 1]) - 1, 0) : 0, gy = std::max(std::abs(y - c[1]) - 1, 0);
+        const int gyz = gy * gy + gz * gz;
+        if (!filter) {
           out[n][0] = cell_start_[row + x0];
           out[n][1] = cell_start_[row + x1 + 1];
           ++n;
+          continue;
         }
-    }
+        int run = -1;  // the first cell of the open run
+        for (int x = x0; x <= x1 + 1; ++x) {
+          bool take = false;
+          if (x <= x1) {
+            const std::size_t k = row + static_cast<std::size_t>(x);
+            const int gx = std::max(std::abs(x - c[0]) - 1, 0), g2 = gx * gx + gyz;
+            take = g2 == 0 || cell_start_[k] == cell_start_[k + 1];
+            if (!take) {
+              const double s = pair_reach_ * (hs + double(hcell_[k]));
+              take = double(g2) < s * s;
+            }
+          }
+          if (take && run < 0) run = x;
+          if (!take && run >= 0) {
+            out[n][0] = cell_start_[row + static_cast<std::size_t>(run)];
+            out[n][1] = cell_start_[row + static_cast<std::size_t>(x)];
+            ++n;
+            run = -1;
+          }
+        }
+      }
     return n;
   }
 
  public:
   /// Calls f(j) for every particle j in the stencil around position x (candidates; the
-  /// caller checks the distance). Covers every particle within the build radius.
+  /// caller checks the distance). Covers every particle within `radius` (default: the build
+  /// radius; at most that).
   template <class Fn>
-  void for_candidates(const V& x, Fn&& f) const {
+  void for_candidates(const V& x, Fn&& f, double radius = 0.0) const {
     std::uint32_t rg[kMaxRanges][2];
-    const int nr = ranges(x, rg);
+    const int nr = ranges(x, rg, radius);
     for (int r = 0; r < nr; ++r)
       for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) f(sorted_[k]);
   }
@@ -188,15 +286,15 @@ class CellList {
       const V rij = x - pos[j];
       const double r2 = dot(rij, rij);
       if (r2 < r2max) f(j, rij, r2);
-    });
+    }, radius);
   }
 
   /// near[c] = 1 for every occupied cell whose stencil holds a particle i with pred(i): a
-  /// particle in a cell with near == 0 has no such particle within the build radius (empty cells
-  /// are left 0: no particle asks). O(occupied cells x 3^D), not O(cells): a tank is mostly
-  /// empty cells.
+  /// particle in a cell with near == 0 has no such particle within the cell's pair reach (empty
+  /// cells are left 0: no particle asks). The stencil: ±reach cells, by default each cell's own
+  /// (reach()). O(occupied cells x 3^D), not O(cells): a tank is mostly empty cells.
   template <class Pred>
-  void mark_near(std::vector<char>& near, Pred&& pred) const {
+  void mark_near(std::vector<char>& near, Pred&& pred, int reach = -1) const {
     const std::size_t ncell = cell_count();
     const std::size_t nocc = occupied_.size();
     tmp_.assign(ncell, 0);  // tmp_[c] = 1: cell c itself holds a particle with pred
@@ -218,13 +316,14 @@ class CellList {
           c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
           cell /= static_cast<std::size_t>(dims_[d]);
         }
-        const int z0 = D == 3 ? std::max(c[D - 1] - kReach, 0) : 0;
-        const int z1 = D == 3 ? std::min(c[D - 1] + kReach, dims_[D - 1] - 1) : 0;
+        const int R = reach >= 0 ? reach : this->reach(occupied_[oc]);
+        const int z0 = D == 3 ? std::max(c[D - 1] - R, 0) : 0;
+        const int z1 = D == 3 ? std::min(c[D - 1] + R, dims_[D - 1] - 1) : 0;
         char any = 0;
         for (int z = z0; z <= z1; ++z)
-          for (int y = std::max(c[1] - kReach, 0); y <= std::min(c[1] + kReach, dims_[1] - 1); ++y) {
+          for (int y = std::max(c[1] - R, 0); y <= std::min(c[1] + R, dims_[1] - 1); ++y) {
             const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
-            for (int x = std::max(c[0] - kReach, 0); x <= std::min(c[0] + kReach, dims_[0] - 1); ++x) any |= has[row + x];
+            for (int x = std::max(c[0] - R, 0); x <= std::min(c[0] + R, dims_[0] - 1); ++x) any |= has[row + x];
           }
         near[occupied_[oc]] = any;
       }
@@ -237,6 +336,7 @@ class CellList {
   const std::vector<std::uint32_t>& sorted() const { return sorted_; }
   std::size_t bytes() const {
     std::size_t b = cell_of_.capacity() * 4 + sorted_.capacity() * 4 + cell_start_.capacity() * 4 + occupied_.capacity() * 4 +
+                    reach_.capacity() + hcell_.capacity() * 4 +
                     tmp_.capacity() + sweep_work_.capacity() * 8 + moved_in_.capacity() * sizeof(Move) +
                     (moved_out_.capacity() + left_.capacity() + arrive_.capacity()) * 4;
     for (const auto& m : found_) b += m.capacity() * sizeof(Move);
@@ -253,6 +353,10 @@ class CellList {
   V lo_{};
   int dims_[D]{};
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, occupied_;
+  int reach_max_ = kReach;            // the build radius's stencil
+  std::vector<std::uint8_t> reach_;   // each cell's stencil (set_reach); empty: reach_max_
+  std::vector<float> hcell_;          // each cell's largest h (set_reach; empty: no filter)
+  double pair_reach_ = 0.0;           // kappa / (2 cell) with a margin of 1e-7 (set_reach)
   mutable std::vector<char> tmp_;  // mark_near's scratch (kept: no allocation per call)
   mutable std::vector<std::uint64_t> sweep_work_;
   bool adopted_ = false;  // the last build was followed by adopt_permutation()

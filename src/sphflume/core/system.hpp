@@ -32,9 +32,25 @@ struct System {
   double dx = 0.0, h = 0.0, support = 0.0;
   /// Resolution levels (docs/numerics.md §14): levels > 0 when a `resolution:` section refines
   /// regions; the particles then carry the store fields "h" and "level" (spacing dx / 2^level,
-  /// h / 2^level, mass / 2^(D level)). dx, h and support stay level 0's: the cell list is built
-  /// with the largest support, so the 3^D stencil holds every pair.
+  /// h / 2^level, mass / 2^(D level)). dx, h and support stay level 0's; the cell list's cells
+  /// are then as wide as the finest pairs' support (cell_side) and each cell's stencil reaches
+  /// its own pairs (CellList::set_reach: ±1 cell among fine particles, ±2 near coarse ones).
   int levels = 0;
+  /// The cell list's side: the support with one resolution; with levels the finest level's
+  /// support, at least half the largest (CellList::kMaxReach), with a margin of 1e-6 (a fine
+  /// pair's support is then within one cell however h rounds).
+  double cell_side() const {
+    if (levels == 0) return support;
+    return std::max(support / h * finest_h(), support / CellList<D>::kMaxReach) * (1.0 + 1.0e-6);
+  }
+  /// Narrow the cell list's stencils to each cell's pairs (levels; after h or the list changed).
+  void set_cell_reach() {
+    if (levels == 0) return;
+    const auto* hs = particles.find(field::smoothing_length);
+    if (!hs || hs->size() < cells.sorted().size()) return;  // (before the levels' h is set: the widest stencil)
+    const double* hv = hs->data();
+    cells.set_reach([hv](std::uint32_t j) { return hv[j]; }, support / h);
+  }
   /// A multirate pass of the fast particles only (schemes/wcsph_multirate.cpp): their flags (the
   /// store field "_fast"), so that the walls set the states only near them; null otherwise.
   const double* fast_only = nullptr;
@@ -107,7 +123,8 @@ struct System {
     for (int l = 0; l < nl; ++l) layer[l]->migrate(particles);  // (what left this part since the last build)
     // (the store still in the order of the last re-sort: only the particles that changed cell
     // are re-placed)
-    cells.build(particles.pos, particles.n_owned(), support, cells_layout_ == particles.layout());
+    const double side = cell_side();
+    cells.build(particles.pos, particles.n_owned(), support, cells_layout_ == particles.layout(), side);
     if (cells.updated())
       particles.permute_runs(cells.moved(), cells.moved_from(), cells.moved_to());
     else
@@ -116,9 +133,10 @@ struct System {
     cells_layout_ = particles.layout();
     for (int l = 0; l < nl; ++l) layer[l]->build(particles, support * 1.1 + dx);
     if (particles.size() > particles.n_owned()) {
-      cells.build(particles.pos, particles.size(), support);
+      cells.build(particles.pos, particles.size(), support, false, side);
       cells_layout_ = 0;  // (the list now holds the images too)
     }
+    set_cell_reach();
   }
   std::uint64_t cells_layout_ = 0;  // the store's layout() the cell list was last sorted for
   /// Copy the fields of every image from its source again (after a pass changed fields that
