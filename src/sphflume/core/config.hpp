@@ -389,6 +389,7 @@ struct ResolutionConfig {
   int relax_iterations = 300;  // the level interface's relaxation at set-up (physics/resolution.hpp)
   int settle_iterations = 10;  // the shifts of each split's children (physics/resolution.hpp adapt_levels)
   bool multirate = false;      // the finest level sub-cycled at half the others' step (schemes/wcsph_multirate.cpp)
+  bool finest_cells = false;   // `cells: finest`: the cell list at the finest pairs' support (core/system.hpp cell_side)
   int multirate_line = 0;
   int line = 0;
   bool on() const { return !regions.empty(); }

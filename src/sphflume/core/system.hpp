@@ -32,20 +32,23 @@ struct System {
   double dx = 0.0, h = 0.0, support = 0.0;
   /// Resolution levels (docs/numerics.md §14): levels > 0 when a `resolution:` section refines
   /// regions; the particles then carry the store fields "h" and "level" (spacing dx / 2^level,
-  /// h / 2^level, mass / 2^(D level)). dx, h and support stay level 0's; the cell list's cells
-  /// are then as wide as the finest pairs' support (cell_side) and each cell's stencil reaches
-  /// its own pairs (CellList::set_reach: ±1 cell among fine particles, ±2 near coarse ones).
+  /// h / 2^level, mass / 2^(D level)). dx, h and support stay level 0's; the cell list is built
+  /// with the largest support (its 3^D stencil holds every pair) or, with finest_cells
+  /// (`resolution.cells: finest`), with cells as wide as the finest pairs' support (cell_side)
+  /// and each cell's stencil narrowed to its own pairs (CellList::set_reach: ±1 cell among fine
+  /// particles, ±2 near coarse ones).
   int levels = 0;
-  /// The cell list's side: the support with one resolution; with levels the finest level's
-  /// support, at least half the largest (CellList::kMaxReach), with a margin of 1e-6 (a fine
-  /// pair's support is then within one cell however h rounds).
+  bool finest_cells = false;
+  /// The cell list's side: level 0's support; with finest_cells the finest level's support, at
+  /// least half the largest (CellList::kMaxReach), with a margin of 1e-6 (a fine pair's support
+  /// is then within one cell however h rounds).
   double cell_side() const {
-    if (levels == 0) return support;
+    if (!finest_cells) return support;
     return std::max(support / h * finest_h(), support / CellList<D>::kMaxReach) * (1.0 + 1.0e-6);
   }
   /// Narrow the cell list's stencils to each cell's pairs (levels; after h or the list changed).
   void set_cell_reach() {
-    if (levels == 0) return;
+    if (!finest_cells) return;
     const auto* hs = particles.find(field::smoothing_length);
     if (!hs || hs->size() < cells.sorted().size()) return;  // (before the levels' h is set: the widest stencil)
     const double* hv = hs->data();

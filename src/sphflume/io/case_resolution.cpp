@@ -116,6 +116,9 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
   const double settle = r.in_range("settle", 10.0, 0.0, 1000.0);
   if (settle != static_cast<int>(settle)) r.fail_at(r.get("settle"), "resolution.settle", "a whole number of iterations, 0 to 1000");
   res.settle_iterations = static_cast<int>(settle);
+  // the cell list's cells: level 0's support (each cell's 3^D stencil) or the finest pairs' (each
+  // cell's stencil narrowed to its own pairs; docs/numerics.md §14 has where each is faster)
+  res.finest_cells = r.choice("cells", "level0", {"level0", "finest"}) == "finest";
   res.multirate = r.scalar<bool>("multirate", false);
   if (res.multirate) {
     res.multirate_line = r.get("multirate").key_line();

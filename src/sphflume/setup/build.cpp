@@ -40,6 +40,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
   relax_porous_interface<D>(c, S, f, rep);
   refine_fill<D>(c, S.support, f);  // resolution levels (docs/numerics.md §14)
   S.levels = c.resolution.max_level();
+  S.finest_cells = S.levels > 0 && c.resolution.finest_cells;
   if (S.levels > 0) {
     const auto rr = relax_level_band<D>(c.kernel, S.h, dx, f.fluid_x, f.fluid_level, f.wall_x, c.resolution.relax_iterations);
     rep.levels = S.levels;
