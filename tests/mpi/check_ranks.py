@@ -27,7 +27,8 @@ correctness) must give:
 - open channels (particles created and deleted, inflow states averaged at nodes on other ranks, a transported
   pollutant with a bed source across the cut) and an air bubble in water (two phases) keep their counts,
   masses and the masses through their boundaries, and their profile and flux gauges agree within 1e-4;
-- resolution levels (a dam break through a refined box): mass conserved and equal to one process's, unique ids,
+- resolution levels (a dam break through a refined box; again with `multirate: true, cells: finest`): mass conserved
+  and equal to one process's, unique ids,
   front and wall sensor within 5 times what one ulp of gravity moves them;
 - what distributed runs do not support (ISPH with Eigen's solver, which holds the whole system in one process) is
   refused with exit 2 and a message that names it.
@@ -409,27 +410,36 @@ with open(os.path.join(ROOT, "cases", "dambreak_2d.yaml")) as f:
 lv_sets = {"particles.dx": 0.0146, "scheme.integrator": "symplectic", "time.end": 0.6, "time.output_interval": 0.01,
            "time.snapshot_interval": 0.1,
            "resolution": {"regions": [{"shape": "box", "min": [0.38, 0.0], "max": [0.6, 0.8], "level": 1}]}}
-lv_out, lv_case, ok = one_and_ulps("levels", "dambreak_2d.yaml", lv_sets, DB_GAUGES)
-for n in RANKS if ok else []:
-    out = os.path.join(args.work, f"levels_{n}")
-    p = run(n, lv_case, out)
-    check(p.returncode == 0, f"levels: {n} ranks ran ({p.returncode}) {p.stderr.strip()[-300:]}")
-    if p.returncode != 0:
-        continue
-    sa, sb = (json.load(open(os.path.join(d, "summary.json"))) for d in (lv_out["one"], out))
-    ra, rb = sa["resolution"], sb["resolution"]
-    check(rb["splits"] > 50 and abs(sb["mass"]["relative_error"]) <= 1e-12
-          and abs(sb["mass"]["final"] - sa["mass"]["final"]) <= 1e-12 * sa["mass"]["final"],
-          f"levels {n} ranks: {rb['splits']} splits, {rb['merges']} merges, fluid per level {rb['fluid_per_level']} (one "
-          f"process: {ra['splits']}, {ra['merges']}, {ra['fluid_per_level']}); mass error {sb['mass']['relative_error']:.1e}, "
-          f"final mass {sb['mass']['final']:.15g} / {sa['mass']['final']:.15g}")
-    last = sorted(x for x in os.listdir(os.path.join(out, "snapshots")) if x.endswith(".h5"))[-1]
-    with h5py.File(os.path.join(out, "snapshots", last)) as f:
-        ids = list(f["id"][:])
-    check(len(set(ids)) == len(ids), f"levels {n} ranks: the last snapshot's {len(ids)} ids are unique")
-    for gname in ("front", "p_wall_right"):
-        col = [h for h in gauge(lv_out["one"], gname) if h != "time"][0]
-        ulp_gate(f"levels {n} ranks", lv_out["one"], out, (lv_out["ulp"], lv_out["ulpm"]), gname, col)
+
+def levels_block(tag, sets):
+    """The levels gates above for the variant `tag` of the refined dam break (sets)."""
+    lv_out, lv_case, ok = one_and_ulps(tag, "dambreak_2d.yaml", sets, DB_GAUGES)
+    for n in RANKS if ok else []:
+        out = os.path.join(args.work, f"{tag}_{n}")
+        p = run(n, lv_case, out)
+        check(p.returncode == 0, f"{tag}: {n} ranks ran ({p.returncode}) {p.stderr.strip()[-300:]}")
+        if p.returncode != 0:
+            continue
+        sa, sb = (json.load(open(os.path.join(d, "summary.json"))) for d in (lv_out["one"], out))
+        ra, rb = sa["resolution"], sb["resolution"]
+        check(rb["splits"] > 50 and abs(sb["mass"]["relative_error"]) <= 1e-12
+              and abs(sb["mass"]["final"] - sa["mass"]["final"]) <= 1e-12 * sa["mass"]["final"],
+              f"{tag} {n} ranks: {rb['splits']} splits, {rb['merges']} merges, fluid per level {rb['fluid_per_level']} "
+              f"(one process: {ra['splits']}, {ra['merges']}, {ra['fluid_per_level']}); mass error "
+              f"{sb['mass']['relative_error']:.1e}, final mass {sb['mass']['final']:.15g} / {sa['mass']['final']:.15g}")
+        last = sorted(x for x in os.listdir(os.path.join(out, "snapshots")) if x.endswith(".h5"))[-1]
+        with h5py.File(os.path.join(out, "snapshots", last)) as f:
+            ids = list(f["id"][:])
+        check(len(set(ids)) == len(ids), f"{tag} {n} ranks: the last snapshot's {len(ids)} ids are unique")
+        for gname in ("front", "p_wall_right"):
+            col = [h for h in gauge(lv_out["one"], gname) if h != "time"][0]
+            ulp_gate(f"{tag} {n} ranks", lv_out["one"], out, (lv_out["ulp"], lv_out["ulpm"]), gname, col)
+
+
+levels_block("levels", lv_sets)
+# the same with the multirate step (the box's particles sub-cycled, docs/numerics.md §14) and the finest cells
+# (each cell's stencil narrowed to its pairs, with the halo's images among them): the same gates
+levels_block("levels_mr", {**lv_sets, "resolution": {**lv_sets["resolution"], "multirate": True, "cells": "finest"}})
 
 # restart on another rank count: the one-process 2D run's snapshot at t = 1 continued on 2 ranks to t = 2
 snaps = sorted(os.listdir(os.path.join(args.work, "dambreak_2d_1", "snapshots")))
