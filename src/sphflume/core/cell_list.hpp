@@ -149,10 +149,7 @@ class CellList {
     const std::size_t self = cell;
     if (own) reach = this->reach(cell);
     int c[D];
-    for (int d = 0; d < D; ++d) {
-      c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
-      cell /= static_cast<std::size_t>(dims_[d]);
-    }
+    coords(cell, c);
     return stencil_ranges(c, out, reach, own ? static_cast<std::int64_t>(self) : -1);
   }
   /// The stencil (± cells) that holds every particle within `radius` of any point of a cell.
@@ -192,20 +189,7 @@ class CellList {
       const double f = kappa * 0.5 * inv_cell_;
 #pragma omp for schedule(static)
       for (std::size_t oc = 0; oc < nocc; ++oc) {
-        std::size_t cell = occupied_[oc];
-        int c[D];
-        for (int d = 0; d < D; ++d) {
-          c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
-          cell /= static_cast<std::size_t>(dims_[d]);
-        }
-        float win = 0.0f;
-        const int z0 = D == 3 ? std::max(c[D - 1] - R, 0) : 0;
-        const int z1 = D == 3 ? std::min(c[D - 1] + R, dims_[D - 1] - 1) : 0;
-        for (int z = z0; z <= z1; ++z)
-          for (int y = std::max(c[1] - R, 0); y <= std::min(c[1] + R, dims_[1] - 1); ++y) {
-            const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
-            for (int x = std::max(c[0] - R, 0); x <= std::min(c[0] + R, dims_[0] - 1); ++x) win = std::max(win, hc[row + x]);
-          }
+        const float win = window(hc, occupied_[oc], R, 0.0f, [](float a, float b) { return std::max(a, b); });
         const double q = std::ceil(f * (double(hc[occupied_[oc]]) + double(win)) * (1.0 + 1.0e-7));
         reach_[occupied_[oc]] = static_cast<std::uint8_t>(std::clamp(static_cast<int>(q), 1, R));
       }
@@ -225,6 +209,28 @@ class CellList {
   /// cell `self` are taken, those whose gap g (in cells) to it is below f (h_self + h_cell),
   /// f = kappa / (2 cell), with each cell's largest h (empty cells are taken: they join ranges
   /// and cost nothing). The ranges of one row are its runs of taken cells.
+  /// The coordinates of cell `cell`.
+  void coords(std::size_t cell, int* c) const {
+    for (int d = 0; d < D; ++d) {
+      c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
+      cell /= static_cast<std::size_t>(dims_[d]);
+    }
+  }
+  /// op over v[] of the cells within ±R of cell `cell` (its window; init for none).
+  template <class T, class Op>
+  T window(const T* v, std::size_t cell, int R, T init, Op&& op) const {
+    int c[D];
+    coords(cell, c);
+    T acc = init;
+    const int z0 = D == 3 ? std::max(c[D - 1] - R, 0) : 0;
+    const int z1 = D == 3 ? std::min(c[D - 1] + R, dims_[D - 1] - 1) : 0;
+    for (int z = z0; z <= z1; ++z)
+      for (int y = std::max(c[1] - R, 0); y <= std::min(c[1] + R, dims_[1] - 1); ++y) {
+        const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+        for (int x = std::max(c[0] - R, 0); x <= std::min(c[0] + R, dims_[0] - 1); ++x) acc = op(acc, v[row + x]);
+      }
+    return acc;
+  }
   int stencil_ranges(const int* c, std::uint32_t (*out)[2], int R, std::int64_t self = -1) const {
     int n = 0;
     const int x0 = std::max(c[0] - R, 0), x1 = std::min(c[0] + R, dims_[0] - 1);
@@ -310,21 +316,8 @@ class CellList {
       }
 #pragma omp for schedule(static)
       for (std::size_t oc = 0; oc < nocc; ++oc) {
-        std::size_t cell = occupied_[oc];
-        int c[D];
-        for (int d = 0; d < D; ++d) {
-          c[d] = static_cast<int>(cell % static_cast<std::size_t>(dims_[d]));
-          cell /= static_cast<std::size_t>(dims_[d]);
-        }
         const int R = reach >= 0 ? reach : this->reach(occupied_[oc]);
-        const int z0 = D == 3 ? std::max(c[D - 1] - R, 0) : 0;
-        const int z1 = D == 3 ? std::min(c[D - 1] + R, dims_[D - 1] - 1) : 0;
-        char any = 0;
-        for (int z = z0; z <= z1; ++z)
-          for (int y = std::max(c[1] - R, 0); y <= std::min(c[1] + R, dims_[1] - 1); ++y) {
-            const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
-            for (int x = std::max(c[0] - R, 0); x <= std::min(c[0] + R, dims_[0] - 1); ++x) any |= has[row + x];
-          }
+        const char any = window(has, occupied_[oc], R, char(0), [](char a, char b) { return char(a | b); });
         near[occupied_[oc]] = any;
       }
     }
