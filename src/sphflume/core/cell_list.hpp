@@ -204,11 +204,6 @@ class CellList {
   std::uint32_t cell_end(std::size_t c) const { return cell_start_[c + 1]; }
 
  private:
-  /// The stencil ±R cells around cell coordinates c as ranges of sorted(). `self` >= 0 (a cell's
-  /// own stencil after set_reach): of the cells beyond ±1 only those that may hold a pair of
-  /// cell `self` are taken, those whose gap g (in cells) to it is below f (h_self + h_cell),
-  /// f = kappa / (2 cell), with each cell's largest h (empty cells are taken: they join ranges
-  /// and cost nothing). The ranges of one row are its runs of taken cells.
   /// The coordinates of cell `cell`.
   void coords(std::size_t cell, int* c) const {
     for (int d = 0; d < D; ++d) {
@@ -231,6 +226,11 @@ class CellList {
       }
     return acc;
   }
+  /// The stencil ±R cells around cell coordinates c as ranges of sorted(). `self` >= 0 (a cell's
+  /// own stencil after set_reach): of the cells beyond ±1 only those that may hold a pair of
+  /// cell `self` are taken, those whose gap g (in cells) to it is below f (h_self + h_cell),
+  /// f = kappa / (2 cell), with each cell's largest h (empty cells are taken: they join ranges
+  /// and cost nothing). The ranges of one row are its runs of taken cells.
   int stencil_ranges(const int* c, std::uint32_t (*out)[2], int R, std::int64_t self = -1) const {
     int n = 0;
     const int x0 = std::max(c[0] - R, 0), x1 = std::min(c[0] + R, dims_[0] - 1);
