@@ -175,12 +175,12 @@ LoopEnd step_loop(Run<D>& R, RunOutput<D>& out, const Case& c, const RunOptions&
 template <int D>
 RunResult run_dim(const Case& c, const RunOptions& o) {
   const auto comm = world();
+#ifdef _OPENMP
+  if (o.threads > 0) omp_set_num_threads(o.threads);  // (before the set-up: --threads holds for all of the run)
+#endif
   Run<D> R(c);
   System<D>& S = R.S;
   load_and_distribute<D>(R, c, o, *comm, comm);
-#ifdef _OPENMP
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-#endif
   RunOutput<D> out(c, o, R, comm);
   if (o.restart.empty()) {
     R.start_fresh();
