@@ -21,6 +21,7 @@
 #include "sphflume/core/refinement.hpp"
 #include "sphflume/physics/porous.hpp"
 #include "sphflume/physics/resolution.hpp"
+#include "sphflume/schemes/wcsph_common.hpp"
 #include "test_helpers.hpp"
 
 using namespace sph;
@@ -557,4 +558,28 @@ TEST(Resolution, MultirateSubCyclesTheFineLevel) {
   std::string verlet = ymr;
   verlet.replace(verlet.find("scheme: {"), 9, "scheme: {integrator: verlet, ");
   EXPECT_HAS(test::build_error<2>(verlet), "resolution.multirate");
+}
+
+TEST(Resolution, TheStepFollowsTheFinestLevelPresent) {
+  // the explicit step's h (schemes/wcsph_common.hpp step_h): a refined region that holds no fluid
+  // (above the water) leaves the step at level 0's h; a refined block in the water halves it; a
+  // region over the wall alone (its wall points split, no fluid in it) gives the fluid-wall pairs'
+  // mean h, 3/4 of level 0's. The same with multirate: no fast particle, the step of level 0.
+  test::Setup<2> dry(pool(kAboveWater)), wet(pool(kBlock)),
+      wall(pool("{shape: box, min: [0.0, 0.33], max: [0.05, 0.4], level: 1}"));
+  const double h0 = dry.S.h;
+  EXPECT_EQ(step_h(dry.S), h0);
+  EXPECT_EQ(step_h(wet.S), 0.5 * h0);
+  const auto& lv = wall.S.particles.require(field::level);
+  ASSERT_GT(std::count(lv.begin(), lv.end(), 1.0), 0);  // (split wall points)
+  EXPECT_EQ(step_h(wall.S), 0.75 * h0);
+  // the steps themselves (at t = 0 the acoustic limit, linear in h: exactly twice over the dry
+  // region what it is with the wet block), and the multirate step over the dry region the same
+  std::string ymr = pool(kAboveWater);
+  ymr.replace(ymr.find("level: 1}"), 9, "level: 1}\n  multirate: true");
+  test::Setup<2> mr(ymr);
+  for (auto* T : {&dry, &wet, &mr}) T->named->initialise(T->S);
+  const double dt_dry = dry.named->time_step(dry.S);
+  EXPECT_EQ(dt_dry, 2.0 * wet.named->time_step(wet.S));
+  EXPECT_EQ(mr.named->time_step(mr.S), dt_dry);
 }

@@ -9,6 +9,7 @@
 
 #include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/walls.hpp"
+#include "sphflume/core/refinement.hpp"
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/porous.hpp"
@@ -67,6 +68,23 @@ double WCSPH<D>::time_step(const System<D>& S) const {
 }
 
 template <int D>
+double step_h(const System<D>& S) {
+  if (S.levels == 0) return S.h;
+  const auto& P = S.particles;
+  const double* lv = P.require(field::level).data();
+  int fluid = 0, wall = 0;  // the finest level present among the fluid and the wall particles
+  const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static) reduction(max : fluid, wall)
+  for (std::size_t i = 0; i < n; ++i) {
+    const int l = static_cast<int>(lv[i]);
+    if (P.kind[i] == Kind::Fluid) fluid = std::max(fluid, l);
+    else wall = std::max(wall, l);
+  }
+  const double hf = level_h(S.h, fluid);
+  return wall > fluid ? 0.5 * (hf + level_h(S.h, wall)) : hf;  // (the pairs of the fluid with finer walls)
+}
+
+template <int D>
 double explicit_time_step(const System<D>& S, const SchemeConfig& cfg_, double nu_t_max, double max_acc_, double h_step) {
   const auto& P = S.particles;
   double umax2 = 0.0, cmax = S.eos.sound_speed(S.eos.rho0);
@@ -78,7 +96,7 @@ double explicit_time_step(const System<D>& S, const SchemeConfig& cfg_, double n
     cmax = std::max(cmax, S.eos_of(i).sound_speed(P.rho[i]));
   }
   for (const auto& e : S.phase_eos) cmax = std::max(cmax, e.c0);
-  const double h = h_step > 0.0 ? h_step : S.finest_h();  // (one level: S.h)
+  const double h = h_step > 0.0 ? h_step : step_h(S);  // (one level: S.h)
   double dt = cfg_.cfl * h / (cmax + std::sqrt(umax2));
   if (S.transport) dt = std::min(dt, S.transport->time_step(S, cfg_.viscous_coefficient));
   if (cfg_.viscosity == ViscosityModel::Laminar && S.nu > 0.0)
@@ -306,6 +324,8 @@ template void eos_pressure(System<2>&);
 template void eos_pressure(System<3>&);
 template void check_finite(const System<2>&);
 template void check_finite(const System<3>&);
+template double step_h(const System<2>&);
+template double step_h(const System<3>&);
 template double explicit_time_step(const System<2>&, const SchemeConfig&, double, double, double);
 template double explicit_time_step(const System<3>&, const SchemeConfig&, double, double, double);
 
