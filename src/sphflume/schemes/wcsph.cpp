@@ -80,6 +80,10 @@ double step_h(const System<D>& S) {
     if (P.kind[i] == Kind::Fluid) fluid = std::max(fluid, l);
     else wall = std::max(wall, l);
   }
+  double lv2[2] = {double(fluid), double(wall)};  // (every rank the same h: the step does not depend on the cut)
+  S.comm->max(lv2, 2);
+  fluid = static_cast<int>(lv2[0]);
+  wall = static_cast<int>(lv2[1]);
   const double hf = level_h(S.h, fluid);
   return wall > fluid ? 0.5 * (hf + level_h(S.h, wall)) : hf;  // (the pairs of the fluid with finer walls)
 }

@@ -17,7 +17,8 @@ void eos_pressure(System<D>& S);
 /// The smoothing length the explicit step follows: S.h for one level; with resolution levels
 /// (docs/numerics.md §14) that of the finest level any fluid particle has now, or, where finer
 /// wall particles exist, the mean of the two (their pairs' h_ij): a refined region that holds no
-/// fluid yet (an impact wall before the surge, a dry swash zone) does not halve the step.
+/// fluid yet (an impact wall before the surge, a dry swash zone) does not halve the step. The
+/// levels present are taken over every rank (a collective call: every rank calls it).
 template <int D>
 double step_h(const System<D>& S);
 
