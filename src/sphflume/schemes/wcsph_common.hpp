@@ -12,8 +12,6 @@ namespace sph {
 template <int D>
 void eos_pressure(System<D>& S);
 
-/// The explicit step: cfl h/(c_max + |u|_max), the scalars' limit, the viscous limits with ν
-/// and ν_t,max, and force_coefficient sqrt(h/|a|_max) (Federico §3.5; docs/numerics.md).
 /// The smoothing length the explicit step follows: S.h for one level; with resolution levels
 /// (docs/numerics.md §14) that of the finest level any fluid particle has now, or, where finer
 /// wall particles exist, the mean of the two (their pairs' h_ij): a refined region that holds no
@@ -22,6 +20,9 @@ void eos_pressure(System<D>& S);
 template <int D>
 double step_h(const System<D>& S);
 
+/// The explicit step: cfl h/(c_max + |u|_max), the scalars' limit, the viscous limits with ν
+/// and ν_t,max, and force_coefficient sqrt(h/|a|_max) (Federico §3.5; docs/numerics.md).
+/// h: the smoothing length it follows (0: step_h).
 template <int D>
 double explicit_time_step(const System<D>& S, const SchemeConfig& cfg, double nu_t_max, double max_acc, double h = 0.0);
 
