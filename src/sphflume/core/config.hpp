@@ -27,8 +27,12 @@ enum class PressureGradient { Sum, Symmetric };  // (pa+pb)/(ra rb) [Federico 3.
 
 /// Particle shifting's options (physics/shifting.hpp).
 struct ShiftingConfig {
-  double coefficient = 0.0;  // A; 0 = off (Skillen et al. 2013 suggest 1 to 6)
-  double surface = 0.0;      // ∇·r threshold of the free surface; 0 = 1.5 (2D) or 2.75 (3D)
+  double coefficient = 0.0;  // A; 0 = off (Skillen et al. 2013 suggest 1 to 6); constant: D/h² (Lind: 0.5)
+  double surface = 0.0;      // ∇·r threshold of the free surface; 0 = 1.5 (2D) or 2.75 (3D); constant: 1.7 / 2.6
+  // constant (Lind et al. 2012, the ISPH of Chow et al. 2018): δr = −D (∇C + R Σ V (W/W(dx))^n ∇W) with
+  // D = coefficient h², the normal component removed below `surface`, |δr| ≤ cap dx
+  bool constant = false;
+  double tensile = 0.2, exponent = 4.0, cap = 0.2;
   bool on() const { return coefficient > 0.0; }
 };
 
@@ -72,8 +76,18 @@ struct SchemeConfig {
 /// The projection scheme's options (`scheme.type: isph`, schemes/isph.hpp; read by
 /// schemes/isph_options.cpp).
 enum class PpeSource { Hybrid, Standard, DivergenceFree, Split };
+// the projection scheme's formulation: Lind, Skillen and Chow's (schemes/isph_projection.hpp) or
+// Tsurudome's (schemes/isph.hpp), docs/numerics.md §13
+enum class IsphFormulation { Lind, Tsurudome };
 
 struct IsphConfig {
+  IsphFormulation formulation = IsphFormulation::Tsurudome;
+  double correction_min_eigenvalue = 0.25;  // lind: the kernel-gradient correction's eigenvalue floor
+  double fs_blend = 0.2;             // lind: Skillen's blend of the PPE over ∇·r ∈ [threshold, threshold + blend]
+  bool laplacian_corrected = true;   // lind: the PPE's Laplacian corrected to first order (`laplacian: corrected`)
+  bool wall_adami = false;           // lind: walls' pressure by Adami et al. (2012)'s extrapolation, not the mirror points
+  bool fs_at_surface = false;        // lind: P = 0 at the surface, dx/2 beyond a surface particle (a Robin row),
+                                     // instead of on the surface particles' centres (free_surface.condition)
   double cfl = 0.2;                  // dt <= cfl dx / |u|max (Tsurudome §3.6, eq 3.6.6: the particle spacing, not h)
   double force_coefficient = 0.25;   // dt <= coef sqrt(h / |a|max), |a| at least |g|
   double viscous_coefficient = 0.125;// dt <= coef h^2 / (nu + nu_t)

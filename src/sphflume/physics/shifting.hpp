@@ -33,11 +33,15 @@ class Shifting {
   void compute(System<D>& S, double dt);
   /// Adds the displacements compute() found to the positions.
   void apply(System<D>& S) const;
+  /// Lind et al. (2012)'s form (ShiftingConfig::constant): a constant diffusion coefficient D = coefficient h²,
+  /// the anti-clustering term, the normal component removed near the surface, the shift capped.
+  void compute_constant(System<D>& S);
 
  private:
   ShiftingConfig cfg_;
   std::vector<Vec<D>> gc_;       // ∇C per particle (images included)
   std::vector<char> at_surface_;  // ∇·r below the threshold
+  std::vector<double> divr_;      // ∇·r (constant form)
   std::vector<char> near_cells_;  // cells within one cell of a surface particle's
 };
 

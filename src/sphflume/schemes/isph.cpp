@@ -31,28 +31,12 @@ SchemeConfig force_config(const Case& c) {
   return f;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 template <int D>
 ISPH<D>::ISPH(const Case& c)
-    : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(c.isph.amg ? make_hypre_solver(c.isph.tolerance, c.isph.max_iterations)
-                          : make_eigen_solver(c.isph.tolerance, c.isph.max_iterations)) {
+    : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(c.isph) {
   check_isph_models(c);  // (the case reader checked it too; a case built in code is checked here)
-}
-
-template <int D>
-std::string ISPH<D>::distributed_refusal() const {
-  if (!have_hypre())
-    return "the ISPH scheme without hypre (its pressure equation across ranks is solved by hypre: install "
-           "libhypre-dev and rebuild)";
-  if (!o_.amg && !o_.solver_auto)
-    return "scheme.solver.type: bicgstab (Eigen's solver holds the whole system in one process: use "
-           "scheme.solver.type: boomeramg or auto, hypre over every rank's rows)";
-  return {};
 }
 
 template <int D>
@@ -112,27 +96,6 @@ double ISPH<D>::reference_at(double phi) const {
   const std::size_t k = std::min(static_cast<std::size_t>(u), rho_ref_phi_.size() - 2);
   const double f = u - double(k);
   return (1.0 - f) * rho_ref_phi_[k] + f * rho_ref_phi_[k + 1];
-}
-
-template <int D>
-double ISPH<D>::time_step(const System<D>& S) const {
-  const auto& P = S.particles;
-  double umax2 = 0.0;
-  const std::size_t n = P.n_owned();
-#pragma omp parallel for schedule(static) reduction(max : umax2)
-  for (std::size_t i = 0; i < n; ++i)
-    if (P.kind[i] == Kind::Fluid) umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
-  double dt = std::numeric_limits<double>::infinity();
-  if (umax2 > 0.0) dt = o_.cfl * S.dx / std::sqrt(umax2);
-  const double a = std::max(norm(S.gravity), amax_);
-  if (a > 0.0) dt = std::min(dt, o_.force_coefficient * std::sqrt(S.h / a));
-  if (o_.viscosity && S.nu > 0.0) dt = std::min(dt, o_.viscous_coefficient * S.h * S.h / S.nu);
-  // the cap: the Courant limit at the flow's reference speed (c0/10: sqrt(2 g H), or the
-  // case's fluid.reference_velocity), so that a flow starting from rest does not take one long
-  // step into the walls (Tsurudome's runs start at 2.5e-4 ... 5e-4 s)
-  dt = std::min(dt, o_.dt_max > 0.0 ? o_.dt_max : o_.cfl * S.dx / (0.1 * S.eos.c0));
-  if (!std::isfinite(dt)) dt = o_.dt_max > 0.0 ? o_.dt_max : o_.cfl * S.dx;  // no flow, no gravity
-  return dt;
 }
 
 template <int D>
@@ -277,7 +240,7 @@ void ISPH<D>::classify(System<D>& S) {
     map_[i] = pick;
   }
   int k = 0;
-  stable_rows_ = S.comm->size() == 1 && solver_->reuses_preconditioner();
+  stable_rows_ = S.comm->size() == 1 && solver_.reuses_preconditioner();
   if (stable_rows_) {
     // one process with hypre: a row for every fluid and first-layer wall particle, numbered by
     // particle id, P = 0 ones as identity rows, so that row r is the same particle from step to
@@ -368,13 +331,7 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
       }
     });
   }
-  if (o_.solver_auto && !solver_chosen_) {
-    // solver.type auto: hypre's BoomerAMG whenever the build has it (its hierarchy reused over
-    // steps: faster than Eigen's Jacobi BiCGSTAB from 1 k unknowns on, whose iterations grow as
-    // N^(1/2): docs/numerics.md §13); Eigen's solver otherwise
-    solver_chosen_ = true;
-    if (have_hypre()) solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations);
-  }
+  solver_.prepare(S.comm->size() > 1);  // (auto: hypre whenever built; distributed: over every rank's rows)
   classify(S);
   // the walls' density in the pressure terms: the reference (a wall is no fluid to compress)
   for (std::size_t i = 0; i < n; ++i) {
@@ -384,10 +341,6 @@ void ISPH<D>::solve_pressure(System<D>& S, double dt) {
   S.refresh_halos();
   S.with_kernel([&](const auto& K) { this->assemble(S, K, dt); });
   stats_.assemble_s += seconds_since(t0);
-  if (S.comm->size() > 1 && !solver_all_ranks_) {  // a distributed run: hypre over every rank's rows
-    solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, true);
-    solver_all_ranks_ = solver_chosen_ = true;
-  }
   sys_.fresh = fresh_hierarchy_;  // (the first solve after a restart point builds its own)
   fresh_hierarchy_ = false;
   solve_into(S, P.p, true);
@@ -415,22 +368,9 @@ void ISPH<D>::solve_into(System<D>& S, std::vector<double>& field, bool pressure
   x_.assign(sys_.rows(), 0.0);
   for (std::size_t i = 0; i < n; ++i)
     if (unknown_[i] >= 0 && cls_[i] == 0) x_[static_cast<std::size_t>(unknown_[i])] = field[i];
-  const auto t1 = std::chrono::steady_clock::now();
-  const SolveReport rep = solver_->solve(sys_, x_);
-  stats_.solve_s += seconds_since(t1);
-  ++stats_.solves;
-  stats_.iterations += rep.iterations;
-  stats_.max_iterations = std::max(stats_.max_iterations, rep.iterations);
-  stats_.max_residual = std::max(stats_.max_residual, rep.residual);
-  stats_.unknowns = rep.unknowns;
-  stats_.nonzeros = rep.nonzeros;
-  if (!rep.converged)
-    throw SimulationError(fmt::format(
-        "at step {}, t = {:.6g} s: the {} did not converge ({} unknowns, {} iterations, relative residual {:.3g} > "
-        "scheme.solver.tolerance {:.3g}); likely causes: a time step too large for the flow (lower scheme.cfl), or "
-        "particles packed into a wall (check the walls)",
-        S.step, S.time, pressure ? "pressure Poisson equation" : "density-error equation (scheme.source.type: split)",
-        rep.unknowns, rep.iterations, rep.residual, std::max(o_.tolerance, sys_.tolerance)));
+  solver_.solve(sys_, x_, stats_, S.step, S.time,
+                pressure ? "pressure Poisson equation" : "density-error equation (scheme.source.type: split)",
+                std::max(o_.tolerance, sys_.tolerance));
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
     field[i] = unknown_[i] >= 0 && cls_[i] == 0 ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
@@ -447,45 +387,36 @@ std::size_t ISPH<D>::bytes() const {
   const std::size_t own = cls_.capacity() + (unknown_.capacity() + map_.capacity()) * sizeof(int) +
                           sys_.col.capacity() * sizeof(int) + sys_.val.capacity() * sizeof(double) +
                           (sys_.start.capacity() + 0) * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double);
-  return (own + solver_->bytes()) / n;
+  return (own + solver_.get().bytes()) / n;
 }
 
 template <int D>
 std::map<std::string, double> ISPH<D>::state() const {
   fresh_hierarchy_ = true;  // a restart point: a run restarted here starts without the solver's hierarchy
-  return {{"amax", amax_},
-          {"ppe_solves", double(stats_.solves)},
-          {"ppe_iterations", double(stats_.iterations)},
-          {"ppe_max_iterations", double(stats_.max_iterations)},
-          {"ppe_max_residual", stats_.max_residual},
-          {"redone_steps", double(stats_.redone)}};
+  std::map<std::string, double> s{{"amax", amax_}};
+  stats_.save(s);
+  return s;
 }
 
 template <int D>
 void ISPH<D>::restore(const std::map<std::string, double>& s) {
-  auto get = [&](const char* k, double def) { auto it = s.find(k); return it == s.end() ? def : it->second; };
-  amax_ = get("amax", 0.0);
-  stats_.solves = static_cast<long>(get("ppe_solves", 0.0));
-  stats_.iterations = static_cast<long>(get("ppe_iterations", 0.0));
-  stats_.max_iterations = static_cast<int>(get("ppe_max_iterations", 0.0));
-  stats_.max_residual = get("ppe_max_residual", 0.0);
-  stats_.redone = static_cast<long>(get("redone_steps", 0.0));
+  auto it = s.find("amax");
+  amax_ = it == s.end() ? 0.0 : it->second;
+  stats_.load(s);
 }
 
 template <int D>
 void ISPH<D>::summary(nlohmann::ordered_json& j) const {
-  const double mean = stats_.solves > 0 ? double(stats_.iterations) / double(stats_.solves) : 0.0;
   const char* source = o_.source == PpeSource::Split      ? "split"
                        : o_.source == PpeSource::Hybrid   ? "hybrid"
                        : o_.source == PpeSource::Standard ? "standard"
                                                           : "divergence_free";
-  j["pressure_solver"] = {{"name", solver_->name()}, {"solves", stats_.solves}, {"mean_iterations", mean},
-                          {"max_iterations", stats_.max_iterations}, {"max_residual", stats_.max_residual},
-                          {"tolerance", o_.tolerance}, {"unknowns", stats_.unknowns}, {"nonzeros", stats_.nonzeros},
-                          {"free_surface", stats_.free_surface}, {"assemble_seconds", stats_.assemble_s},
-                          {"solve_seconds", stats_.solve_s}, {"predict_seconds", stats_.predict_s},
-                          {"correct_seconds", stats_.correct_s}, {"reference_density", rho_ref_},
-                          {"gradient_moment", kappa_}, {"redone_steps", stats_.redone}, {"source", source}};
+  auto js = stats_.json(solver_.get().name(), o_.tolerance);
+  js["reference_density"] = rho_ref_;
+  js["gradient_moment"] = kappa_;
+  js["source"] = source;
+  js["formulation"] = "tsurudome";
+  j["pressure_solver"] = js;
 }
 
 template class ISPH<2>;

@@ -20,23 +20,12 @@
 #include <vector>
 
 #include "sphflume/core/config.hpp"
+#include "sphflume/schemes/isph_common.hpp"
 #include "sphflume/schemes/pressure_solver.hpp"
 #include "sphflume/schemes/scheme.hpp"
 #include "sphflume/schemes/wcsph.hpp"
 
 namespace sph {
-
-/// Counters of the pressure solves since the start of the run (summary.json "pressure_solver").
-struct PpeStats {
-  long solves = 0;
-  long iterations = 0;
-  int max_iterations = 0;
-  double max_residual = 0.0;
-  std::size_t unknowns = 0, nonzeros = 0, free_surface = 0;  // last solve
-  double assemble_s = 0.0, solve_s = 0.0;
-  double predict_s = 0.0, correct_s = 0.0;  // the force pass and prediction; the correction (+ shifting)
-  long redone = 0;  // steps redone with a shorter Δt (the Courant check after prediction or correction)
-};
 
 template <int D>
 class ISPH final : public Scheme<D> {
@@ -48,9 +37,9 @@ class ISPH final : public Scheme<D> {
   // reads m W(0)): only compression is a sign of failure
   bool density_bounded_below() const override { return false; }
   bool needs_wall_surface() const override { return true; }  // the wall pressure's Neumann condition
-  std::string distributed_refusal() const override;
+  std::string distributed_refusal() const override { return isph_distributed_refusal(o_); }
   void initialise(System<D>& S) override;
-  double time_step(const System<D>& S) const override;
+  double time_step(const System<D>& S) const override { return isph_time_step(S, o_, amax_); }
   void step(System<D>& S, double dt) override;
   int passes_per_step() const override { return 3; }  // forces, density + PPE, correction
   std::size_t bytes() const override;
@@ -95,9 +84,7 @@ class ISPH final : public Scheme<D> {
   IsphConfig o_;
   WCSPH<D> forces_;
   Shifting<D> shift_;
-  std::unique_ptr<PressureSolver> solver_;
-  bool solver_chosen_ = false;  // solver.type auto: decided at the first solve by its size
-  bool solver_all_ranks_ = false;  // distributed: hypre over every rank's rows
+  IsphSolver solver_;
   double rho_ref_ = 0.0;
   // porous media: the reference density of a lattice of spacing dx/φ^(1/D) (the fluid inside a
   // medium of porosity φ), tabulated over φ ∈ [phi_lo_, 1] (Tsurudome §4.2.2, eq 4.2.4)

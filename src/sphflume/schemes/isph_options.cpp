@@ -16,6 +16,21 @@ void read_isph_options(Reader& r, IsphConfig& o) {
       o.ignored.push_back(fmt::format("{}: scheme.{}", n.key_line() > 0 ? fmt::format("line {}", n.key_line())
                                                                       : std::string("(given with --set)"), k));
     }
+  const std::string form = r.choice("formulation", "tsurudome", {"lind", "tsurudome"});
+  o.formulation = form == "lind" ? IsphFormulation::Lind : IsphFormulation::Tsurudome;
+  const bool lind = o.formulation == IsphFormulation::Lind;
+  // keys of one formulation given to the other: refused with the fix
+  auto only = [&](const char* key, bool ok, const char* which) {
+    if (r.has(key) && !ok)
+      r.fail_at(r.get(key), fmt::format("scheme.{}", key),
+                fmt::format("scheme.formulation: {} (this key belongs to it; drop it, or set the formulation)", which));
+  };
+  for (const char* k : {"dummy_pressure", "gradient_normalisation", "source"}) only(k, !lind, "tsurudome");
+  only("correction", lind, "lind");
+  only("wall_pressure", lind, "lind");
+  only("laplacian", lind, "lind");
+  if (lind) o.laplacian_corrected = r.choice("laplacian", "corrected", {"corrected", "morris"}) == "corrected";
+  if (lind) o.wall_adami = r.choice("wall_pressure", "mirror", {"mirror", "adami"}) == "adami";
   o.cfl = r.in_range("cfl", 0.2, 1e-4, 1.0);
   o.force_coefficient = r.in_range("force_coefficient", 0.25, 1e-4, 1.0);
   o.viscous_coefficient = r.in_range("viscous_coefficient", 0.125, 1e-4, 1.0);
@@ -26,12 +41,31 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   // Monaghan's term (c0 the case's reference sound speed) beside the laminar one: it damps the
   // particle-scale velocity noise of the projection (docs/numerics.md §13); `viscosity: artificial`
   // is the same with the laminar term off
-  o.alpha = r.in_range("alpha", 0.02, 0.0, 1.0);
+  o.alpha = r.in_range("alpha", lind ? 0.0 : 0.02, 0.0, 1.0);
   o.laminar = vm == "laminar";
-  if (r.has("shifting")) {  // the same keys as under wcsph (physics/shifting.hpp)
+  if (lind) {
+    // Lind et al. (2012)'s shifting, on by default: D = 0.5 h², R = 0.2, n = 4, |δr| ≤ 0.2 dx, the normal
+    // component removed where ∇·r < 1.7 (2D) / 2.6 (3D) (docs/numerics.md §13)
+    o.shifting.constant = true;
+    o.shifting.coefficient = 0.5;
+    if (r.has("shifting")) {
+      Reader q(r.get("shifting"), r.file(), "scheme.shifting");
+      o.shifting.coefficient = q.in_range("coefficient", 0.5, 0.0, 5.0);
+      o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
+      o.shifting.tensile = q.in_range("tensile", 0.2, 0.0, 1.0);
+      o.shifting.exponent = q.in_range("exponent", 4.0, 1.0, 8.0);
+      o.shifting.cap = q.in_range("cap", 0.2, 0.0, 1.0);
+      q.finish();
+    }
+  } else if (r.has("shifting")) {  // the same keys as under wcsph (physics/shifting.hpp)
     Reader q(r.get("shifting"), r.file(), "scheme.shifting");
     o.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
     o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
+    q.finish();
+  }
+  if (r.has("correction")) {
+    Reader q(r.get("correction"), r.file(), "scheme.correction");
+    o.correction_min_eigenvalue = q.in_range("min_eigenvalue", 0.25, 1e-3, 1.0);
     q.finish();
   }
   o.dummy_body_force = r.choice("dummy_pressure", "copy", {"copy", "body_force"}) == "body_force";
@@ -53,10 +87,18 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   }
   if (r.has("free_surface")) {
     Reader q(r.get("free_surface"), r.file(), "scheme.free_surface");
-    o.fs_divergence = q.choice("criterion", "density", {"density", "divergence"}) == "divergence";
-    o.fs_threshold = o.fs_divergence ? q.in_range("threshold", 0.0, 0.0, 3.0) : q.in_range("threshold", 0.99, 0.5, 1.2);
+    if (lind) {  // ∇·r only
+      o.fs_threshold = q.in_range("threshold", 0.0, 0.0, 3.0);
+      o.fs_at_surface = q.choice("condition", "particles", {"particles", "surface"}) == "surface";
+      o.fs_blend = q.in_range("blend", o.fs_at_surface ? 0.0 : 0.2, 0.0, 1.0);
+    } else {
+      o.fs_divergence = q.choice("criterion", "density", {"density", "divergence"}) == "divergence";
+      o.fs_threshold = o.fs_divergence ? q.in_range("threshold", 0.0, 0.0, 3.0) : q.in_range("threshold", 0.99, 0.5, 1.2);
+      if (q.has("blend")) q.fail_at(q.get("blend"), "scheme.free_surface.blend", "scheme.formulation: lind (the blend belongs to it)");
+    }
     q.finish();
   }
+  if (lind && !r.has("free_surface")) o.fs_threshold = 0.0;  // 1.5 (2D) / 2.4 (3D)
   if (r.has("solver")) {
     Reader q(r.get("solver"), r.file(), "scheme.solver");
     const std::string st = q.choice("type", "auto", {"auto", "bicgstab", "boomeramg"});

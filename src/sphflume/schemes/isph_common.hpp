@@ -1,0 +1,107 @@
+// What the two formulations of the projection scheme share (schemes/isph.hpp: Tsurudome's;
+// schemes/isph_projection.hpp: Lind, Skillen and Chow's): the time step, the pressure solver and its
+// choice, the solve statistics written to summary.json, and the refusal of a distributed run.
+#pragma once
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "sphflume/core/config.hpp"
+#include "sphflume/core/errors.hpp"
+#include "sphflume/core/system.hpp"
+#include "sphflume/schemes/pressure_solver.hpp"
+
+namespace sph {
+
+/// Counters of the pressure solves since the start of the run (summary.json "pressure_solver").
+struct PpeStats {
+  long solves = 0;
+  long iterations = 0;
+  int max_iterations = 0;
+  double max_residual = 0.0;
+  std::size_t unknowns = 0, nonzeros = 0, free_surface = 0;  // last solve
+  double assemble_s = 0.0, solve_s = 0.0;
+  double predict_s = 0.0, correct_s = 0.0;  // the force pass and prediction; the correction (+ shifting)
+  long redone = 0;  // steps redone with a shorter Δt (the Courant check after prediction or correction)
+  void save(std::map<std::string, double>& s) const {
+    s["ppe_solves"] = double(solves);
+    s["ppe_iterations"] = double(iterations);
+    s["ppe_max_iterations"] = double(max_iterations);
+    s["ppe_max_residual"] = max_residual;
+    s["redone_steps"] = double(redone);
+  }
+  void load(const std::map<std::string, double>& s) {
+    auto get = [&](const char* k) { auto it = s.find(k); return it == s.end() ? 0.0 : it->second; };
+    solves = static_cast<long>(get("ppe_solves"));
+    iterations = static_cast<long>(get("ppe_iterations"));
+    max_iterations = static_cast<int>(get("ppe_max_iterations"));
+    max_residual = get("ppe_max_residual");
+    redone = static_cast<long>(get("redone_steps"));
+  }
+  nlohmann::ordered_json json(const char* solver, double tolerance) const {
+    const double mean = solves > 0 ? double(iterations) / double(solves) : 0.0;
+    return {{"name", solver}, {"solves", solves}, {"mean_iterations", mean}, {"max_iterations", max_iterations},
+            {"max_residual", max_residual}, {"tolerance", tolerance}, {"unknowns", unknowns}, {"nonzeros", nonzeros},
+            {"free_surface", free_surface}, {"assemble_seconds", assemble_s}, {"solve_seconds", solve_s},
+            {"predict_seconds", predict_s}, {"correct_seconds", correct_s}, {"redone_steps", redone}};
+  }
+};
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Δt = min(cfl dx/|u|max, force_coefficient √(h/a), viscous_coefficient h²/ν, cap), a = max(|g|, amax),
+/// cap = dt_max or cfl dx/(c0/10) (docs/numerics.md §13).
+template <int D>
+double isph_time_step(const System<D>& S, const IsphConfig& o, double amax) {
+  const auto& P = S.particles;
+  double umax2 = 0.0;
+  const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static) reduction(max : umax2)
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid) umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
+  double dt = std::numeric_limits<double>::infinity();
+  if (umax2 > 0.0) dt = o.cfl * S.dx / std::sqrt(umax2);
+  const double a = std::max(norm(S.gravity), amax);
+  if (a > 0.0) dt = std::min(dt, o.force_coefficient * std::sqrt(S.h / a));
+  if (o.viscosity && S.nu > 0.0) dt = std::min(dt, o.viscous_coefficient * S.h * S.h / S.nu);
+  // the cap: the Courant limit at the flow's reference speed (c0/10), so that a flow starting from
+  // rest does not take one long step into the walls
+  dt = std::min(dt, o.dt_max > 0.0 ? o.dt_max : o.cfl * S.dx / (0.1 * S.eos.c0));
+  if (!std::isfinite(dt)) dt = o.dt_max > 0.0 ? o.dt_max : o.cfl * S.dx;  // no flow, no gravity
+  return dt;
+}
+
+/// Why the projection scheme, as configured, cannot run over several ranks (empty: it can).
+std::string isph_distributed_refusal(const IsphConfig& o);
+
+/// The PPE's solver as the options choose it: Eigen's BiCGSTAB, hypre's BoomerAMG-preconditioned
+/// BiCGSTAB, or (auto) hypre whenever the build has it; over every rank's rows in a distributed run.
+class IsphSolver {
+ public:
+  explicit IsphSolver(const IsphConfig& o);
+  /// Called before each solve: settles the choice (auto; a distributed run).
+  void prepare(bool distributed);
+  /// Solves `sys` from the warm start in x; statistics into `st`; a solve that does not converge
+  /// throws a SimulationError naming the step, the time and the likely causes.
+  void solve(const SparseRows& sys, std::vector<double>& x, PpeStats& st, long step, double time, const char* what,
+             double tolerance);
+  const PressureSolver& get() const { return *solver_; }
+  bool reuses_preconditioner() const { return solver_->reuses_preconditioner(); }
+
+ private:
+  IsphConfig o_;
+  std::unique_ptr<PressureSolver> solver_;
+  bool chosen_ = false, all_ranks_ = false;
+};
+
+}  // namespace sph

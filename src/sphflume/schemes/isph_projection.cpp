@@ -1,0 +1,237 @@
+#include "sphflume/schemes/isph_projection.hpp"
+#include "sphflume/schemes/isph_options.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "sphflume/boundaries/motion.hpp"
+#include "sphflume/boundaries/walls.hpp"
+#include "sphflume/physics/porous.hpp"
+
+namespace sph {
+namespace {
+
+/// The force pass's options: WCSPH's pair loop without pressure, density diffusion or XSPH.
+SchemeConfig force_config(const Case& c) {
+  SchemeConfig f = c.scheme;
+  f.pressure = false;
+  f.density_diffusion = DensityDiffusion::None;
+  f.delta = 0.0;
+  f.xsph = 0.0;
+  f.shifting = ShiftingConfig{};
+  f.frozen = false;
+  f.viscosity = !c.isph.viscosity ? ViscosityModel::None
+                : c.isph.laminar ? ViscosityModel::Laminar : ViscosityModel::Artificial;
+  f.alpha = c.isph.viscosity ? c.isph.alpha : 0.0;
+  f.alpha_on_laminar = c.isph.viscosity && c.isph.laminar ? c.isph.alpha : 0.0;
+  f.eta2 = c.isph.eta2;
+  return f;
+}
+
+}  // namespace
+
+template <int D>
+ProjectionISPH<D>::ProjectionISPH(const Case& c)
+    : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(c.isph) {
+  check_isph_models(c);
+}
+
+template <int D>
+void ProjectionISPH<D>::initialise(System<D>& S) {
+  auto& P = S.particles;
+  S.particles.scalar(field::free_surface);
+  // the density is ρ0 throughout (the intrinsic density in a porous medium); the set-up's
+  // hydrostatic pressure is the first solve's warm start
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] == Kind::Fluid) P.p[i] = S.eos.pressure(P.rho[i]) - S.eos.background;
+    else if (P.kind[i] == Kind::Wall) P.p[i] = 0.0;
+    if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = S.eos.rho0;
+  }
+  // a wall row's weight: the Laplacian's diagonal on a full lattice, Σ 2 V |F| r²/(r² + η²)
+  const double eta2 = o_.eta2 * S.h * S.h;
+  wall_scale_ = S.with_kernel([&](const auto& K) {
+    const int m = static_cast<int>(std::ceil(K.support / S.dx)) + 1;
+    double s = 0.0;
+    for (int a = -m; a <= m; ++a)
+      for (int b = -m; b <= m; ++b)
+        for (int e = (D == 3 ? -m : 0); e <= (D == 3 ? m : 0); ++e) {
+          const double r2 = S.dx * S.dx * double(a * a + b * b + e * e);
+          if (r2 > 0.0 && r2 < K.support2) s -= 2.0 * std::pow(S.dx, D) * K.F(std::sqrt(r2)) * r2 / (r2 + eta2);
+        }
+    return s;
+  });
+  S.update_neighbours();
+}
+
+template <int D>
+void ProjectionISPH<D>::step(System<D>& S, double dt) {
+  auto& P = S.particles;
+  if (!(wall_scale_ > 1.0)) initialise(S);  // a run restarted from a snapshot
+  // 1. prediction at r_n, gravity left to the correction (its hydrostatic part is carried by the walls'
+  // offsets, Chow et al. 2018): u* = u_n + Δt (a − g), r* = r_n + Δt u_n
+  const auto t_pred = std::chrono::steady_clock::now();
+  S.update_neighbours();
+  forces_.rates(S);
+  auto& x0 = P.vector(field::x0);
+  auto& v0 = P.vector(field::v0);
+  const double* kr = S.porous ? P.scalar(field::drag_rate).data() : nullptr;
+  const double* im = S.porous ? P.scalar(field::inertia).data() : nullptr;
+  const std::size_t n = P.n_owned();
+  const Vec<D> g = S.gravity;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    x0[i] = P.pos[i];
+    v0[i] = P.vel[i];
+    if (P.kind[i] != Kind::Fluid) continue;
+    P.pos[i] += dt * P.vel[i];
+    // porous drag point-implicit: u* = (u_n + Δt (a − g)/M) / (1 + Δt K/M)
+    const Vec<D> a = P.acc[i] - g;
+    P.vel[i] = kr ? (1.0 / (1.0 + dt * kr[i])) * (P.vel[i] + (dt * im[i]) * a) : P.vel[i] + dt * a;
+  }
+  move_walls(S, S.time + dt);
+  stats_.predict_s += seconds_since(t_pred);
+  // 2-4 at r*
+  S.update_neighbours();
+  if (S.porous) S.porous->update(S);
+  solve_pressure(S, dt);
+  // 5. correction, position, shifting
+  const auto t_corr = std::chrono::steady_clock::now();
+  S.with_kernel([&](const auto& K) { this->correct(S, K, dt); });
+  if (shift_.on()) shift_.compute(S, dt);  // at r*, with u_{n+1} (the lists of r*)
+  const auto& x0s = P.vector(field::x0);
+  const auto& v0s = P.vector(field::v0);
+  double amax2 = 0.0;
+  const std::size_t m = P.n_owned();
+#pragma omp parallel for schedule(static) reduction(max : amax2)
+  for (std::size_t i = 0; i < m; ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const Vec<D> dv = P.vel[i] - v0s[i];
+    amax2 = std::max(amax2, dot(dv, dv));
+    P.pos[i] = x0s[i] + (0.5 * dt) * (v0s[i] + P.vel[i]);
+  }
+  amax_ = std::sqrt(S.comm->max(amax2)) / dt;
+  if (shift_.on()) shift_.apply(S);
+  S.periodic.wrap(P);
+  stats_.correct_s += seconds_since(t_corr);
+  S.time += dt;
+  ++S.step;
+}
+
+template <int D>
+void ProjectionISPH<D>::solve_pressure(System<D>& S, double dt) {
+  auto& P = S.particles;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t n = P.n_owned();
+  if (S.porous) {
+    // the pressure acceleration meets the prediction's point-implicit drag and added mass:
+    // u_{n+1} = u* − Δt m_d ∇P/ρ0, m_d = (1/M)/(1 + Δt K/M) (docs/numerics.md §13, porous media)
+    auto& mob = P.scalar(field::mobility);
+    const auto* kr = P.find(field::drag_rate);
+    const auto* im = P.find(field::inertia);
+    for (std::size_t i = 0; i < n; ++i)
+      mob[i] = kr && im && P.kind[i] == Kind::Fluid ? (*im)[i] / (1.0 + dt * (*kr)[i]) : 1.0;
+    S.refresh_halos(mob.data());
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = S.eos.rho0;
+  solver_.prepare(S.comm->size() > 1);
+  // walls first (which are wet: the mirror sees fluid), then the fluid's moments over fluid and wet walls
+  S.with_kernel([&](const auto& K) { this->wall_rows(S, K); });
+  S.with_kernel([&](const auto& K) { this->moments(S, K); });
+  number_unknowns(S);
+  S.with_kernel([&](const auto& K) { this->assemble(S, K, dt); });
+  stats_.assemble_s += seconds_since(t0);
+  // warm start from the last pressures, the solve, the solution back into the particles
+  x_.assign(sys_.rows(), 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (unknown_[i] >= 0 && unknown(cls_[i])) x_[static_cast<std::size_t>(unknown_[i])] = P.p[i];
+  sys_.fresh = fresh_hierarchy_;  // (the first solve after a restart point builds its own hierarchy)
+  fresh_hierarchy_ = false;
+  solver_.solve(sys_, x_, stats_, S.step, S.time, "pressure Poisson equation", o_.tolerance);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
+    P.p[i] = unknown_[i] >= 0 && unknown(cls_[i]) ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
+  }
+  S.refresh_halos(P.p.data());
+}
+
+template <int D>
+void ProjectionISPH<D>::number_unknowns(System<D>& S) {
+  // cls_ set by wall_rows and moments (Cls)
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  unknown_.assign(n, -1);
+  int k = 0;
+  stable_rows_ = S.comm->size() == 1 && solver_.reuses_preconditioner();
+  if (stable_rows_) {
+    // one process with hypre: a row for every fluid and wall particle, numbered by particle id, the
+    // known ones as identity rows, so that row r is the same particle from step to step and the
+    // solver may reuse its multigrid hierarchy (pressure_solver.hpp)
+    std::uint32_t top = 0;
+    for (std::size_t i = 0; i < n; ++i) top = std::max(top, P.id[i]);
+    row_of_id_.assign(std::size_t(top) + 1, -1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) row_of_id_[P.id[i]] = 0;
+    for (auto& r : row_of_id_)
+      if (r >= 0) r = k++;
+    for (std::size_t i = 0; i < n; ++i)
+      if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) unknown_[i] = row_of_id_[P.id[i]];
+  } else {
+    for (std::size_t i = 0; i < n; ++i)
+      if (unknown(cls_[i])) unknown_[i] = k++;
+  }
+  std::uint64_t total = 0;
+  first_row_ = static_cast<std::size_t>(S.comm->exscan(static_cast<std::uint64_t>(k), total));
+  // the column each particle's pressure stands in, as the pair loops see them (owned and copies)
+  col_.assign(P.size(), -1.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (unknown(cls_[i])) col_[i] = static_cast<double>(first_row_ + static_cast<std::size_t>(unknown_[i]));
+  S.refresh_halos(col_.data());
+  std::size_t fs = 0;
+  auto& flag = P.scalar(field::free_surface);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool f = P.kind[i] == Kind::Fluid && (cls_[i] == Known || cls_[i] == Surface);
+    flag[i] = f ? 1.0 : 0.0;
+    fs += f;
+  }
+  stats_.free_surface = fs;
+}
+
+template <int D>
+std::size_t ProjectionISPH<D>::bytes() const {
+  const std::size_t n = std::max<std::size_t>(cls_.size(), 1);
+  const std::size_t own = cls_.capacity() + unknown_.capacity() * sizeof(int) +
+                          (L_.capacity() + divr_.capacity() + col_.capacity() + wet_.capacity() + offset_.capacity()) * sizeof(double) +
+                          sys_.col.capacity() * sizeof(int) + sys_.val.capacity() * sizeof(double) +
+                          sys_.start.capacity() * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double);
+  return (own + solver_.get().bytes()) / n;
+}
+
+template <int D>
+std::map<std::string, double> ProjectionISPH<D>::state() const {
+  fresh_hierarchy_ = true;
+  std::map<std::string, double> s{{"amax", amax_}};
+  stats_.save(s);
+  return s;
+}
+
+template <int D>
+void ProjectionISPH<D>::restore(const std::map<std::string, double>& s) {
+  auto it = s.find("amax");
+  amax_ = it == s.end() ? 0.0 : it->second;
+  stats_.load(s);
+}
+
+template <int D>
+void ProjectionISPH<D>::summary(nlohmann::ordered_json& j) const {
+  auto js = stats_.json(solver_.get().name(), o_.tolerance);
+  js["formulation"] = "lind";
+  js["source"] = "divergence_free";
+  j["pressure_solver"] = js;
+}
+
+template class ProjectionISPH<2>;
+template class ProjectionISPH<3>;
+
+}  // namespace sph

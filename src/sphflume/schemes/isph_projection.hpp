@@ -1,0 +1,99 @@
+// Incompressible SPH on the projection the robust codes share (`scheme.formulation: lind`, the
+// default of `scheme.type: isph`): Lind, Xu, Stansby & Rogers (2012, J. Comput. Phys. 231), Skillen,
+// Lind, Stansby & Rogers (2013, CMAME 265), as the ISPH of the DualSPHysics family builds it (Chow,
+// Rogers, Lind & Stansby 2018, Comput. Phys. Commun. 226). docs/numerics.md §13. One step from
+// (r_n, u_n):
+//  1. prediction at r_n: u* = u_n + Δt (g + ν∇²u + force terms) (the weakly-compressible pair loop
+//     with the pressure off; a porous drag point-implicit), r* = r_n + Δt u*;
+//  2. at r*: the kernel-gradient correction L_i = [Σ_j V_j r_ji ⊗ ∇_iW_ij]⁻¹ (fluid and wet wall
+//     neighbours, eigenvalues held from below) and ∇·r_i = tr of the same sum; free surface where
+//     ∇·r < 1.5 (2D) / 2.4 (3D): P = 0 (Dirichlet);
+//  3. walls: every wet wall particle is an unknown, P_b = Σ_j w_j P_j + ρ0 (g − a_w)·(r_b − r_m),
+//     w_j the linear MLS weights of the fluid at the mirror point r_m across the wall surface;
+//  4. the PPE  Σ_j 2 V_j (P_i − P_j) F_ij r²/(r² + η²) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i∇W_ij
+//     (a divergence-free source only), solved by a PressureSolver from the last pressures;
+//  5. correction u_{n+1} = u* − (Δt/ρ0) Σ_j V_j (P_j − P_i) L_i ∇W_ij for every fluid particle (P = 0
+//     ones included), r_{n+1} = r_n + Δt (u_n + u_{n+1})/2, then Lind's shifting (constant D).
+// V_j = m_j/(φ_j ρ0): the density is ρ0 throughout (porous media: the intrinsic one).
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sphflume/core/config.hpp"
+#include "sphflume/physics/shifting.hpp"
+#include "sphflume/schemes/isph_common.hpp"
+#include "sphflume/schemes/pressure_solver.hpp"
+#include "sphflume/schemes/scheme.hpp"
+#include "sphflume/schemes/wcsph.hpp"
+
+namespace sph {
+
+template <int D>
+class ProjectionISPH final : public Scheme<D> {
+ public:
+  explicit ProjectionISPH(const Case& c);
+  const char* name() const override { return "isph"; }
+  const char* integrator() const override { return "projection"; }
+  bool density_bounded_below() const override { return false; }
+  bool needs_wall_surface() const override { return true; }  // the mirror points
+  std::string distributed_refusal() const override { return isph_distributed_refusal(o_); }
+  void initialise(System<D>& S) override;
+  double time_step(const System<D>& S) const override { return isph_time_step(S, o_, amax_); }
+  void step(System<D>& S, double dt) override;
+  int passes_per_step() const override { return 4; }  // forces; moments + walls; PPE; gradient (+ shifting)
+  std::size_t bytes() const override;
+  std::map<std::string, double> state() const override;
+  void restore(const std::map<std::string, double>& s) override;
+  void summary(nlohmann::ordered_json& j) const override;
+
+  const PpeStats& stats() const { return stats_; }
+  /// Steps 2-4 at the current positions (exposed for tests: a still tank's pressure).
+  void solve_pressure(System<D>& S, double dt);
+  /// The corrected gradient's matrix L_i of owned particle i (D×D, row-major) and its ∇·r, after solve_pressure.
+  const double* correction(std::size_t i) const { return &L_[i * D * D]; }
+  double divergence_of_position(std::size_t i) const { return divr_[i]; }
+
+ private:
+  template <class K> void moments(System<D>& S, const K& ker);
+  template <class K> void wall_rows(System<D>& S, const K& ker);
+  template <class K> void assemble(System<D>& S, const K& ker, double dt);
+  template <class K> void correct(System<D>& S, const K& ker, double dt);
+  void number_unknowns(System<D>& S);
+
+  IsphConfig o_;
+  WCSPH<D> forces_;
+  Shifting<D> shift_;
+  IsphSolver solver_;
+  double amax_ = 0.0;
+  double wall_scale_ = 1.0;  // a wall row's weight: the lattice's Laplacian diagonal (rows of one size)
+  PpeStats stats_;
+  // per owned particle: its class in the PPE, its row, L (D×D), ∇·r, ∇C (the surface's normal); per
+  // particle incl. images: the PPE column (-1: a known zero pressure), the flag "in the sums" (walls)
+  enum Cls : char {
+    Inner = 0,    // a fluid unknown: the Laplacian row
+    Known = 1,    // P = 0 (a surface particle with `condition: particles`, a wall in the air)
+    WallRow = 2,  // a wall unknown: its mirror point's interpolated pressure plus the body-force offset
+    Out = 3,      // no fluid within reach: out of the sums
+    Surface = 4,  // a surface particle with `condition: surface`: P + (dx/2) n·∇P = 0
+  };
+  static bool unknown(char c) { return c == Inner || c == WallRow || c == Surface; }
+  std::vector<char> cls_;
+  std::vector<double> gc_, mirror_divr_;
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's MLS weights at its mirror point
+  std::vector<int> unknown_;
+  std::vector<double> L_, divr_;
+  std::vector<double> col_, wet_;
+  std::vector<std::vector<std::pair<int, double>>> rows_;
+  std::vector<double> offset_;  // a wall row's right-hand side ρ0 (g − a_w)·(r_b − r_m)
+  std::size_t first_row_ = 0;
+  bool stable_rows_ = false;
+  mutable bool fresh_hierarchy_ = true;  // state() wrote a restart point: the next solve builds afresh
+  std::vector<int> row_of_id_;
+  SparseRows sys_;
+  std::vector<double> x_;
+};
+
+}  // namespace sph

@@ -1,0 +1,398 @@
+// The pair passes of the projection (Lind–Skillen–Chow) formulation (schemes/isph_projection.hpp):
+// the walls' wetness at their mirror points, the fluid's kernel-gradient correction and ∇·r, the
+// PPE's rows (fluid: Laplacian and corrected divergence; walls: the linear MLS interpolation at the
+// mirror point) and the corrected pressure gradient. docs/numerics.md §13.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+// (GCC 12 warns of uninitialised lanes inside its own AVX-512 intrinsics as Eigen's small fixed-size
+// solvers inline them: a false positive of the header, silenced for this file alone)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <Eigen/Dense>
+#pragma GCC diagnostic pop
+
+#include "sphflume/core/cell_list.hpp"
+#include "sphflume/physics/porous.hpp"
+#include "sphflume/schemes/isph_projection.hpp"
+
+namespace sph {
+namespace {
+
+/// L = M⁻¹ of the symmetric D×D moment matrix M = Σ_j V_j r_ji ⊗ ∇_iW_ij (the identity on a full
+/// lattice up to the kernel's discretisation), its eigenvalues held at ≥ lmin so that a particle with
+/// a truncated support (the free surface, a splash) is not over-corrected (Bonet & Lok 1999; the
+/// guard as the ISPH codes use one, docs/numerics.md §13).
+template <int D>
+void guarded_inverse(const double* M, double lmin, double* L) {
+  Eigen::Matrix<double, D, D> A;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) A(a, b) = 0.5 * (M[a * D + b] + M[b * D + a]);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> es(A);
+  Eigen::Matrix<double, D, 1> ev = es.eigenvalues();
+  for (int a = 0; a < D; ++a) ev[a] = 1.0 / std::max(ev[a], lmin);
+  const Eigen::Matrix<double, D, D> inv = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) L[a * D + b] = inv(a, b);
+}
+
+template <int D>
+Vec<D> apply(const double* L, const Vec<D>& g) {
+  Vec<D> r{};
+  for (int a = 0; a < D; ++a) {
+    double s = 0.0;
+    for (int b = 0; b < D; ++b) s += L[a * D + b] * g[b];
+    r[a] = s;
+  }
+  return r;
+}
+
+/// The linear MLS weights w_j of the fluid at x (Σ_j w_j P_j interpolates a linear pressure exactly; the
+/// moments scaled by h), into w; false where the fluid there is too sparse for the fit (its Shepard sum below
+/// 1/4 of a full support, or weights beyond |Σ w| = 3: an extrapolation).
+template <int D, class K>
+bool mls_weights(const System<D>& S, const K& ker, const Vec<D>& x, std::vector<std::pair<std::uint32_t, double>>& w) {
+  const auto& P = S.particles;
+  const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
+  const double* phi = pf ? pf->data() : nullptr;
+  using Mat = Eigen::Matrix<double, D + 1, D + 1>;
+  using Col = Eigen::Matrix<double, D + 1, 1>;
+  Mat A = Mat::Zero();
+  double shep = 0.0;
+  w.clear();
+  auto pvec = [&](const Vec<D>& d) {  // [1, (x_j − x)/h]
+    Col p;
+    p[0] = 1.0;
+    for (int a = 0; a < D; ++a) p[a + 1] = d[a] / S.h;
+    return p;
+  };
+  S.cells.for_neighbours(P.pos, x, ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+    if (P.kind[j] != Kind::Fluid) return;
+    const double vw = P.mass[j] / (S.eos.rho0 * (phi ? phi[j] : 1.0)) * ker.W(std::sqrt(r2));
+    const Col p = pvec(-1.0 * r);
+    A += vw * p * p.transpose();
+    shep += vw;
+    w.emplace_back(j, vw);
+  });
+  if (!(shep > 0.25)) return false;
+  Eigen::LDLT<Mat> f(A);
+  Col e0 = Col::Zero();
+  e0[0] = 1.0;
+  const Col beta = f.solve(e0);
+  if (f.info() != Eigen::Success || !beta.allFinite()) return false;
+  double wabs = 0.0;
+  for (auto& [j, vw] : w) {
+    vw *= beta.dot(pvec(P.pos[j] - x));
+    wabs += std::abs(vw);
+  }
+  return wabs <= 3.0;
+}
+
+}  // namespace
+
+template <int D>
+template <class K>
+void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
+  // A wall particle with no fluid within its support is out of every sum (3). Else its pressure is that
+  // of its mirror point r_m = r_b + 2 s (s: its vector to the wall surface), and the mirror point is
+  // classified as a fluid particle would be: ∇·r at r_m (over fluid and wall particles) below the free
+  // surface's threshold puts it in the air, P = 0 (1: a wall above the water line, at the contact line);
+  // else it is an unknown (2). Both take part in the fluid's sums.
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const auto& to = P.vector(field::wall_to_surface);
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
+  const double rho0 = S.eos.rho0;
+  const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
+  cls_.assign(n, Out);
+  wet_.assign(P.size(), 0.0);
+  mirror_divr_.assign(n, 0.0);
+  mls_.resize(n);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t b = 0; b < n; ++b) {
+    if (P.kind[b] != Kind::Wall) continue;
+    bool near = false;
+    S.cells.for_neighbours(P.pos, P.pos[b], ker.support, [&](std::uint32_t j, const Vec<D>&, double) {
+      near = near || P.kind[j] == Kind::Fluid;
+    });
+    if (!near) continue;
+    const Vec<D> xm = P.pos[b] + 2.0 * to[b];
+    double divr = 0.0;
+    bool fluid = false;
+    S.cells.for_neighbours(P.pos, xm, ker.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
+      const bool fl = P.kind[j] == Kind::Fluid;
+      if (!fl && P.kind[j] != Kind::Wall) return;
+      fluid = fluid || fl;
+      divr -= P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0)) * ker.F(std::sqrt(r2)) * r2;
+    });
+    mirror_divr_[b] = divr;
+    // the fluid's pressure field continued linearly to the mirror point (a linear MLS fit) while the mirror
+    // point lies in the water or within about dx of it (∇·r ≥ 1 in 2D, 1.5 in 3D, Chow's BoundaryFS; with P = 0
+    // on the surface particles, ≥ the surface's threshold); a wall further up, or where the fit is ill-posed, is
+    // in the air (Known) and out of the fluid's sums: the fluid there sees a free surface
+    const double air = o_.fs_at_surface ? (D == 2 ? 1.0 : 1.5) : thr;
+    cls_[b] = fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b]) ? WallRow : Known;
+    wet_[b] = cls_[b] == WallRow ? 1.0 : 0.0;
+  }
+  S.refresh_halos(wet_.data());
+}
+
+template <int D>
+template <class K>
+void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
+  // M_i = −Σ_j V_j F r_ij ⊗ r_ij over fluid and wet wall neighbours, L_i its guarded inverse, ∇·r_i = tr M_i;
+  // the free surface where ∇·r < the threshold (Lee et al. 2008; Lind et al. 2012)
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
+  const double rho0 = S.eos.rho0;
+  const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
+  const double lmin = o_.correction_min_eigenvalue;
+  L_.assign(n * D * D, 0.0);
+  divr_.assign(n, 0.0);
+  gc_.assign(n * D, 0.0);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    double M[D * D] = {}, gc[D] = {};
+    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+      if (!(r2 > 0.0)) return;
+      const bool fl = P.kind[j] == Kind::Fluid;
+      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
+      const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
+      const double f = -V * ker.F(std::sqrt(r2));
+      for (int a = 0; a < D; ++a) {
+        gc[a] -= f * r[a];
+        for (int c = 0; c < D; ++c) M[a * D + c] += f * r[a] * r[c];
+      }
+    });
+    for (int a = 0; a < D; ++a) gc_[i * D + a] = gc[a];
+    double tr = 0.0;
+    for (int a = 0; a < D; ++a) tr += M[a * D + a];
+    divr_[i] = tr;
+    guarded_inverse<D>(M, lmin, &L_[i * D * D]);
+    cls_[i] = tr >= thr ? Inner : o_.fs_at_surface ? Surface : Known;
+  }
+}
+
+template <int D>
+template <class K>
+void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double rho0 = S.eos.rho0;
+  const double eta2 = o_.eta2 * S.h * S.h;
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
+  const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
+  const auto& to = P.vector(field::wall_to_surface);
+  const auto* aw = P.find(field::wall_acc);
+  const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
+  rows_.resize(rows);
+  std::vector<double> rhs(rows, 0.0);
+  const double ws = wall_scale_;
+  const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
+  const double blend = o_.fs_blend;
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (unknown_[i] < 0) continue;
+    const std::size_t row = static_cast<std::size_t>(unknown_[i]);
+    const int me = static_cast<int>(first_row_ + row);
+    auto& e = rows_[row];
+    e.clear();
+    if (!unknown(cls_[i])) {  // a known P = 0: an identity row (stable numbering)
+      e.emplace_back(me, -ws);
+      rhs[row] = 0.0;
+      continue;
+    }
+    if (cls_[i] == WallRow) {
+      // a wet wall: −P_b + Σ_j w_j P_j = −ρ0 (g − a_w)·(r_b − r_m), w the linear MLS weights of the fluid at
+      // r_m (Shepard's where the fluid there is too sparse for the linear fit), scaled by the lattice's diagonal
+      if (o_.wall_adami) {
+        // Adami et al. (2012): P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf over the fluid near the wall particle
+        double sw = 0.0;
+        Vec<D> sr{};
+        thread_local std::vector<std::pair<std::uint32_t, double>> nw;
+        nw.clear();
+        S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+          if (P.kind[j] != Kind::Fluid) return;
+          const double w = ker.W(std::sqrt(r2));
+          sw += w;
+          sr += w * r;
+          nw.emplace_back(j, w);
+        });
+        for (const auto& [j, w] : nw)
+          if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w / sw);
+        e.emplace_back(me, -ws);
+        std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        std::size_t w = 0;
+        for (std::size_t r = 1; r < e.size(); ++r) {
+          if (e[r].first == e[w].first) e[w].second += e[r].second;
+          else e[++w] = e[r];
+        }
+        e.resize(w + 1);
+        const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
+        rhs[row] = -ws * rho0 * dot(g, (1.0 / sw) * sr);
+        continue;
+      }
+      const Vec<D> xm = P.pos[i] + 2.0 * to[i];
+      for (const auto& [j, w] : mls_[i])
+        if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w);
+      e.emplace_back(me, -ws);
+      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::size_t w = 0;
+      for (std::size_t r = 1; r < e.size(); ++r) {
+        if (e[r].first == e[w].first) e[w].second += e[r].second;
+        else e[++w] = e[r];
+      }
+      e.resize(w + 1);
+      const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
+      rhs[row] = -ws * rho0 * dot(g, P.pos[i] - xm);
+      continue;
+    }
+    if (cls_[i] == Surface) {
+      // P = 0 at the surface, dx/2 beyond the particle along its outward normal n = −∇C/|∇C|:
+      // −(P_i + (dx/2) n·L_i Σ_j V_j (P_j − P_i) ∇W_ij) = 0, scaled by the lattice's diagonal
+      Vec<D> nrm{};
+      double gn = 0.0;
+      for (int a = 0; a < D; ++a) gn += gc_[i * D + a] * gc_[i * D + a];
+      gn = std::sqrt(gn);
+      if (gn > 0.0)
+        for (int a = 0; a < D; ++a) nrm[a] = -gc_[i * D + a] / gn;
+      const double* L = &L_[i * D * D];
+      Vec<D> ln{};  // L_iᵀ n: n·L∇W = (Lᵀn)·∇W
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
+      const double delta = 0.5 * S.dx;
+      double diag = 1.0;
+      S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+        if (!(r2 > 0.0)) return;
+        const bool fl = P.kind[j] == Kind::Fluid;
+        if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
+        const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
+        const double w = delta * V * ker.F(std::sqrt(r2)) * dot(ln, r);
+        diag -= w;
+        if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -ws * w);
+      });
+      e.emplace_back(me, -ws * diag);
+      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::size_t w = 0;
+      for (std::size_t r = 1; r < e.size(); ++r) {
+        if (e[r].first == e[w].first) e[w].second += e[r].second;
+        else e[++w] = e[r];
+      }
+      e.resize(w + 1);
+      rhs[row] = 0.0;
+      continue;
+    }
+    // a fluid unknown: Σ_j c_ij (P_j − P_i) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i ∇W_ij over fluid and wet walls,
+    // c_ij = −2 V_j F r²/(r² + η²) (porous: the conductivities' harmonic mean over φ_i, the divergence of φ u*)
+    const double* L = &L_[i * D * D];
+    const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
+    // Skillen et al. (2013)'s blend: over ∇·r ∈ [thr, thr + blend] the row's neighbours and source weighed by
+    // α = (1 − cos(π (∇·r − thr)/blend))/2, so that the pressure rises smoothly from the surface's P = 0
+    const double x = blend > 0.0 ? (divr_[i] - thr) / blend : 1.0;
+    const double alpha = x >= 1.0 ? 1.0 : 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(x, 0.0)));
+    double div = 0.0;
+    // the neighbours' Laplacian weights c_ij, V_j |F_ij| and r_ij (the first-moment correction below)
+    struct Nb { std::uint32_t j; double c, vf; Vec<D> r; };
+    thread_local std::vector<Nb> nb;
+    nb.clear();
+    Vec<D> a{};  // Σ_j c_ij r_ji: the truncated support's first moment
+    double m2 = 0.0;  // ½ Σ_j c_ij r_ij²: its second moment (D on a full support, up to η²)
+    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+      if (!(r2 > 0.0)) return;
+      const bool fl = P.kind[j] == Kind::Fluid;
+      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
+      const double phij = fl && phi ? phi[j] : (fl ? 1.0 : phii);
+      const double V = P.mass[j] / (rho0 * (fl ? phij : 1.0));
+      const double F = ker.F(std::sqrt(r2));
+      double c = -2.0 * V * F * r2 / (r2 + eta2);
+      if (phi) {
+        const double kj = fl ? phij * (mob ? mob[j] : 1.0) : ki;
+        c *= 2.0 * ki * kj / ((ki + kj) * phii);
+      }
+      nb.push_back({j, c, -V * F, r});
+      a -= c * r;
+      m2 += 0.5 * c * r2;
+      // a wall's velocity at t_n (its acceleration is in its pressure's offset)
+      const Vec<D> uj = fl || !aw ? P.vel[j] : P.vel[j] - dt * (*aw)[j];
+      const Vec<D> du = (phi ? phij / phii : 1.0) * uj - P.vel[i];
+      const Vec<D> gw = apply<D>(L, F * r);
+      div += V * dot(du, gw);
+    });
+    // the Laplacian corrected to first order (Schwaiger 2008; Fatehi & Manzari 2011): the truncated support's
+    // first moment removed with the corrected gradient, Σ_j c_ij (P_j − P_i − r_ji·∇P_i), and the result scaled
+    // by D/m2, so that a linear pressure reads 0 and a quadratic one its Laplacian at the surface too;
+    // ∇P_i = L_i Σ_j V_j F_ij (P_j − P_i) r_ij adds V_j |F_ij| (L_iᵀ a)·r_ij to c_ij
+    Vec<D> la{};
+    double scale = 1.0;
+    if (o_.laplacian_corrected) {
+      for (int p = 0; p < D; ++p)
+        for (int q = 0; q < D; ++q) la[p] += L[q * D + p] * a[q];
+      scale = m2 > 0.0 ? double(D) / m2 : 1.0;
+    }
+    double diag = 0.0;
+    for (const auto& q : nb) {
+      const double c = scale * (q.c + q.vf * dot(la, q.r));
+      diag -= c;
+      if (col_[q.j] >= 0.0 && static_cast<int>(col_[q.j]) != me) e.emplace_back(static_cast<int>(col_[q.j]), alpha * c);
+    }
+    e.emplace_back(me, diag);
+    std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::size_t w = 0;  // repeated columns (a particle and its periodic image) summed
+    for (std::size_t r = 1; r < e.size(); ++r) {
+      if (e[r].first == e[w].first) e[w].second += e[r].second;
+      else e[++w] = e[r];
+    }
+    e.resize(w + 1);
+    rhs[row] = alpha * rho0 / dt * div;
+  }
+  sys_.first_row = first_row_;
+  sys_.stable_rows = stable_rows_;
+  sys_.set_rows(rows_);
+  sys_.rhs.swap(rhs);
+}
+
+template <int D>
+template <class K>
+void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
+  // u_{n+1} = u* + Δt m_d (g − L_i Σ_j V_j (P_j − P_i) ∇W_ij / ρ0) for every fluid particle, over fluid and wet walls
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double rho0 = S.eos.rho0;
+  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
+  const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
+  std::vector<Vec<D>> dv(n);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    Vec<D> g{};
+    const double pi = P.p[i];
+    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+      if (!(r2 > 0.0)) return;
+      const bool fl = P.kind[j] == Kind::Fluid;
+      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
+      const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
+      g += (V * (P.p[j] - pi) * ker.F(std::sqrt(r2))) * r;
+    });
+    dv[i] = (dt * (mob ? mob[i] : 1.0)) * (S.gravity - (1.0 / rho0) * apply<D>(&L_[i * D * D], g));
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (P.kind[i] == Kind::Fluid) P.vel[i] += dv[i];
+}
+
+#define SPH_PROJ_PASSES(D, K)                                                            \
+  template void ProjectionISPH<D>::wall_rows<K<D>>(System<D>&, const K<D>&);             \
+  template void ProjectionISPH<D>::moments<K<D>>(System<D>&, const K<D>&);               \
+  template void ProjectionISPH<D>::assemble<K<D>>(System<D>&, const K<D>&, double);      \
+  template void ProjectionISPH<D>::correct<K<D>>(System<D>&, const K<D>&, double);
+SPH_PROJ_PASSES(2, WendlandC2)
+SPH_PROJ_PASSES(2, CubicSpline)
+SPH_PROJ_PASSES(2, QuinticSpline)
+SPH_PROJ_PASSES(3, WendlandC2)
+SPH_PROJ_PASSES(3, CubicSpline)
+SPH_PROJ_PASSES(3, QuinticSpline)
+#undef SPH_PROJ_PASSES
+
+}  // namespace sph
