@@ -7,6 +7,73 @@
 
 namespace sph {
 
+namespace {
+
+/// The largest rate λ of the constant-D shift on a square (cubic) lattice of spacing dx: a displacement mode ε
+/// of wave vector k changes by −D A(k) ε per step, A(k) = Σ_j G(r_j)(1 − cos k·r_j), G = ∂(φ(r) r)/∂r the
+/// Jacobian of one pair's term φ(r) r = F(r)(1 + R (W/W(dx))^n) r; the step damps every mode for D λ < 2
+/// (docs/numerics.md §13).
+template <int D, class K>
+double lattice_shift_rate(const K& ker, double dx, double R, double n) {
+  const double w_dx = ker.W(dx);
+  auto phi = [&](double r) { return ker.F(r) * (1.0 + R * std::pow(ker.W(r) / w_dx, n)); };
+  const int m = static_cast<int>(std::ceil(ker.support / dx)) + 1;
+  struct Site { double r[3]; double G[3][3]; };
+  std::vector<Site> sites;
+  for (int a = -m; a <= m; ++a)
+    for (int b = -m; b <= m; ++b)
+      for (int e = (D == 3 ? -m : 0); e <= (D == 3 ? m : 0); ++e) {
+        const double x[3] = {a * dx, b * dx, e * dx};
+        const double d = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        if (!(d > 0.0) || d >= ker.support) continue;
+        const double eps = 1e-6 * dx;
+        const double dphi = (phi(d + eps) - phi(d - eps)) / (2.0 * eps);
+        Site s{};
+        for (int p = 0; p < 3; ++p) {
+          s.r[p] = x[p];
+          for (int q = 0; q < 3; ++q) s.G[p][q] = (p == q ? phi(d) : 0.0) + dphi * x[p] * x[q] / d;
+        }
+        sites.push_back(s);
+      }
+  const int nk = D == 2 ? 40 : 16;
+  double lmax = 0.0;
+  for (int i = 0; i <= nk; ++i)
+    for (int j = 0; j <= nk; ++j)
+      for (int l = 0; l <= (D == 3 ? nk : 0); ++l) {
+        const double k[3] = {M_PI / dx * i / nk, M_PI / dx * j / nk, M_PI / dx * l / nk};
+        double A[3][3] = {};
+        for (const auto& s : sites) {
+          const double w = 1.0 - std::cos(k[0] * s.r[0] + k[1] * s.r[1] + k[2] * s.r[2]);
+          for (int p = 0; p < D; ++p)
+            for (int q = 0; q < D; ++q) A[p][q] += w * s.G[p][q];
+        }
+        // the largest |eigenvalue| of the symmetric D×D A: bounded by its Frobenius norm, exact through the
+        // power iteration's few steps on so small a matrix
+        double v[3] = {1.0, 0.7, 0.3}, lam = 0.0;
+        for (int it = 0; it < 60; ++it) {
+          double w[3] = {};
+          for (int p = 0; p < D; ++p)
+            for (int q = 0; q < D; ++q) w[p] += A[p][q] * v[q];
+          double nv = 0.0;
+          for (int p = 0; p < D; ++p) nv += w[p] * w[p];
+          nv = std::sqrt(nv);
+          if (!(nv > 0.0)) break;
+          lam = nv;
+          for (int p = 0; p < D; ++p) v[p] = w[p] / nv;
+        }
+        lmax = std::max(lmax, lam);
+      }
+  return lmax * std::pow(dx, D);  // (each neighbour's volume V = dx^D)
+}
+
+}  // namespace
+
+template <int D>
+double Shifting<D>::stable_coefficient(const System<D>& S) const {
+  const double lam = S.with_kernel([&](const auto& K) { return lattice_shift_rate<D>(K, S.dx, cfg_.tensile, cfg_.exponent); });
+  return lam > 0.0 ? 1.5 / (lam * S.h * S.h) : 0.5;
+}
+
 template <int D>
 void Shifting<D>::compute_constant(System<D>& S) {
   // Lind et al. (2012): δr_a = −D (∇C_a + Σ_b V_b R (W_ab/W(dx))^n ∇_aW_ab), D = coefficient h², over fluid
@@ -21,7 +88,8 @@ void Shifting<D>::compute_constant(System<D>& S) {
   const double free = D == 2 ? 1.5 : 2.4;
   const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
   const double* phi = pf ? pf->data() : nullptr;
-  const double Dc = cfg_.coefficient * S.h * S.h, cap = cfg_.cap * S.dx;
+  if (cfg_.automatic && !(auto_coefficient_ > 0.0)) auto_coefficient_ = stable_coefficient(S);
+  const double Dc = (cfg_.automatic ? auto_coefficient_ : cfg_.coefficient) * S.h * S.h, cap = cfg_.cap * S.dx;
   gc_.assign(nall, Vec<D>{});
   divr_.assign(nall, 0.0);
   at_surface_.assign(nall, 0);

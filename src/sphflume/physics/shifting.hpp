@@ -36,9 +36,16 @@ class Shifting {
   /// Lind et al. (2012)'s form (ShiftingConfig::constant): a constant diffusion coefficient D = coefficient h²,
   /// the anti-clustering term, the normal component removed near the surface, the shift capped.
   void compute_constant(System<D>& S);
+  /// The constant form's coefficient D/h² for the case's kernel on its lattice: 1.5/(λ h²), λ the stiffest
+  /// displacement mode's rate (lattice_shift_rate in shifting.cpp), which that mode then halves, sign flipped,
+  /// each step (stable up to 2/(λ h²)): 0.382 for Wendland C2 at h/dx 1.5, 0.296 at 1.3, 0.508 at 2.0.
+  double stable_coefficient(const System<D>& S) const;
+  /// The coefficient D/h² in use (the constant form).
+  double coefficient() const { return cfg_.automatic ? auto_coefficient_ : cfg_.coefficient; }
 
  private:
   ShiftingConfig cfg_;
+  double auto_coefficient_ = 0.0;
   std::vector<Vec<D>> gc_;       // ∇C per particle (images included)
   std::vector<char> at_surface_;  // ∇·r below the threshold
   std::vector<double> divr_;      // ∇·r (constant form)

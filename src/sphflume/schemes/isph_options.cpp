@@ -44,13 +44,18 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   o.alpha = r.in_range("alpha", lind ? 0.0 : 0.02, 0.0, 1.0);
   o.laminar = vm == "laminar";
   if (lind) {
-    // Lind et al. (2012)'s shifting, on by default: D = 0.5 h², R = 0.2, n = 4, |δr| ≤ 0.2 dx, the normal
-    // component removed where ∇·r < 1.7 (2D) / 2.6 (3D) (docs/numerics.md §13)
+    // Lind et al. (2012)'s shifting, on by default: D = coefficient h² (auto: from the kernel's lattice stability,
+    // 0.382 for Wendland C2 at h/dx 1.5, where Lind's 0.5 is at the limit 0.509), R = 0.2, n = 4, |δr| ≤ 0.2 dx,
+    // the normal component removed near the surface (docs/numerics.md §13)
     o.shifting.constant = true;
-    o.shifting.coefficient = 0.5;
+    o.shifting.automatic = true;
+    o.shifting.coefficient = 1.0;  // (on; the value: Shifting::stable_coefficient)
     if (r.has("shifting")) {
       Reader q(r.get("shifting"), r.file(), "scheme.shifting");
-      o.shifting.coefficient = q.in_range("coefficient", 0.5, 0.0, 5.0);
+      if (q.has("coefficient") && q.get("coefficient").text() != "auto") {
+        o.shifting.automatic = false;
+        o.shifting.coefficient = q.in_range("coefficient", 0.5, 0.0, 5.0);
+      }
       o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
       o.shifting.tensile = q.in_range("tensile", 0.2, 0.0, 1.0);
       o.shifting.exponent = q.in_range("exponent", 4.0, 1.0, 8.0);
@@ -89,8 +94,8 @@ void read_isph_options(Reader& r, IsphConfig& o) {
     Reader q(r.get("free_surface"), r.file(), "scheme.free_surface");
     if (lind) {  // ∇·r only
       o.fs_threshold = q.in_range("threshold", 0.0, 0.0, 3.0);
-      o.fs_at_surface = q.choice("condition", "particles", {"particles", "surface"}) == "surface";
-      o.fs_blend = q.in_range("blend", o.fs_at_surface ? 0.0 : 0.2, 0.0, 1.0);
+      o.fs_at_surface = q.choice("condition", "surface", {"particles", "surface"}) == "surface";
+      o.fs_blend = q.in_range("blend", 0.2, 0.0, 1.0);
     } else {
       o.fs_divergence = q.choice("criterion", "density", {"density", "divergence"}) == "divergence";
       o.fs_threshold = o.fs_divergence ? q.in_range("threshold", 0.0, 0.0, 3.0) : q.in_range("threshold", 0.99, 0.5, 1.2);
@@ -98,7 +103,7 @@ void read_isph_options(Reader& r, IsphConfig& o) {
     }
     q.finish();
   }
-  if (lind && !r.has("free_surface")) o.fs_threshold = 0.0;  // 1.5 (2D) / 2.4 (3D)
+  if (lind && !r.has("free_surface")) o.fs_threshold = 0.0;  // ∇·r < 1.5 (2D) / 2.4 (3D), P = 0 at the surface
   if (r.has("solver")) {
     Reader q(r.get("solver"), r.file(), "scheme.solver");
     const std::string st = q.choice("type", "auto", {"auto", "bicgstab", "boomeramg"});

@@ -103,15 +103,20 @@ void ProjectionISPH<D>::step(System<D>& S, double dt) {
   const auto& v0s = P.vector(field::v0);
   double amax2 = 0.0;
   const std::size_t m = P.n_owned();
+  const std::vector<Vec<D>>* shift = shift_.on() ? &P.vector(field::shift) : nullptr;
 #pragma omp parallel for schedule(static) reduction(max : amax2)
   for (std::size_t i = 0; i < m; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     const Vec<D> dv = P.vel[i] - v0s[i];
     amax2 = std::max(amax2, dot(dv, dv));
-    P.pos[i] = x0s[i] + (0.5 * dt) * (v0s[i] + P.vel[i]);
+    Vec<D> d = (0.5 * dt) * (v0s[i] + P.vel[i]);
+    if (shift) d += (*shift)[i];
+    // next to a wall, no displacement into it relative to the wall's (correct(): the velocity's)
+    const Vec<D>& nw = wall_n_[i];
+    if (const double dn = dot(d - dt * wall_u_[i], nw); dn < 0.0) d -= dn * nw;
+    P.pos[i] = x0s[i] + d;
   }
   amax_ = std::sqrt(S.comm->max(amax2)) / dt;
-  if (shift_.on()) shift_.apply(S);
   S.periodic.wrap(P);
   stats_.correct_s += seconds_since(t_corr);
   S.time += dt;
@@ -137,6 +142,7 @@ void ProjectionISPH<D>::solve_pressure(System<D>& S, double dt) {
     if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = S.eos.rho0;
   solver_.prepare(S.comm->size() > 1);
   // walls first (which are wet: the mirror sees fluid), then the fluid's moments over fluid and wet walls
+  dt_ = dt;
   S.with_kernel([&](const auto& K) { this->wall_rows(S, K); });
   S.with_kernel([&](const auto& K) { this->moments(S, K); });
   number_unknowns(S);

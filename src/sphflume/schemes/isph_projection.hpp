@@ -48,6 +48,8 @@ class ProjectionISPH final : public Scheme<D> {
   std::map<std::string, double> state() const override;
   void restore(const std::map<std::string, double>& s) override;
   void summary(nlohmann::ordered_json& j) const override;
+  /// A short sliver before an output disturbs the scheme (its shift is per step): the driver evens the last steps.
+  bool even_steps() const override { return true; }
 
   const PpeStats& stats() const { return stats_; }
   /// Steps 2-4 at the current positions (exposed for tests: a still tank's pressure).
@@ -82,7 +84,12 @@ class ProjectionISPH final : public Scheme<D> {
   static bool unknown(char c) { return c == Inner || c == WallRow || c == Surface; }
   std::vector<char> cls_;
   std::vector<double> gc_, mirror_divr_;
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's MLS weights at its mirror point
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's weights (MLS at its mirror point, or Adami's)
+  std::vector<Vec<D>> lever_;
+  std::vector<Vec<D>> ub_;  // a wet wall's velocity in the divergence (per particle incl. images)
+  double dt_ = 0.0;
+  std::vector<Vec<D>> wall_n_, wall_u_;  // per owned fluid particle: the nearest wall's normal (0: none within dx), velocity         // the step being solved (wall_rows' wall velocity at t_n)
+  // a wall row's offset ρ0 (g − a_w)·lever: r_b − r_m, or Adami's Σ w (r_b − r_f)
   std::vector<int> unknown_;
   std::vector<double> L_, divr_;
   std::vector<double> col_, wet_;

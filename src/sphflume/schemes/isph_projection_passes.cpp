@@ -109,6 +109,7 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
   wet_.assign(P.size(), 0.0);
   mirror_divr_.assign(n, 0.0);
   mls_.resize(n);
+  lever_.assign(n, Vec<D>{});
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t b = 0; b < n; ++b) {
     if (P.kind[b] != Kind::Wall) continue;
@@ -132,10 +133,53 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
     // on the surface particles, ≥ the surface's threshold); a wall further up, or where the fit is ill-posed, is
     // in the air (Known) and out of the fluid's sums: the fluid there sees a free surface
     const double air = o_.fs_at_surface ? (D == 2 ? 1.0 : 1.5) : thr;
-    cls_[b] = fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b]) ? WallRow : Known;
-    wet_[b] = cls_[b] == WallRow ? 1.0 : 0.0;
+    cls_[b] = WallRow;
+    wet_[b] = 1.0;
+    if (fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b])) {
+      lever_[b] = P.pos[b] - xm;
+    } else if (o_.wall_air_out) {
+      cls_[b] = Known;
+      wet_[b] = 0.0;
+    } else {
+      // the mirror point in the air or the fit ill-posed (a film, a jet's root): Adami et al. (2012)'s
+      // extrapolation from the fluid around the wall particle itself, P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f))
+      // / Σ_f W_bf, which continues the hydrostatic pressure through the wall and above the water line
+      auto& w = mls_[b];
+      w.clear();
+      double sw = 0.0;
+      Vec<D> sr{};
+      S.cells.for_neighbours(P.pos, P.pos[b], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+        if (P.kind[j] != Kind::Fluid) return;
+        const double wj = ker.W(std::sqrt(r2));
+        sw += wj;
+        sr += wj * r;
+        w.emplace_back(j, wj);
+      });
+      for (auto& [j, wj] : w) wj /= sw;
+      lever_[b] = (1.0 / sw) * sr;
+    }
   }
   S.refresh_halos(wet_.data());
+  // each wet wall's velocity in the fluid's divergence: the fluid's velocity at its mirror point (its
+  // interpolation weights) with the normal part, relative to the wall's, reflected, u_b = u_f − 2 ((u_f − u_w)·n) n:
+  // the normal velocity midway, at the wall's surface, is the wall's, and a flow along the wall is no divergence
+  // (the wall's own velocity there made a film's tip on the bed a sink of −10⁴ … −10⁶ Pa; Chow et al.'s no-slip
+  // mirror 2 u_w − u_f doubles that and blew the dam break up at 0.2 s: docs/numerics.md §13). u_w at t_n: a
+  // moving wall's acceleration is in its pressure's offset
+  const auto* aw = P.find(field::wall_acc);
+  ub_.assign(P.size(), Vec<D>{});
+#pragma omp parallel for schedule(static)
+  for (std::size_t b = 0; b < n; ++b) {
+    if (P.kind[b] != Kind::Wall) continue;
+    const Vec<D> uw = aw ? P.vel[b] - dt_ * (*aw)[b] : P.vel[b];
+    ub_[b] = uw;
+    if (!(wet_[b] > 0.0) || mls_[b].empty()) continue;
+    Vec<D> uf{};
+    for (const auto& [j, w] : mls_[b]) uf += w * P.vel[j];
+    const Vec<D> nw = (1.0 / norm(to[b])) * to[b];
+    ub_[b] = uf - (2.0 * dot(uf - uw, nw)) * nw;
+  }
+  S.refresh_halos(ub_.data(), 1);
 }
 
 template <int D>
@@ -172,7 +216,9 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
     for (int a = 0; a < D; ++a) tr += M[a * D + a];
     divr_[i] = tr;
     guarded_inverse<D>(M, lmin, &L_[i * D * D]);
-    cls_[i] = tr >= thr ? Inner : o_.fs_at_surface ? Surface : Known;
+    // with P = 0 at the surface (Surface: a Robin row), a particle whose support is less than about half
+    // full (∇·r < 1 in 2D, 1.5 in 3D: a splash, a jet's tip, a film) keeps P = 0 on its centre
+    cls_[i] = tr >= thr ? Inner : o_.fs_at_surface && tr >= (D == 2 ? 1.0 : 1.5) ? Surface : Known;
   }
 }
 
@@ -185,7 +231,6 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   const double eta2 = o_.eta2 * S.h * S.h;
   const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
   const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
-  const auto& to = P.vector(field::wall_to_surface);
   const auto* aw = P.find(field::wall_acc);
   const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
   rows_.resize(rows);
@@ -235,7 +280,6 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
         rhs[row] = -ws * rho0 * dot(g, (1.0 / sw) * sr);
         continue;
       }
-      const Vec<D> xm = P.pos[i] + 2.0 * to[i];
       for (const auto& [j, w] : mls_[i])
         if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w);
       e.emplace_back(me, -ws);
@@ -247,12 +291,12 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       }
       e.resize(w + 1);
       const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
-      rhs[row] = -ws * rho0 * dot(g, P.pos[i] - xm);
+      rhs[row] = -ws * rho0 * dot(g, lever_[i]);
       continue;
     }
-    if (cls_[i] == Surface) {
-      // P = 0 at the surface, dx/2 beyond the particle along its outward normal n = −∇C/|∇C|:
-      // −(P_i + (dx/2) n·L_i Σ_j V_j (P_j − P_i) ∇W_ij) = 0, scaled by the lattice's diagonal
+    // the surface's Robin row, P + (dx/2) n·∇P = 0 (P = 0 at the surface, dx/2 beyond the particle along its
+    // outward normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal
+    auto robin = [&](double weight) {
       Vec<D> nrm{};
       double gn = 0.0;
       for (int a = 0; a < D; ++a) gn += gc_[i * D + a] * gc_[i * D + a];
@@ -272,16 +316,22 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
         const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
         const double w = delta * V * ker.F(std::sqrt(r2)) * dot(ln, r);
         diag -= w;
-        if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -ws * w);
+        if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -weight * ws * w);
       });
-      e.emplace_back(me, -ws * diag);
+      return -weight * ws * diag;
+    };
+    auto finish = [&](double diag) {
+      e.emplace_back(me, diag);
       std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-      std::size_t w = 0;
+      std::size_t w = 0;  // repeated columns (a particle and its periodic image) summed
       for (std::size_t r = 1; r < e.size(); ++r) {
         if (e[r].first == e[w].first) e[w].second += e[r].second;
         else e[++w] = e[r];
       }
       e.resize(w + 1);
+    };
+    if (cls_[i] == Surface) {
+      finish(robin(1.0));
       rhs[row] = 0.0;
       continue;
     }
@@ -316,7 +366,7 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       a -= c * r;
       m2 += 0.5 * c * r2;
       // a wall's velocity at t_n (its acceleration is in its pressure's offset)
-      const Vec<D> uj = fl || !aw ? P.vel[j] : P.vel[j] - dt * (*aw)[j];
+      const Vec<D> uj = fl ? P.vel[j] : ub_[j];
       const Vec<D> du = (phi ? phij / phii : 1.0) * uj - P.vel[i];
       const Vec<D> gw = apply<D>(L, F * r);
       div += V * dot(du, gw);
@@ -332,20 +382,28 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
         for (int q = 0; q < D; ++q) la[p] += L[q * D + p] * a[q];
       scale = m2 > 0.0 ? double(D) / m2 : 1.0;
     }
+    // the correction kept where it leaves the row an M-matrix row (no negative weight): a disordered or sparse
+    // support (a jet, an impact) can turn a weight negative, and such a row lets a single particle's pressure run
+    // away (10⁵ … 10⁷ Pa spikes in the dam break's impact, docs/numerics.md §13)
+    if (o_.laplacian_corrected)
+      for (const auto& q : nb)
+        if (q.c + q.vf * dot(la, q.r) < 0.0) {
+          la = Vec<D>{};
+          scale = 1.0;
+          break;
+        }
     double diag = 0.0;
+    // the blend: with P = 0 on the surface particles, the neighbours and the source weighed by α (Skillen et al.:
+    // the pressure rises from 0 smoothly); with P = 0 at the surface, α of the Laplacian's row and 1 − α of the
+    // Robin row (a particle moving between the two classes changes its equation smoothly)
+    const double lap = o_.fs_at_surface ? alpha : 1.0;
     for (const auto& q : nb) {
       const double c = scale * (q.c + q.vf * dot(la, q.r));
-      diag -= c;
+      diag -= lap * c;
       if (col_[q.j] >= 0.0 && static_cast<int>(col_[q.j]) != me) e.emplace_back(static_cast<int>(col_[q.j]), alpha * c);
     }
-    e.emplace_back(me, diag);
-    std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    std::size_t w = 0;  // repeated columns (a particle and its periodic image) summed
-    for (std::size_t r = 1; r < e.size(); ++r) {
-      if (e[r].first == e[w].first) e[w].second += e[r].second;
-      else e[++w] = e[r];
-    }
-    e.resize(w + 1);
+    if (o_.fs_at_surface && alpha < 1.0) diag += robin(1.0 - alpha);
+    finish(diag);
     rhs[row] = alpha * rho0 / dt * div;
   }
   sys_.first_row = first_row_;
@@ -363,20 +421,43 @@ void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   const double rho0 = S.eos.rho0;
   const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
   const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
+  const auto& to = P.vector(field::wall_to_surface);
+  const double dx2 = S.dx * S.dx;
   std::vector<Vec<D>> dv(n);
+  wall_n_.assign(n, Vec<D>{});
+  wall_u_.assign(n, Vec<D>{});
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     Vec<D> g{};
     const double pi = P.p[i];
+    double wall_r2 = dx2;  // the nearest first-layer wall particle closer than dx (the rest distance)
+    std::uint32_t wall = 0;
+    bool near_wall = false;
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
       if (!(r2 > 0.0)) return;
       const bool fl = P.kind[j] == Kind::Fluid;
+      if (P.kind[j] == Kind::Wall && r2 < wall_r2 && dot(to[j], to[j]) < dx2) {
+        wall_r2 = r2;
+        wall = j;
+        near_wall = true;
+      }
       if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
       const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
       g += (V * (P.p[j] - pi) * ker.F(std::sqrt(r2))) * r;
     });
     dv[i] = (dt * (mob ? mob[i] : 1.0)) * (S.gravity - (1.0 / rho0) * apply<D>(&L_[i * D * D], g));
+    wall_n_[i] = Vec<D>{};
+    if (near_wall) {
+      // no flow into a wall (Chow et al. 2018's velocity check): a particle nearer to a wall particle than the
+      // spacing loses the part of its velocity, relative to the wall's, that points into the wall (and, in step(),
+      // of its displacement)
+      const Vec<D> nw = (1.0 / norm(to[wall])) * to[wall];
+      const double un = dot(P.vel[i] + dv[i] - P.vel[wall], nw);
+      if (un < 0.0) dv[i] -= un * nw;
+      wall_n_[i] = nw;
+      wall_u_[i] = P.vel[wall];
+    }
   }
   for (std::size_t i = 0; i < n; ++i)
     if (P.kind[i] == Kind::Fluid) P.vel[i] += dv[i];
