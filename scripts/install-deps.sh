@@ -5,6 +5,7 @@
 #   scripts/install-deps.sh           build, run, validation scripts
 #   scripts/install-deps.sh --tests   the same plus what only the test suite needs (ParaView's
 #                                     pvpython for the XDMF round trip; ~450 MB, scripts/test.sh)
+#   scripts/install-deps.sh --bench   the same plus the peers the benchmarks run (PySPH: bench/isph_vs_pysph.py)
 set -euo pipefail
 PKGS=(
   build-essential g++ cmake make pkg-config git
@@ -17,6 +18,9 @@ PKGS=(
 )
 if [ "${1:-}" = "--tests" ]; then
   PKGS+=(paraview python3-paraview)
+fi
+if [ "${1:-}" = "--bench" ]; then
+  PKGS+=(python3-pysph)
 fi
 missing=()
 for p in "${PKGS[@]}"; do

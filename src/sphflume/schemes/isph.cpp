@@ -12,30 +12,9 @@
 #include "sphflume/physics/porous.hpp"
 
 namespace sph {
-namespace {
-
-/// The force pass's options: WCSPH's pair loop without pressure, density diffusion or XSPH.
-SchemeConfig force_config(const Case& c) {
-  SchemeConfig f = c.scheme;
-  f.pressure = false;
-  f.density_diffusion = DensityDiffusion::None;
-  f.delta = 0.0;
-  f.xsph = 0.0;
-  f.shifting = ShiftingConfig{};
-  f.frozen = false;
-  f.viscosity = !c.isph.viscosity ? ViscosityModel::None
-                : c.isph.laminar ? ViscosityModel::Laminar : ViscosityModel::Artificial;
-  f.alpha = c.isph.viscosity ? c.isph.alpha : 0.0;
-  f.alpha_on_laminar = c.isph.viscosity && c.isph.laminar ? c.isph.alpha : 0.0;
-  f.eta2 = c.isph.eta2;
-  return f;
-}
-
-}  // namespace
-
 template <int D>
 ISPH<D>::ISPH(const Case& c)
-    : o_(c.isph), forces_(force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(c.isph) {
+    : o_(c.isph), forces_(isph_force_config(c), c.turbulence), shift_(c.isph.shifting), solver_(c.isph) {
   check_isph_models(c);  // (the case reader checked it too; a case built in code is checked here)
 }
 

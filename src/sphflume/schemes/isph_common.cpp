@@ -2,6 +2,22 @@
 
 namespace sph {
 
+SchemeConfig isph_force_config(const Case& c) {
+  SchemeConfig f = c.scheme;
+  f.pressure = false;
+  f.density_diffusion = DensityDiffusion::None;
+  f.delta = 0.0;
+  f.xsph = 0.0;
+  f.shifting = ShiftingConfig{};
+  f.frozen = false;
+  f.viscosity = !c.isph.viscosity ? ViscosityModel::None
+                : c.isph.laminar ? ViscosityModel::Laminar : ViscosityModel::Artificial;
+  f.alpha = c.isph.viscosity ? c.isph.alpha : 0.0;
+  f.alpha_on_laminar = c.isph.viscosity && c.isph.laminar ? c.isph.alpha : 0.0;
+  f.eta2 = c.isph.eta2;
+  return f;
+}
+
 std::string isph_distributed_refusal(const IsphConfig& o) {
   if (!have_hypre())
     return "the ISPH scheme without hypre (its pressure equation across ranks is solved by hypre: install "

@@ -81,6 +81,10 @@ double isph_time_step(const System<D>& S, const IsphConfig& o, double amax) {
   return dt;
 }
 
+/// The prediction's force pass: WCSPH's pair loop (the case's scheme options) without pressure, density
+/// diffusion, XSPH or shifting, with the projection's viscosity options.
+SchemeConfig isph_force_config(const Case& c);
+
 /// Why the projection scheme, as configured, cannot run over several ranks (empty: it can).
 std::string isph_distributed_refusal(const IsphConfig& o);
 
