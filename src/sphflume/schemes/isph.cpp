@@ -221,18 +221,10 @@ void ISPH<D>::classify(System<D>& S) {
   int k = 0;
   stable_rows_ = S.comm->size() == 1 && solver_.reuses_preconditioner();
   if (stable_rows_) {
-    // one process with hypre: a row for every fluid and first-layer wall particle, numbered by
-    // particle id, P = 0 ones as identity rows, so that row r is the same particle from step to
-    // step and the solver may reuse its multigrid hierarchy (pressure_solver.hpp)
-    std::uint32_t top = 0;
-    for (std::size_t i = 0; i < n; ++i) top = std::max(top, P.id[i]);
-    row_of_id_.assign(std::size_t(top) + 1, -1);
-    for (std::size_t i = 0; i < n; ++i)
-      if (cls_[i] != 2 && (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)) row_of_id_[P.id[i]] = 0;
-    for (auto& r : row_of_id_)
-      if (r >= 0) r = k++;
-    for (std::size_t i = 0; i < n; ++i)
-      if (cls_[i] != 2 && (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall)) unknown_[i] = row_of_id_[P.id[i]];
+    // one process with hypre: a row for every fluid and first-layer wall particle by particle id, P = 0 ones as
+    // identity rows (rows_by_id)
+    k = rows_by_id(P, [&](std::size_t i) { return cls_[i] != 2 && (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall); },
+                   row_of_id_, unknown_);
   } else {
     for (std::size_t i = 0; i < n; ++i)
       if (cls_[i] == 0) unknown_[i] = k++;
@@ -372,16 +364,12 @@ std::size_t ISPH<D>::bytes() const {
 template <int D>
 std::map<std::string, double> ISPH<D>::state() const {
   fresh_hierarchy_ = true;  // a restart point: a run restarted here starts without the solver's hierarchy
-  std::map<std::string, double> s{{"amax", amax_}};
-  stats_.save(s);
-  return s;
+  return stats_.save(amax_);
 }
 
 template <int D>
 void ISPH<D>::restore(const std::map<std::string, double>& s) {
-  auto it = s.find("amax");
-  amax_ = it == s.end() ? 0.0 : it->second;
-  stats_.load(s);
+  amax_ = stats_.load(s);
 }
 
 template <int D>

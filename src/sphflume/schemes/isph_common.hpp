@@ -31,20 +31,25 @@ struct PpeStats {
   double assemble_s = 0.0, solve_s = 0.0;
   double predict_s = 0.0, correct_s = 0.0;  // the force pass and prediction; the correction (+ shifting)
   long redone = 0;  // steps redone with a shorter Δt (the Courant check after prediction or correction)
-  void save(std::map<std::string, double>& s) const {
+  /// The restart state: these counters and the scheme's last largest acceleration.
+  std::map<std::string, double> save(double amax) const {
+    std::map<std::string, double> s{{"amax", amax}};
     s["ppe_solves"] = double(solves);
     s["ppe_iterations"] = double(iterations);
     s["ppe_max_iterations"] = double(max_iterations);
     s["ppe_max_residual"] = max_residual;
     s["redone_steps"] = double(redone);
+    return s;
   }
-  void load(const std::map<std::string, double>& s) {
+  /// Puts back what save() wrote; returns the acceleration.
+  double load(const std::map<std::string, double>& s) {
     auto get = [&](const char* k) { auto it = s.find(k); return it == s.end() ? 0.0 : it->second; };
     solves = static_cast<long>(get("ppe_solves"));
     iterations = static_cast<long>(get("ppe_iterations"));
     max_iterations = static_cast<int>(get("ppe_max_iterations"));
     max_residual = get("ppe_max_residual");
     redone = static_cast<long>(get("redone_steps"));
+    return get("amax");
   }
   nlohmann::ordered_json json(const char* solver, double tolerance) const {
     const double mean = solves > 0 ? double(iterations) / double(solves) : 0.0;
@@ -84,6 +89,25 @@ double isph_time_step(const System<D>& S, const IsphConfig& o, double amax) {
 /// The prediction's force pass: WCSPH's pair loop (the case's scheme options) without pressure, density
 /// diffusion, XSPH or shifting, with the projection's viscosity options.
 SchemeConfig isph_force_config(const Case& c);
+
+/// Rows numbered by particle id (one process with hypre): every owned particle with has_row(i) gets row
+/// row_of_id[id] in id order, so that row r is the same particle from step to step and the solver may reuse
+/// its multigrid hierarchy (pressure_solver.hpp); unknown[i] set, the row count returned.
+template <int D, class Pred>
+int rows_by_id(const ParticleStore<D>& P, Pred&& has_row, std::vector<int>& row_of_id, std::vector<int>& unknown) {
+  const std::size_t n = P.n_owned();
+  std::uint32_t top = 0;
+  for (std::size_t i = 0; i < n; ++i) top = std::max(top, P.id[i]);
+  row_of_id.assign(std::size_t(top) + 1, -1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (has_row(i)) row_of_id[P.id[i]] = 0;
+  int k = 0;
+  for (auto& r : row_of_id)
+    if (r >= 0) r = k++;
+  for (std::size_t i = 0; i < n; ++i)
+    if (has_row(i)) unknown[i] = row_of_id[P.id[i]];
+  return k;
+}
 
 /// Why the projection scheme, as configured, cannot run over several ranks (empty: it can).
 std::string isph_distributed_refusal(const IsphConfig& o);

@@ -94,11 +94,10 @@ bool mls_weights(const System<D>& S, const K& ker, const Vec<D>& x, std::vector<
 template <int D>
 template <class K>
 void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
-  // A wall particle with no fluid within its support is out of every sum (3). Else its pressure is that
-  // of its mirror point r_m = r_b + 2 s (s: its vector to the wall surface), and the mirror point is
-  // classified as a fluid particle would be: ∇·r at r_m (over fluid and wall particles) below the free
-  // surface's threshold puts it in the air, P = 0 (1: a wall above the water line, at the contact line);
-  // else it is an unknown (2). Both take part in the fluid's sums.
+  // A wall particle with no fluid within its support is out of every sum (Out). Else it is an unknown (WallRow)
+  // whose pressure is the fluid's interpolated at its mirror point r_m = r_b + 2 s (s: its vector to the wall
+  // surface) plus the body force's offset, or, where the mirror point is in the air, Adami's extrapolation;
+  // the weights and the offset's lever are kept for assemble(), and the wall's velocity in the divergence is set.
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const auto& to = P.vector(field::wall_to_surface);
@@ -135,13 +134,13 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
     const double air = o_.fs_at_surface ? (D == 2 ? 1.0 : 1.5) : thr;
     cls_[b] = WallRow;
     wet_[b] = 1.0;
-    if (fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b])) {
+    if (!o_.wall_adami && fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b])) {
       lever_[b] = P.pos[b] - xm;
     } else if (o_.wall_air_out) {
       cls_[b] = Known;
       wet_[b] = 0.0;
     } else {
-      // the mirror point in the air or the fit ill-posed (a film, a jet's root): Adami et al. (2012)'s
+      // the mirror point in the air or the fit ill-posed (a film, a jet's root), or `wall_pressure: adami`: Adami et al. (2012)'s
       // extrapolation from the fluid around the wall particle itself, P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f))
       // / Σ_f W_bf, which continues the hydrostatic pressure through the wall and above the water line
       auto& w = mls_[b];
@@ -245,6 +244,16 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     const int me = static_cast<int>(first_row_ + row);
     auto& e = rows_[row];
     e.clear();
+    auto finish = [&](double diag) {
+      e.emplace_back(me, diag);
+      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::size_t w = 0;  // repeated columns (a particle and its periodic image) summed
+      for (std::size_t r = 1; r < e.size(); ++r) {
+        if (e[r].first == e[w].first) e[w].second += e[r].second;
+        else e[++w] = e[r];
+      }
+      e.resize(w + 1);
+    };
     if (!unknown(cls_[i])) {  // a known P = 0: an identity row (stable numbering)
       e.emplace_back(me, -ws);
       rhs[row] = 0.0;
@@ -253,43 +262,9 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     if (cls_[i] == WallRow) {
       // a wet wall: −P_b + Σ_j w_j P_j = −ρ0 (g − a_w)·(r_b − r_m), w the linear MLS weights of the fluid at
       // r_m (Shepard's where the fluid there is too sparse for the linear fit), scaled by the lattice's diagonal
-      if (o_.wall_adami) {
-        // Adami et al. (2012): P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf over the fluid near the wall particle
-        double sw = 0.0;
-        Vec<D> sr{};
-        thread_local std::vector<std::pair<std::uint32_t, double>> nw;
-        nw.clear();
-        S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-          if (P.kind[j] != Kind::Fluid) return;
-          const double w = ker.W(std::sqrt(r2));
-          sw += w;
-          sr += w * r;
-          nw.emplace_back(j, w);
-        });
-        for (const auto& [j, w] : nw)
-          if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w / sw);
-        e.emplace_back(me, -ws);
-        std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-        std::size_t w = 0;
-        for (std::size_t r = 1; r < e.size(); ++r) {
-          if (e[r].first == e[w].first) e[w].second += e[r].second;
-          else e[++w] = e[r];
-        }
-        e.resize(w + 1);
-        const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
-        rhs[row] = -ws * rho0 * dot(g, (1.0 / sw) * sr);
-        continue;
-      }
       for (const auto& [j, w] : mls_[i])
         if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w);
-      e.emplace_back(me, -ws);
-      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-      std::size_t w = 0;
-      for (std::size_t r = 1; r < e.size(); ++r) {
-        if (e[r].first == e[w].first) e[w].second += e[r].second;
-        else e[++w] = e[r];
-      }
-      e.resize(w + 1);
+      finish(-ws);
       const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
       rhs[row] = -ws * rho0 * dot(g, lever_[i]);
       continue;
@@ -319,16 +294,6 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
         if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -weight * ws * w);
       });
       return -weight * ws * diag;
-    };
-    auto finish = [&](double diag) {
-      e.emplace_back(me, diag);
-      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-      std::size_t w = 0;  // repeated columns (a particle and its periodic image) summed
-      for (std::size_t r = 1; r < e.size(); ++r) {
-        if (e[r].first == e[w].first) e[w].second += e[r].second;
-        else e[++w] = e[r];
-      }
-      e.resize(w + 1);
     };
     if (cls_[i] == Surface) {
       finish(robin(1.0));
