@@ -117,7 +117,9 @@ time: {end: 1.0}
 )";
   const Case c = parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind}"});
   EXPECT_EQ(c.isph.formulation, IsphFormulation::Lind);
-  EXPECT_TRUE(c.isph.shifting.constant && c.isph.shifting.automatic);
+  EXPECT_TRUE(!c.isph.shifting.constant && c.isph.shifting.coefficient == 2.0);  // Skillen's velocity-scaled form
+  const Case k = parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, shifting: {form: constant}}"});
+  EXPECT_TRUE(k.isph.shifting.constant && k.isph.shifting.automatic);
   EXPECT_TRUE(c.isph.fs_at_surface);
   EXPECT_EQ(c.isph.alpha, 0.0);
   EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, source: {type: split}}"}), InputError);

@@ -11,7 +11,9 @@ Metrics:
   3. both runs exit 0 and conserve the fluid mass (round-off).
 Information: impact time and peak at the wall, total energy (gauge `energy`) of both runs against the initial
 potential energy (the energy ISPH dissipates), wall time of each run and the pressure solver's share.
-Outputs every 2 ms (the gauges are written at the output interval).
+Outputs every 2 ms (the gauges are written at the output interval). The check's own key `--set formulation=lind`
+runs ISPH with `scheme.formulation: lind` (docs/numerics.md §13b; its `shifting: {coefficient: 2}` is then Skillen's
+velocity-scaled form, the same as under Tsurudome's).
 Usage: /usr/bin/python3 validation/isph_dambreak/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import json
@@ -65,8 +67,9 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     base = {"particles.dx": m["dx"], "time.end": m["end"], "time.output_interval": 0.002, **parse_sets(a.set)}
     dx = base["particles.dx"] = float(base["particles.dx"])  # (the mode's, or a --set particles.dx=..., e.g. a/80)
+    formulation = base.pop("formulation", "tsurudome")
     runs = {}
-    for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.shifting": "{coefficient: 2}"})):
+    for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.formulation": formulation, "scheme.shifting": "{coefficient: 2}"})):
         out = os.path.join(a.out, f"{scheme}_dx{dx:g}")
         s, wall, rc = run_case(a.sphflume, CASE, out, {**base, **extra}, a.threads, a.reuse)
         runs[scheme] = (out, s, wall, rc)

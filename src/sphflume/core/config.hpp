@@ -86,9 +86,10 @@ struct IsphConfig {
   double correction_min_eigenvalue = 0.25;  // lind: the kernel-gradient correction's eigenvalue floor
   double fs_blend = 0.2;             // lind: Skillen's blend of the PPE over ∇·r ∈ [threshold, threshold + blend]
   bool laplacian_corrected = true;   // lind: the PPE's Laplacian corrected to first order (`laplacian: corrected`)
-  bool wall_adami = false;
-  bool wall_air_out = false;         // lind: a wall whose mirror point is in the air is out of the sums (Chow's BoundaryFS)           // lind: walls' pressure by Adami et al. (2012)'s extrapolation, not the mirror points
-  bool fs_at_surface = true;        // lind: P = 0 at the surface, dx/2 beyond a surface particle (a Robin row),
+  bool wall_adami = false;           // lind: walls' pressure by Adami et al. (2012)'s extrapolation, not the mirror points
+  bool wall_air_out = true;          // lind: a wall whose mirror point is in the air is out of the sums (Chow's BoundaryFS;
+                                     // false: Adami's extrapolation there)
+  bool fs_at_surface = true;         // lind: P = 0 at the surface, dx/2 beyond a surface particle (a Robin row),
                                      // instead of on the surface particles' centres (free_surface.condition)
   double cfl = 0.2;                  // dt <= cfl dx / |u|max (Tsurudome §3.6, eq 3.6.6: the particle spacing, not h)
   double force_coefficient = 0.25;   // dt <= coef sqrt(h / |a|max), |a| at least |g|

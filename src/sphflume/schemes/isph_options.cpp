@@ -44,16 +44,22 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   o.alpha = r.in_range("alpha", lind ? 0.0 : 0.02, 0.0, 1.0);
   o.laminar = vm == "laminar";
   if (lind) {
-    // Lind et al. (2012)'s shifting, on by default: D = coefficient h² (auto: from the kernel's lattice stability,
-    // 0.382 for Wendland C2 at h/dx 1.5, where Lind's 0.5 is at the limit 0.509), R = 0.2, n = 4, |δr| ≤ 0.2 dx,
-    // the normal component removed near the surface (docs/numerics.md §13)
-    o.shifting.constant = true;
-    o.shifting.automatic = true;
-    o.shifting.coefficient = 1.0;  // (on; the value: Shifting::stable_coefficient)
+    // shifting on by default: Skillen et al. (2013)'s velocity-scaled form, D = 2 h |u| Δt (§7a), which leaves still
+    // water still; Lind et al. (2012)'s constant D = coefficient h² (`form: constant`; auto: from the kernel's
+    // lattice stability, 0.382 for Wendland C2 at h/dx 1.5, where Lind's 0.5 is at the limit 0.509) made every still
+    // tank grow unstable within 2-6 s (docs/numerics.md §13b); the constant form has R = 0.2, n = 4, |δr| ≤ 0.2 dx and
+    // the normal component removed near the surface, the velocity form §7a's surface treatment
+    o.shifting.constant = false;
+    o.shifting.coefficient = 2.0;
     if (r.has("shifting")) {
       Reader q(r.get("shifting"), r.file(), "scheme.shifting");
-      if (q.has("coefficient") && q.get("coefficient").text() != "auto") {
-        o.shifting.automatic = false;
+      o.shifting.constant = q.choice("form", "velocity", {"constant", "velocity"}) == "constant";
+      if (!o.shifting.constant) {
+        o.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
+      } else if (!q.has("coefficient") || q.get("coefficient").text() == "auto") {
+        o.shifting.automatic = true;
+        o.shifting.coefficient = 1.0;  // (on; the value: Shifting::stable_coefficient)
+      } else {
         o.shifting.coefficient = q.in_range("coefficient", 0.5, 0.0, 5.0);
       }
       o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
