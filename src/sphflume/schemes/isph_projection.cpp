@@ -91,8 +91,10 @@ void ProjectionISPH<D>::step(System<D>& S, double dt) {
     Vec<D> d = (0.5 * dt) * (v0s[i] + P.vel[i]);
     if (shift) d += (*shift)[i];
     // next to a wall, no displacement into it relative to the wall's (correct(): the velocity's)
-    const Vec<D>& nw = wall_n_[i];
-    if (const double dn = dot(d - dt * wall_u_[i], nw); dn < 0.0) d -= dn * nw;
+    for (int k = 0; k < D; ++k) {
+      const Vec<D>& nw = wall_n_[i * D + k];
+      if (const double dn = dot(d - dt * wall_u_[i * D + k], nw); dn < 0.0) d -= dn * nw;
+    }
     P.pos[i] = x0s[i] + d;
   }
   amax_ = std::sqrt(S.comm->max(amax2)) / dt;

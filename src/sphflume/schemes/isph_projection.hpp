@@ -85,11 +85,11 @@ class ProjectionISPH final : public Scheme<D> {
   std::vector<char> cls_;
   std::vector<double> gc_, mirror_divr_;
   std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's weights (MLS at its mirror point, or Adami's)
-  std::vector<Vec<D>> lever_;
-  std::vector<Vec<D>> ub_;  // a wet wall's velocity in the divergence (per particle incl. images)
-  double dt_ = 0.0;
-  std::vector<Vec<D>> wall_n_, wall_u_;  // per owned fluid particle: the nearest wall's normal (0: none within dx), velocity         // the step being solved (wall_rows' wall velocity at t_n)
-  // a wall row's offset ρ0 (g − a_w)·lever: r_b − r_m, or Adami's Σ w (r_b − r_f)
+  std::vector<Vec<D>> lever_;  // a wall row's offset ρ0 (g − a_w)·lever: r_b − r_m, or Adami's Σ w (r_b − r_f)
+  std::vector<Vec<D>> ub_;     // a wet wall's velocity in the divergence (per particle incl. images)
+  double dt_ = 0.0;            // the step being solved (wall_rows' wall velocity at t_n)
+  // per owned fluid particle, D slots: the walls within dx (their normals, 0 where none, and velocities)
+  std::vector<Vec<D>> wall_n_, wall_u_;
   std::vector<int> unknown_;
   std::vector<double> L_, divr_;
   std::vector<double> col_, wet_;

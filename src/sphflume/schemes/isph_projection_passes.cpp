@@ -347,16 +347,20 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
         for (int q = 0; q < D; ++q) la[p] += L[q * D + p] * a[q];
       scale = m2 > 0.0 ? double(D) / m2 : 1.0;
     }
-    // the correction kept where it leaves the row an M-matrix row (no negative weight): a disordered or sparse
-    // support (a jet, an impact) can turn a weight negative, and such a row lets a single particle's pressure run
-    // away (10⁵ … 10⁷ Pa spikes in the dam break's impact, docs/numerics.md §13)
-    if (o_.laplacian_corrected)
-      for (const auto& q : nb)
-        if (q.c + q.vf * dot(la, q.r) < 0.0) {
-          la = Vec<D>{};
-          scale = 1.0;
-          break;
-        }
+    // the correction kept as far as it leaves the row an M-matrix row (no negative weight): it is scaled by the
+    // largest θ ≤ 1 that keeps every weight ≥ 0 (a disordered or sparse support, a jet or an impact, can turn a
+    // weight negative, and such a row let a single particle's pressure run away: 10⁵ … 10⁷ Pa spikes in the dam
+    // break's impact; θ rather than all or nothing, so that the row does not jump as a weight crosses 0,
+    // docs/numerics.md §13b)
+    if (o_.laplacian_corrected) {
+      double theta = 1.0;
+      for (const auto& q : nb) {
+        const double ex = q.vf * dot(la, q.r);
+        if (q.c + ex < 0.0) theta = std::min(theta, q.c / -ex);
+      }
+      la = theta * la;
+      scale = 1.0 + theta * (scale - 1.0);
+    }
     double diag = 0.0;
     // the blend: with P = 0 on the surface particles, the neighbours and the source weighed by α (Skillen et al.:
     // the pressure rises from 0 smoothly); with P = 0 at the surface, α of the Laplacian's row and 1 − α of the
@@ -389,39 +393,39 @@ void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   const auto& to = P.vector(field::wall_to_surface);
   const double dx2 = S.dx * S.dx;
   std::vector<Vec<D>> dv(n);
-  wall_n_.assign(n, Vec<D>{});
-  wall_u_.assign(n, Vec<D>{});
+  wall_n_.assign(n * D, Vec<D>{});
+  wall_u_.assign(n * D, Vec<D>{});
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     Vec<D> g{};
     const double pi = P.p[i];
-    double wall_r2 = dx2;  // the nearest first-layer wall particle closer than dx (the rest distance)
-    std::uint32_t wall = 0;
-    bool near_wall = false;
+    Vec<D>* wn = &wall_n_[i * D];
+    Vec<D>* wu = &wall_u_[i * D];
+    int walls = 0;  // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance)
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
       if (!(r2 > 0.0)) return;
       const bool fl = P.kind[j] == Kind::Fluid;
-      if (P.kind[j] == Kind::Wall && r2 < wall_r2 && dot(to[j], to[j]) < dx2) {
-        wall_r2 = r2;
-        wall = j;
-        near_wall = true;
+      if (P.kind[j] == Kind::Wall && r2 < dx2 && dot(to[j], to[j]) < dx2) {
+        const Vec<D> nw = (1.0 / norm(to[j])) * to[j];
+        bool seen = false;
+        for (int k = 0; k < walls; ++k) seen = seen || dot(wn[k], nw) > 0.99;
+        if (!seen && walls < D) {
+          wn[walls] = nw;
+          wu[walls++] = P.vel[j];
+        }
       }
       if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
       const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
       g += (V * (P.p[j] - pi) * ker.F(std::sqrt(r2))) * r;
     });
     dv[i] = (dt * (mob ? mob[i] : 1.0)) * (S.gravity - (1.0 / rho0) * apply<D>(&L_[i * D * D], g));
-    wall_n_[i] = Vec<D>{};
-    if (near_wall) {
-      // no flow into a wall (Chow et al. 2018's velocity check): a particle nearer to a wall particle than the
-      // spacing loses the part of its velocity, relative to the wall's, that points into the wall (and, in step(),
-      // of its displacement)
-      const Vec<D> nw = (1.0 / norm(to[wall])) * to[wall];
-      const double un = dot(P.vel[i] + dv[i] - P.vel[wall], nw);
-      if (un < 0.0) dv[i] -= un * nw;
-      wall_n_[i] = nw;
-      wall_u_[i] = P.vel[wall];
+    // no flow into a wall (Chow et al. 2018's velocity check): a particle nearer to a wall particle than the
+    // spacing loses the part of its velocity, relative to the wall's, that points into the wall, for each wall
+    // of a corner (and, in step(), of its displacement)
+    for (int k = 0; k < walls; ++k) {
+      const double un = dot(P.vel[i] + dv[i] - wu[k], wn[k]);
+      if (un < 0.0) dv[i] -= un * wn[k];
     }
   }
   for (std::size_t i = 0; i < n; ++i)
