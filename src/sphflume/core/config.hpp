@@ -89,6 +89,7 @@ struct IsphConfig {
   bool wall_adami = false;           // lind: walls' pressure by Adami et al. (2012)'s extrapolation, not the mirror points
   bool wall_air_out = true;          // lind: a wall whose mirror point is in the air is out of the sums (Chow's BoundaryFS;
                                      // false: Adami's extrapolation there)
+  double volume_correction = 0.0;    // lind: ω of the weak volume correction on full-support particles
   bool fs_at_surface = true;         // lind: P = 0 at the surface, dx/2 beyond a surface particle (a Robin row),
                                      // instead of on the surface particles' centres (free_surface.condition)
   double cfl = 0.2;                  // dt <= cfl dx / |u|max (Tsurudome §3.6, eq 3.6.6: the particle spacing, not h)

@@ -29,6 +29,8 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   only("correction", lind, "lind");
   only("wall_pressure", lind, "lind");
   only("laplacian", lind, "lind");
+  only("volume_correction", lind, "lind");
+  if (lind) o.volume_correction = r.in_range("volume_correction", 0.0, 0.0, 1.0);
   if (lind) o.laplacian_corrected = r.choice("laplacian", "corrected", {"corrected", "morris"}) == "corrected";
   if (lind) o.wall_adami = r.choice("wall_pressure", "mirror", {"mirror", "adami"}) == "adami";
   o.cfl = r.in_range("cfl", 0.2, 1e-4, 1.0);

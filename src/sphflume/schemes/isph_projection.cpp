@@ -40,6 +40,7 @@ void ProjectionISPH<D>::initialise(System<D>& S) {
         }
     return s;
   });
+  conc_ref_ = S.with_kernel([&](const auto& K) { return lattice_kernel_sum<D>(K, S.dx) * std::pow(S.dx, D); });
   S.update_neighbours();
 }
 

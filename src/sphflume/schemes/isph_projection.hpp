@@ -83,7 +83,8 @@ class ProjectionISPH final : public Scheme<D> {
   };
   static bool unknown(char c) { return c == Inner || c == WallRow || c == Surface; }
   std::vector<char> cls_;
-  std::vector<double> gc_, mirror_divr_;
+  std::vector<double> gc_, mirror_divr_, conc_;  // conc_: Σ_j V_j W_ij (the particle's number density × its volume)
+  double conc_ref_ = 1.0;  // the same on a full lattice
   std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's weights (MLS at its mirror point, or Adami's)
   std::vector<Vec<D>> lever_;  // a wall row's offset ρ0 (g − a_w)·lever: r_b − r_m, or Adami's Σ w (r_b − r_f)
   std::vector<Vec<D>> ub_;     // a wet wall's velocity in the divergence (per particle incl. images)

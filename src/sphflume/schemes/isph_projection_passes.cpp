@@ -195,22 +195,27 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   L_.assign(n * D * D, 0.0);
   divr_.assign(n, 0.0);
   gc_.assign(n * D, 0.0);
+  conc_.assign(n, 0.0);
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     double M[D * D] = {}, gc[D] = {};
+    double c = P.mass[i] / (rho0 * (phi ? phi[i] : 1.0)) * ker.W(0.0);  // Σ_j V_j W_ij, the particle itself included
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
       if (!(r2 > 0.0)) return;
       const bool fl = P.kind[j] == Kind::Fluid;
       if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
       const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
-      const double f = -V * ker.F(std::sqrt(r2));
+      const double rr = std::sqrt(r2);
+      c += V * ker.W(rr);
+      const double f = -V * ker.F(rr);
       for (int a = 0; a < D; ++a) {
         gc[a] -= f * r[a];
         for (int c = 0; c < D; ++c) M[a * D + c] += f * r[a] * r[c];
       }
     });
     for (int a = 0; a < D; ++a) gc_[i * D + a] = gc[a];
+    conc_[i] = c;
     double tr = 0.0;
     for (int a = 0; a < D; ++a) tr += M[a * D + a];
     divr_[i] = tr;
@@ -374,6 +379,12 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     if (o_.fs_at_surface && alpha < 1.0) diag += robin(1.0 - alpha);
     finish(diag);
     rhs[row] = alpha * rho0 / dt * div;
+    // the weak volume correction (`volume_correction` ω): on a particle with a full support (∇·r ≥ 0.975 D), a
+    // fraction ω per step of its number density's error against the lattice's, ρ0 ω (C_ref − C_i)/(C_ref Δt²); the
+    // divergence-free source alone leaves a distortion of the particles' positions without a restoring force, and
+    // in still water such a mode grew from round-off (e-folding 0.18 s at dx = 0.005, docs/numerics.md §13b)
+    if (o_.volume_correction > 0.0 && divr_[i] >= 0.975 * D)
+      rhs[row] += o_.volume_correction * rho0 * (conc_ref_ - conc_[i]) / (conc_ref_ * dt * dt);
   }
   sys_.first_row = first_row_;
   sys_.stable_rows = stable_rows_;
