@@ -43,7 +43,7 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   // Monaghan's term (c0 the case's reference sound speed) beside the laminar one: it damps the
   // particle-scale velocity noise of the projection (docs/numerics.md §13); `viscosity: artificial`
   // is the same with the laminar term off
-  o.alpha = r.in_range("alpha", lind ? 0.0 : 0.02, 0.0, 1.0);
+  o.alpha = r.in_range("alpha", 0.02, 0.0, 1.0);
   o.laminar = vm == "laminar";
   if (lind) {
     // shifting on by default: Skillen et al. (2013)'s velocity-scaled form, D = 2 h |u| Δt (§7a), which leaves still
