@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -89,6 +90,19 @@ double isph_time_step(const System<D>& S, const IsphConfig& o, double amax) {
 /// The prediction's force pass: WCSPH's pair loop (the case's scheme options) without pressure, density
 /// diffusion, XSPH or shifting, with the projection's viscosity options.
 SchemeConfig isph_force_config(const Case& c);
+
+/// A PPE row's entries with its diagonal in place, the columns ascending and repeated columns (a particle and
+/// its periodic image, the dummies standing in for one foot) summed.
+inline void finish_row(std::vector<std::pair<int, double>>& e, int me, double diag) {
+  e.emplace_back(me, diag);
+  std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::size_t w = 0;
+  for (std::size_t r = 1; r < e.size(); ++r) {
+    if (e[r].first == e[w].first) e[w].second += e[r].second;
+    else e[++w] = e[r];
+  }
+  e.resize(w + 1);
+}
 
 /// Rows numbered by particle id (one process with hypre): every owned particle with has_row(i) gets row
 /// row_of_id[id] in id order, so that row r is the same particle from step to step and the solver may reuse

@@ -26,19 +26,6 @@ template <int D>
   a2 = p[D - 1] - origin[D - 1];
 }
 
-/// A PPE row's entries with its diagonal in place, the columns ascending and repeated columns (the dummies
-/// standing in for one foot) summed.
-void finish_row(std::vector<std::pair<int, double>>& e, int me, double diag) {
-  e.emplace_back(me, diag);
-  std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::size_t w = 0;
-  for (std::size_t r = 1; r < e.size(); ++r) {
-    if (e[r].first == e[w].first) e[w].second += e[r].second;
-    else e[++w] = e[r];
-  }
-  e.resize(w + 1);
-}
-
 /// The PPE's per-candidate columns of one cell's stencil (assemble), and each particle's sums over them.
 struct PpeColumns {
   const double* __restrict x0; const double* __restrict x1; const double* __restrict x2;

@@ -62,6 +62,15 @@ class ProjectionISPH final : public Scheme<D> {
   template <class K> void moments(System<D>& S, const K& ker);
   template <class K> void wall_rows(System<D>& S, const K& ker);
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
+  /// The surface's Robin row P + (dx/2) n·∇P = 0 of particle i, times −weight × the lattice diagonal, into e
+  /// (its diagonal returned); the interior row (the corrected Laplacian, the blend, the source) into e, its
+  /// right-hand side returned.
+  template <class K>
+  double robin_entries(const System<D>& S, const K& ker, std::size_t i, int me, double weight,
+                       std::vector<std::pair<int, double>>& e) const;
+  template <class K>
+  double inner_row(const System<D>& S, const K& ker, std::size_t i, int me, double dt,
+                   std::vector<std::pair<int, double>>& e) const;
   template <class K> void correct(System<D>& S, const K& ker, double dt);
   void number_unknowns(System<D>& S);
 

@@ -228,20 +228,146 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
 
 template <int D>
 template <class K>
+double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::size_t i, int me, double weight,
+                                        std::vector<std::pair<int, double>>& e) const {
+  const auto& P = S.particles;
+  const double rho0 = S.eos.rho0, ws = wall_scale_;
+  const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
+  const double* phi = pf ? pf->data() : nullptr;
+  // the surface's Robin row, P + (dx/2) n·∇P = 0 (P = 0 at the surface, dx/2 beyond the particle along its
+  // outward normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal
+
+    Vec<D> nrm{};
+    double gn = 0.0;
+    for (int a = 0; a < D; ++a) gn += gc_[i * D + a] * gc_[i * D + a];
+    gn = std::sqrt(gn);
+    if (gn > 0.0)
+      for (int a = 0; a < D; ++a) nrm[a] = -gc_[i * D + a] / gn;
+    const double* L = &L_[i * D * D];
+    Vec<D> ln{};  // L_iᵀ n: n·L∇W = (Lᵀn)·∇W
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
+    const double delta = 0.5 * S.dx;
+    double diag = 1.0;
+    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+      if (!(r2 > 0.0)) return;
+      const bool fl = P.kind[j] == Kind::Fluid;
+      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
+      const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
+      const double w = delta * V * ker.F(std::sqrt(r2)) * dot(ln, r);
+      diag -= w;
+      if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -weight * ws * w);
+    });
+    return -weight * ws * diag;
+}
+
+template <int D>
+template <class K>
+double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_t i, int me, double dt,
+                                    std::vector<std::pair<int, double>>& e) const {
+  const auto& P = S.particles;
+  const double rho0 = S.eos.rho0;
+  const double eta2 = o_.eta2 * S.h * S.h;
+  const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
+  const auto* mf = S.porous ? P.find(field::mobility) : nullptr;
+  const double* phi = pf ? pf->data() : nullptr;
+  const double* mob = mf ? mf->data() : nullptr;
+  const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
+  const double blend = o_.fs_blend;
+  // a fluid unknown: Σ_j c_ij (P_j − P_i) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i ∇W_ij over fluid and wet walls,
+  // c_ij = −2 V_j F r²/(r² + η²) (porous: the conductivities' harmonic mean over φ_i, the divergence of φ u*)
+  const double* L = &L_[i * D * D];
+  const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
+  // Skillen et al. (2013)'s blend: over ∇·r ∈ [thr, thr + blend] the row's neighbours and source weighed by
+  // α = (1 − cos(π (∇·r − thr)/blend))/2, so that the pressure rises smoothly from the surface's P = 0
+  const double x = blend > 0.0 ? (divr_[i] - thr) / blend : 1.0;
+  const double alpha = x >= 1.0 ? 1.0 : 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(x, 0.0)));
+  double div = 0.0;
+  // the neighbours' Laplacian weights c_ij, V_j |F_ij| and r_ij (the first-moment correction below)
+  struct Nb { std::uint32_t j; double c, vf; Vec<D> r; };
+  thread_local std::vector<Nb> nb;
+  nb.clear();
+  Vec<D> a{};  // Σ_j c_ij r_ji: the truncated support's first moment
+  double m2 = 0.0;  // ½ Σ_j c_ij r_ij²: its second moment (D on a full support, up to η²)
+  S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+    if (!(r2 > 0.0)) return;
+    const bool fl = P.kind[j] == Kind::Fluid;
+    if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
+    const double phij = fl && phi ? phi[j] : (fl ? 1.0 : phii);
+    const double V = P.mass[j] / (rho0 * (fl ? phij : 1.0));
+    const double F = ker.F(std::sqrt(r2));
+    double c = -2.0 * V * F * r2 / (r2 + eta2);
+    if (phi) {
+      const double kj = fl ? phij * (mob ? mob[j] : 1.0) : ki;
+      c *= 2.0 * ki * kj / ((ki + kj) * phii);
+    }
+    nb.push_back({j, c, -V * F, r});
+    a -= c * r;
+    m2 += 0.5 * c * r2;
+    // a wall's velocity at t_n (its acceleration is in its pressure's offset)
+    const Vec<D> uj = fl ? P.vel[j] : ub_[j];
+    const Vec<D> du = (phi ? phij / phii : 1.0) * uj - P.vel[i];
+    const Vec<D> gw = apply<D>(L, F * r);
+    div += V * dot(du, gw);
+  });
+  // the Laplacian corrected to first order (Schwaiger 2008; Fatehi & Manzari 2011): the truncated support's
+  // first moment removed with the corrected gradient, Σ_j c_ij (P_j − P_i − r_ji·∇P_i), and the result scaled
+  // by D/m2, so that a linear pressure reads 0 and a quadratic one its Laplacian at the surface too;
+  // ∇P_i = L_i Σ_j V_j F_ij (P_j − P_i) r_ij adds V_j |F_ij| (L_iᵀ a)·r_ij to c_ij
+  Vec<D> la{};
+  double scale = 1.0;
+  if (o_.laplacian_corrected) {
+    for (int p = 0; p < D; ++p)
+      for (int q = 0; q < D; ++q) la[p] += L[q * D + p] * a[q];
+    scale = m2 > 0.0 ? double(D) / m2 : 1.0;
+  }
+  // the correction kept as far as it leaves the row an M-matrix row (no negative weight): it is scaled by the
+  // largest θ ≤ 1 that keeps every weight ≥ 0 (a disordered or sparse support, a jet or an impact, can turn a
+  // weight negative, and such a row let a single particle's pressure run away: 10⁵ … 10⁷ Pa spikes in the dam
+  // break's impact; θ rather than all or nothing, so that the row does not jump as a weight crosses 0,
+  // docs/numerics.md §13b)
+  if (o_.laplacian_corrected) {
+    double theta = 1.0;
+    for (const auto& q : nb) {
+      const double ex = q.vf * dot(la, q.r);
+      if (q.c + ex < 0.0) theta = std::min(theta, q.c / -ex);
+    }
+    la = theta * la;
+    scale = 1.0 + theta * (scale - 1.0);
+  }
+  double diag = 0.0;
+  // the blend: with P = 0 on the surface particles, the neighbours and the source weighed by α (Skillen et al.:
+  // the pressure rises from 0 smoothly); with P = 0 at the surface, α of the Laplacian's row and 1 − α of the
+  // Robin row (a particle moving between the two classes changes its equation smoothly)
+  const double lap = o_.fs_at_surface ? alpha : 1.0;
+  for (const auto& q : nb) {
+    const double c = scale * (q.c + q.vf * dot(la, q.r));
+    diag -= lap * c;
+    if (col_[q.j] >= 0.0 && static_cast<int>(col_[q.j]) != me) e.emplace_back(static_cast<int>(col_[q.j]), alpha * c);
+  }
+  if (o_.fs_at_surface && alpha < 1.0) diag += robin_entries(S, ker, i, me, 1.0 - alpha, e);
+  finish_row(e, me, diag);
+  double rhs = alpha * rho0 / dt * div;
+  // the weak volume correction (`volume_correction` ω): on a particle with a full support (∇·r ≥ 0.975 D), a
+  // fraction ω per step of its number density's error against the lattice's, ρ0 ω (C_ref − C_i)/(C_ref Δt²); the
+  // divergence-free source alone leaves a distortion of the particles' positions without a restoring force, and
+  // in still water such a mode grew from round-off (e-folding 0.18 s at dx = 0.005, docs/numerics.md §13b)
+  if (o_.volume_correction > 0.0 && divr_[i] >= 0.975 * D)
+    rhs += o_.volume_correction * rho0 * (conc_ref_ - conc_[i]) / (conc_ref_ * dt * dt);
+  return rhs;
+}
+
+template <int D>
+template <class K>
 void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double rho0 = S.eos.rho0;
-  const double eta2 = o_.eta2 * S.h * S.h;
-  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
-  const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
   const auto* aw = P.find(field::wall_acc);
   const std::size_t rows = static_cast<std::size_t>(std::count_if(unknown_.begin(), unknown_.end(), [](int k) { return k >= 0; }));
   rows_.resize(rows);
   std::vector<double> rhs(rows, 0.0);
   const double ws = wall_scale_;
-  const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
-  const double blend = o_.fs_blend;
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
     if (unknown_[i] < 0) continue;
@@ -249,16 +375,6 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
     const int me = static_cast<int>(first_row_ + row);
     auto& e = rows_[row];
     e.clear();
-    auto finish = [&](double diag) {
-      e.emplace_back(me, diag);
-      std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-      std::size_t w = 0;  // repeated columns (a particle and its periodic image) summed
-      for (std::size_t r = 1; r < e.size(); ++r) {
-        if (e[r].first == e[w].first) e[w].second += e[r].second;
-        else e[++w] = e[r];
-      }
-      e.resize(w + 1);
-    };
     if (!unknown(cls_[i])) {  // a known P = 0: an identity row (stable numbering)
       e.emplace_back(me, -ws);
       rhs[row] = 0.0;
@@ -269,122 +385,17 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       // r_m (Shepard's where the fluid there is too sparse for the linear fit), scaled by the lattice's diagonal
       for (const auto& [j, w] : mls_[i])
         if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w);
-      finish(-ws);
+      finish_row(e, me, -ws);
       const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
       rhs[row] = -ws * rho0 * dot(g, lever_[i]);
       continue;
     }
-    // the surface's Robin row, P + (dx/2) n·∇P = 0 (P = 0 at the surface, dx/2 beyond the particle along its
-    // outward normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal
-    auto robin = [&](double weight) {
-      Vec<D> nrm{};
-      double gn = 0.0;
-      for (int a = 0; a < D; ++a) gn += gc_[i * D + a] * gc_[i * D + a];
-      gn = std::sqrt(gn);
-      if (gn > 0.0)
-        for (int a = 0; a < D; ++a) nrm[a] = -gc_[i * D + a] / gn;
-      const double* L = &L_[i * D * D];
-      Vec<D> ln{};  // L_iᵀ n: n·L∇W = (Lᵀn)·∇W
-      for (int a = 0; a < D; ++a)
-        for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
-      const double delta = 0.5 * S.dx;
-      double diag = 1.0;
-      S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-        if (!(r2 > 0.0)) return;
-        const bool fl = P.kind[j] == Kind::Fluid;
-        if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
-        const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
-        const double w = delta * V * ker.F(std::sqrt(r2)) * dot(ln, r);
-        diag -= w;
-        if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -weight * ws * w);
-      });
-      return -weight * ws * diag;
-    };
     if (cls_[i] == Surface) {
-      finish(robin(1.0));
+      finish_row(e, me, robin_entries(S, ker, i, me, 1.0, e));
       rhs[row] = 0.0;
       continue;
     }
-    // a fluid unknown: Σ_j c_ij (P_j − P_i) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i ∇W_ij over fluid and wet walls,
-    // c_ij = −2 V_j F r²/(r² + η²) (porous: the conductivities' harmonic mean over φ_i, the divergence of φ u*)
-    const double* L = &L_[i * D * D];
-    const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
-    // Skillen et al. (2013)'s blend: over ∇·r ∈ [thr, thr + blend] the row's neighbours and source weighed by
-    // α = (1 − cos(π (∇·r − thr)/blend))/2, so that the pressure rises smoothly from the surface's P = 0
-    const double x = blend > 0.0 ? (divr_[i] - thr) / blend : 1.0;
-    const double alpha = x >= 1.0 ? 1.0 : 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(x, 0.0)));
-    double div = 0.0;
-    // the neighbours' Laplacian weights c_ij, V_j |F_ij| and r_ij (the first-moment correction below)
-    struct Nb { std::uint32_t j; double c, vf; Vec<D> r; };
-    thread_local std::vector<Nb> nb;
-    nb.clear();
-    Vec<D> a{};  // Σ_j c_ij r_ji: the truncated support's first moment
-    double m2 = 0.0;  // ½ Σ_j c_ij r_ij²: its second moment (D on a full support, up to η²)
-    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-      if (!(r2 > 0.0)) return;
-      const bool fl = P.kind[j] == Kind::Fluid;
-      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
-      const double phij = fl && phi ? phi[j] : (fl ? 1.0 : phii);
-      const double V = P.mass[j] / (rho0 * (fl ? phij : 1.0));
-      const double F = ker.F(std::sqrt(r2));
-      double c = -2.0 * V * F * r2 / (r2 + eta2);
-      if (phi) {
-        const double kj = fl ? phij * (mob ? mob[j] : 1.0) : ki;
-        c *= 2.0 * ki * kj / ((ki + kj) * phii);
-      }
-      nb.push_back({j, c, -V * F, r});
-      a -= c * r;
-      m2 += 0.5 * c * r2;
-      // a wall's velocity at t_n (its acceleration is in its pressure's offset)
-      const Vec<D> uj = fl ? P.vel[j] : ub_[j];
-      const Vec<D> du = (phi ? phij / phii : 1.0) * uj - P.vel[i];
-      const Vec<D> gw = apply<D>(L, F * r);
-      div += V * dot(du, gw);
-    });
-    // the Laplacian corrected to first order (Schwaiger 2008; Fatehi & Manzari 2011): the truncated support's
-    // first moment removed with the corrected gradient, Σ_j c_ij (P_j − P_i − r_ji·∇P_i), and the result scaled
-    // by D/m2, so that a linear pressure reads 0 and a quadratic one its Laplacian at the surface too;
-    // ∇P_i = L_i Σ_j V_j F_ij (P_j − P_i) r_ij adds V_j |F_ij| (L_iᵀ a)·r_ij to c_ij
-    Vec<D> la{};
-    double scale = 1.0;
-    if (o_.laplacian_corrected) {
-      for (int p = 0; p < D; ++p)
-        for (int q = 0; q < D; ++q) la[p] += L[q * D + p] * a[q];
-      scale = m2 > 0.0 ? double(D) / m2 : 1.0;
-    }
-    // the correction kept as far as it leaves the row an M-matrix row (no negative weight): it is scaled by the
-    // largest θ ≤ 1 that keeps every weight ≥ 0 (a disordered or sparse support, a jet or an impact, can turn a
-    // weight negative, and such a row let a single particle's pressure run away: 10⁵ … 10⁷ Pa spikes in the dam
-    // break's impact; θ rather than all or nothing, so that the row does not jump as a weight crosses 0,
-    // docs/numerics.md §13b)
-    if (o_.laplacian_corrected) {
-      double theta = 1.0;
-      for (const auto& q : nb) {
-        const double ex = q.vf * dot(la, q.r);
-        if (q.c + ex < 0.0) theta = std::min(theta, q.c / -ex);
-      }
-      la = theta * la;
-      scale = 1.0 + theta * (scale - 1.0);
-    }
-    double diag = 0.0;
-    // the blend: with P = 0 on the surface particles, the neighbours and the source weighed by α (Skillen et al.:
-    // the pressure rises from 0 smoothly); with P = 0 at the surface, α of the Laplacian's row and 1 − α of the
-    // Robin row (a particle moving between the two classes changes its equation smoothly)
-    const double lap = o_.fs_at_surface ? alpha : 1.0;
-    for (const auto& q : nb) {
-      const double c = scale * (q.c + q.vf * dot(la, q.r));
-      diag -= lap * c;
-      if (col_[q.j] >= 0.0 && static_cast<int>(col_[q.j]) != me) e.emplace_back(static_cast<int>(col_[q.j]), alpha * c);
-    }
-    if (o_.fs_at_surface && alpha < 1.0) diag += robin(1.0 - alpha);
-    finish(diag);
-    rhs[row] = alpha * rho0 / dt * div;
-    // the weak volume correction (`volume_correction` ω): on a particle with a full support (∇·r ≥ 0.975 D), a
-    // fraction ω per step of its number density's error against the lattice's, ρ0 ω (C_ref − C_i)/(C_ref Δt²); the
-    // divergence-free source alone leaves a distortion of the particles' positions without a restoring force, and
-    // in still water such a mode grew from round-off (e-folding 0.18 s at dx = 0.005, docs/numerics.md §13b)
-    if (o_.volume_correction > 0.0 && divr_[i] >= 0.975 * D)
-      rhs[row] += o_.volume_correction * rho0 * (conc_ref_ - conc_[i]) / (conc_ref_ * dt * dt);
+    rhs[row] = inner_row(S, ker, i, me, dt, e);
   }
   sys_.first_row = first_row_;
   sys_.stable_rows = stable_rows_;
@@ -447,6 +458,10 @@ void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   template void ProjectionISPH<D>::wall_rows<K<D>>(System<D>&, const K<D>&);             \
   template void ProjectionISPH<D>::moments<K<D>>(System<D>&, const K<D>&);               \
   template void ProjectionISPH<D>::assemble<K<D>>(System<D>&, const K<D>&, double);      \
+  template double ProjectionISPH<D>::robin_entries<K<D>>(const System<D>&, const K<D>&, std::size_t, int, double, \
+                                                        std::vector<std::pair<int, double>>&) const; \
+  template double ProjectionISPH<D>::inner_row<K<D>>(const System<D>&, const K<D>&, std::size_t, int, double,   \
+                                                    std::vector<std::pair<int, double>>&) const;  \
   template void ProjectionISPH<D>::correct<K<D>>(System<D>&, const K<D>&, double);
 SPH_PROJ_PASSES(2, WendlandC2)
 SPH_PROJ_PASSES(2, CubicSpline)
