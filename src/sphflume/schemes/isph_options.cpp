@@ -7,6 +7,38 @@
 
 namespace sph {
 
+namespace {
+
+/// The lind formulation's shifting (`scheme.shifting` under `formulation: lind`), on by default.
+void read_lind_shifting(Reader& r, IsphConfig& o) {
+  // shifting on by default: Skillen et al. (2013)'s velocity-scaled form, D = 2 h |u| Δt (§7a), which leaves still
+  // water still; Lind et al. (2012)'s constant D = coefficient h² (`form: constant`; auto: from the kernel's
+  // lattice stability, 0.382 for Wendland C2 at h/dx 1.5, where Lind's 0.5 is at the limit 0.509) made every still
+  // tank grow unstable within 2-6 s (docs/numerics.md §13b); the constant form has R = 0.2, n = 4, |δr| ≤ 0.2 dx and
+  // the normal component removed near the surface, the velocity form §7a's surface treatment
+  o.shifting.constant = false;
+  o.shifting.coefficient = 2.0;
+  if (r.has("shifting")) {
+    Reader q(r.get("shifting"), r.file(), "scheme.shifting");
+    o.shifting.constant = q.choice("form", "velocity", {"constant", "velocity"}) == "constant";
+    if (!o.shifting.constant) {
+      o.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
+    } else if (!q.has("coefficient") || q.get("coefficient").text() == "auto") {
+      o.shifting.automatic = true;
+      o.shifting.coefficient = 1.0;  // (on; the value: Shifting::stable_coefficient)
+    } else {
+      o.shifting.coefficient = q.in_range("coefficient", 0.5, 0.0, 5.0);
+    }
+    o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
+    o.shifting.tensile = q.in_range("tensile", 0.2, 0.0, 1.0);
+    o.shifting.exponent = q.in_range("exponent", 4.0, 1.0, 8.0);
+    o.shifting.cap = q.in_range("cap", 0.2, 0.0, 1.0);
+    q.finish();
+  }
+}
+
+}  // namespace
+
 void read_isph_options(Reader& r, IsphConfig& o) {
   // keys of the weakly-compressible scheme: meaningless here, reported, not refused
   for (const char* k : {"integrator", "verlet_steps", "density_diffusion", "delta", "pressure_gradient",
@@ -46,30 +78,7 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   o.alpha = r.in_range("alpha", 0.02, 0.0, 1.0);
   o.laminar = vm == "laminar";
   if (lind) {
-    // shifting on by default: Skillen et al. (2013)'s velocity-scaled form, D = 2 h |u| Δt (§7a), which leaves still
-    // water still; Lind et al. (2012)'s constant D = coefficient h² (`form: constant`; auto: from the kernel's
-    // lattice stability, 0.382 for Wendland C2 at h/dx 1.5, where Lind's 0.5 is at the limit 0.509) made every still
-    // tank grow unstable within 2-6 s (docs/numerics.md §13b); the constant form has R = 0.2, n = 4, |δr| ≤ 0.2 dx and
-    // the normal component removed near the surface, the velocity form §7a's surface treatment
-    o.shifting.constant = false;
-    o.shifting.coefficient = 2.0;
-    if (r.has("shifting")) {
-      Reader q(r.get("shifting"), r.file(), "scheme.shifting");
-      o.shifting.constant = q.choice("form", "velocity", {"constant", "velocity"}) == "constant";
-      if (!o.shifting.constant) {
-        o.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
-      } else if (!q.has("coefficient") || q.get("coefficient").text() == "auto") {
-        o.shifting.automatic = true;
-        o.shifting.coefficient = 1.0;  // (on; the value: Shifting::stable_coefficient)
-      } else {
-        o.shifting.coefficient = q.in_range("coefficient", 0.5, 0.0, 5.0);
-      }
-      o.shifting.surface = q.in_range("surface", 0.0, 0.0, 3.0);
-      o.shifting.tensile = q.in_range("tensile", 0.2, 0.0, 1.0);
-      o.shifting.exponent = q.in_range("exponent", 4.0, 1.0, 8.0);
-      o.shifting.cap = q.in_range("cap", 0.2, 0.0, 1.0);
-      q.finish();
-    }
+    read_lind_shifting(r, o);
   } else if (r.has("shifting")) {  // the same keys as under wcsph (physics/shifting.hpp)
     Reader q(r.get("shifting"), r.file(), "scheme.shifting");
     o.shifting.coefficient = q.in_range("coefficient", 2.0, 0.0, 20.0);
