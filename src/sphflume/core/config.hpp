@@ -87,8 +87,6 @@ struct IsphConfig {
   double fs_blend = 0.2;             // lind: Skillen's blend of the PPE over ∇·r ∈ [threshold, threshold + blend]
   bool laplacian_corrected = true;   // lind: the PPE's Laplacian corrected to first order (`laplacian: corrected`)
   bool wall_adami = false;           // lind: walls' pressure by Adami et al. (2012)'s extrapolation, not the mirror points
-  bool wall_air_out = true;          // lind: a wall whose mirror point is in the air is out of the sums (Chow's BoundaryFS;
-                                     // false: Adami's extrapolation there)
   double volume_correction = 0.0;    // lind: ω of the weak volume correction on full-support particles
   bool fs_at_surface = true;         // lind: P = 0 at the surface, dx/2 beyond a surface particle (a Robin row),
                                      // instead of on the surface particles' centres (free_surface.condition)

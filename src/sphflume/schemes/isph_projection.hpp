@@ -1,19 +1,22 @@
-// Incompressible SPH on the projection the robust codes share (`scheme.formulation: lind`, the
-// default of `scheme.type: isph`): Lind, Xu, Stansby & Rogers (2012, J. Comput. Phys. 231), Skillen,
-// Lind, Stansby & Rogers (2013, CMAME 265), as the ISPH of the DualSPHysics family builds it (Chow,
-// Rogers, Lind & Stansby 2018, Comput. Phys. Commun. 226). docs/numerics.md §13. One step from
-// (r_n, u_n):
-//  1. prediction at r_n: u* = u_n + Δt (g + ν∇²u + force terms) (the weakly-compressible pair loop
-//     with the pressure off; a porous drag point-implicit), r* = r_n + Δt u*;
+// Incompressible SPH on the projection the robust codes share (`scheme.formulation: lind`; Tsurudome's,
+// schemes/isph.hpp, stays the default of `scheme.type: isph` until this one passes every validation): Lind, Xu,
+// Stansby & Rogers (2012, J. Comput. Phys. 231), Skillen, Lind, Stansby & Rogers (2013, CMAME 265), as the ISPH of
+// the DualSPHysics family builds it (Chow, Rogers, Lind & Stansby 2018, Comput. Phys. Commun. 226), with the
+// changes measured in docs/numerics.md §13b. One step from (r_n, u_n):
+//  1. prediction at r_n: u* = u_n + Δt (a − g), a the weakly-compressible pair loop with the pressure off
+//     (viscosity, force terms; a porous drag point-implicit), r* = r_n + Δt u_n;
 //  2. at r*: the kernel-gradient correction L_i = [Σ_j V_j r_ji ⊗ ∇_iW_ij]⁻¹ (fluid and wet wall
-//     neighbours, eigenvalues held from below) and ∇·r_i = tr of the same sum; free surface where
-//     ∇·r < 1.5 (2D) / 2.4 (3D): P = 0 (Dirichlet);
-//  3. walls: every wet wall particle is an unknown, P_b = Σ_j w_j P_j + ρ0 (g − a_w)·(r_b − r_m),
-//     w_j the linear MLS weights of the fluid at the mirror point r_m across the wall surface;
-//  4. the PPE  Σ_j 2 V_j (P_i − P_j) F_ij r²/(r² + η²) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i∇W_ij
-//     (a divergence-free source only), solved by a PressureSolver from the last pressures;
-//  5. correction u_{n+1} = u* − (Δt/ρ0) Σ_j V_j (P_j − P_i) L_i ∇W_ij for every fluid particle (P = 0
-//     ones included), r_{n+1} = r_n + Δt (u_n + u_{n+1})/2, then Lind's shifting (constant D).
+//     neighbours, eigenvalues held from below), ∇·r_i = tr of the same sum, ∇C_i; free surface where
+//     ∇·r < 1.5 (2D) / 2.4 (3D);
+//  3. walls: a wall near the fluid is an unknown, P_b = Σ_j w_j P_j + ρ0 (g − a_w)·(r_b − r_m), w_j the linear
+//     MLS weights of the fluid at the mirror point r_m across the wall surface, or in the air (P = 0, out of
+//     the sums);
+//  4. the PPE: the first-order corrected Laplacian = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i∇W_ij (a divergence-free
+//     source only) inside; P + (dx/2) n·∇P = 0 on surface particles (P = 0 at the surface), blended into the
+//     interior's row over ∇·r ∈ [1.5, 1.7]; solved by a PressureSolver from the last pressures;
+//  5. correction u_{n+1} = u* + Δt (g − L_i Σ_j V_j (P_j − P_i) ∇W_ij/ρ0) for every fluid particle, no flow
+//     or displacement into a wall, r_{n+1} = r_n + Δt (u_n + u_{n+1})/2, then shifting (Skillen's
+//     velocity-scaled form by default, Lind's constant D with `form: constant`).
 // V_j = m_j/(φ_j ρ0): the density is ρ0 throughout (porous media: the intrinsic one).
 #pragma once
 #include <map>
@@ -92,7 +95,7 @@ class ProjectionISPH final : public Scheme<D> {
   };
   static bool unknown(char c) { return c == Inner || c == WallRow || c == Surface; }
   std::vector<char> cls_;
-  std::vector<double> gc_, mirror_divr_, conc_;  // conc_: Σ_j V_j W_ij (the particle's number density × its volume)
+  std::vector<double> gc_, conc_;  // conc_: Σ_j V_j W_ij (the particle's number density × its volume)
   double conc_ref_ = 1.0;  // the same on a full lattice
   std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's weights (MLS at its mirror point, or Adami's)
   std::vector<Vec<D>> lever_;  // a wall row's offset ρ0 (g − a_w)·lever: r_b − r_m, or Adami's Σ w (r_b − r_f)

@@ -106,7 +106,6 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
   const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
   cls_.assign(n, Out);
   wet_.assign(P.size(), 0.0);
-  mirror_divr_.assign(n, 0.0);
   mls_.resize(n);
   lever_.assign(n, Vec<D>{});
 #pragma omp parallel for schedule(dynamic, 64)
@@ -126,23 +125,22 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
       fluid = fluid || fl;
       divr -= P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0)) * ker.F(std::sqrt(r2)) * r2;
     });
-    mirror_divr_[b] = divr;
     // the fluid's pressure field continued linearly to the mirror point (a linear MLS fit) while the mirror
     // point lies in the water or within about dx of it (∇·r ≥ 1 in 2D, 1.5 in 3D, Chow's BoundaryFS; with P = 0
     // on the surface particles, ≥ the surface's threshold); a wall further up, or where the fit is ill-posed, is
-    // in the air (Known) and out of the fluid's sums: the fluid there sees a free surface
+    // in the air (Known) and out of the fluid's sums: the fluid there sees a free surface (Adami's extrapolation
+    // there instead sucked the contact line up the wall, docs/numerics.md §13b)
     const double air = o_.fs_at_surface ? (D == 2 ? 1.0 : 1.5) : thr;
     cls_[b] = WallRow;
     wet_[b] = 1.0;
     if (!o_.wall_adami && fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b])) {
       lever_[b] = P.pos[b] - xm;
-    } else if (o_.wall_air_out) {
+    } else if (!o_.wall_adami) {
       cls_[b] = Known;
       wet_[b] = 0.0;
     } else {
-      // the mirror point in the air or the fit ill-posed (a film, a jet's root), or `wall_pressure: adami`: Adami et al. (2012)'s
-      // extrapolation from the fluid around the wall particle itself, P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f))
-      // / Σ_f W_bf, which continues the hydrostatic pressure through the wall and above the water line
+      // `wall_pressure: adami`: Adami et al. (2012)'s extrapolation from the fluid around the wall particle itself,
+      // P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf, for every wall near the fluid
       auto& w = mls_[b];
       w.clear();
       double sw = 0.0;
