@@ -5,6 +5,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <vector>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -207,6 +208,26 @@ double lattice_kernel_sum(const K& ker, double s) {
         if (r < ker.support) sum += ker.W(r);
       }
   return sum;
+}
+
+/// ∇·r = −Σ_k s^D F(|x_k|) |x_k|² of a particle k rows below the free surface of a square (cubic) lattice of
+/// spacing s (its neighbours above the top row missing), for k = 0, 1, … until the support is full: the row's
+/// depth as the position divergence sees it (the ISPH surface's Robin distance, docs/numerics.md §13b).
+template <int D, class K>
+std::vector<double> lattice_divr_by_depth(const K& ker, double s) {
+  const int nl = static_cast<int>(std::ceil(ker.support / s)) + 1;
+  std::vector<double> t;
+  for (int k = 0; k <= nl; ++k) {
+    double sum = 0.0;
+    for (int a = -nl; a <= nl; ++a)
+      for (int b = -nl; b <= k; ++b)  // b: the vertical offset, ≤ k rows above the particle
+        for (int e = (D == 3 ? -nl : 0); e <= (D == 3 ? nl : 0); ++e) {
+          const double r = s * std::sqrt(double(a * a + b * b + e * e));
+          if (r > 0.0 && r < ker.support) sum -= std::pow(s, D) * ker.F(r) * r * r;
+        }
+    t.push_back(sum);
+  }
+  return t;
 }
 
 /// Calls f(kernel_object) with the concrete kernel type for this KernelType, so hot loops

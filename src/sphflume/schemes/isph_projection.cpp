@@ -41,6 +41,7 @@ void ProjectionISPH<D>::initialise(System<D>& S) {
     return s;
   });
   conc_ref_ = S.with_kernel([&](const auto& K) { return lattice_kernel_sum<D>(K, S.dx) * std::pow(S.dx, D); });
+  divr_depth_ = S.with_kernel([&](const auto& K) { return lattice_divr_by_depth<D>(K, S.dx); });
   S.update_neighbours();
 }
 
@@ -174,6 +175,20 @@ void ProjectionISPH<D>::number_unknowns(System<D>& S) {
     fs += f;
   }
   stats_.free_surface = fs;
+}
+
+template <int D>
+double ProjectionISPH<D>::surface_distance(double divr, double dx) const {
+  const auto& t = divr_depth_;
+  for (std::size_t k = 0; k + 1 < t.size(); ++k) {
+    if (divr < t[k]) return 0.5 * dx;  // (k = 0 only: the table rises)
+    if (t[k + 1] - t[k] < 1e-9 * t[k]) break;  // the support full
+    if (divr < t[k + 1]) return dx * (double(k) + 0.5 + (divr - t[k]) / (t[k + 1] - t[k]));
+  }
+  // deeper than the table's last partial row: the distance of that row's lower neighbour
+  std::size_t k = 0;
+  while (k + 1 < t.size() && t[k + 1] - t[k] >= 1e-9 * t[k]) ++k;
+  return dx * (double(k) + 0.5);
 }
 
 template <int D>

@@ -117,13 +117,15 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
     });
     if (!near) continue;
     const Vec<D> xm = P.pos[b] + 2.0 * to[b];
-    double divr = 0.0;
+    double divr = 0.0, solid = 0.0;  // solid: the walls' Shepard sum Σ V W at the mirror point
     bool fluid = false;
     S.cells.for_neighbours(P.pos, xm, ker.support, [&](std::uint32_t j, const Vec<D>&, double r2) {
       const bool fl = P.kind[j] == Kind::Fluid;
       if (!fl && P.kind[j] != Kind::Wall) return;
       fluid = fluid || fl;
-      divr -= P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0)) * ker.F(std::sqrt(r2)) * r2;
+      const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0)), rr = std::sqrt(r2);
+      divr -= V * ker.F(rr) * rr * rr;
+      if (!fl) solid += V * ker.W(rr);
     });
     // the fluid's pressure field continued linearly to the mirror point (a linear MLS fit) while the mirror
     // point lies in the water or within about dx of it (∇·r ≥ 1 in 2D, 1.5 in 3D, Chow's BoundaryFS; with P = 0
@@ -135,12 +137,16 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
     wet_[b] = 1.0;
     if (!o_.wall_adami && fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b])) {
       lever_[b] = P.pos[b] - xm;
-    } else if (!o_.wall_adami) {
+    } else if (!o_.wall_adami && solid < 0.5) {
       cls_[b] = Known;
       wet_[b] = 0.0;
     } else {
-      // `wall_pressure: adami`: Adami et al. (2012)'s extrapolation from the fluid around the wall particle itself,
-      // P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf, for every wall near the fluid
+      // `wall_pressure: adami`, or a mirror point inside another solid (the walls' Shepard sum there ≥ 1/2, its
+      // value on a flat wall's face; 0.25 in the air dx/2 beside a wall, 0.6–0.8 inside a paddle standing on the
+      // bed: a bed particle under the paddle, the diagonal of a corner where two bodies meet; out of the sums it
+      // left a hole that drew the water into the paddle's foot at 0.07 m/s, docs/numerics.md §13b):
+      // Adami et al. (2012)'s extrapolation from the fluid around the wall particle itself,
+      // P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf
       auto& w = mls_[b];
       w.clear();
       double sw = 0.0;
@@ -232,8 +238,10 @@ double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::s
   const double rho0 = S.eos.rho0, ws = wall_scale_;
   const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
   const double* phi = pf ? pf->data() : nullptr;
-  // the surface's Robin row, P + (dx/2) n·∇P = 0 (P = 0 at the surface, dx/2 beyond the particle along its
-  // outward normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal
+  // the surface's Robin row, P + δ n·∇P = 0 (P = 0 at the surface, δ beyond the particle along its outward
+  // normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal.
+  // δ: the depth its ∇·r reads on the lattice, dx/2 on the top row (a row in the blend band deeper: at
+  // h = 2 dx the second row, ∇·r = 1.63, is 1.5 dx deep; dx/2 there put the bed 1.1 % low, docs/numerics.md §13b)
 
     Vec<D> nrm{};
     double gn = 0.0;
@@ -245,7 +253,7 @@ double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::s
     Vec<D> ln{};  // L_iᵀ n: n·L∇W = (Lᵀn)·∇W
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
-    const double delta = 0.5 * S.dx;
+    const double delta = surface_distance(divr_[i], S.dx);
     double diag = 1.0;
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
       if (!(r2 > 0.0)) return;
