@@ -55,6 +55,24 @@ TEST(Health, NonFiniteVelocityNamesTheParticle) {
   EXPECT_TRUE(has(*m, "likely cause")) << *m;
 }
 
+// An ISPH run names ISPH's causes (its pressure solve, its step), not the sound speed it does not have.
+TEST(Health, IsphFailureNamesIsphCauses) {
+  for (const char* f : {"lind", "tsurudome"}) {
+    test::Setup<2> s(kTank, {"scheme={type: isph, formulation: " + std::string(f) + "}"});
+    HealthLimits lim;
+    lim.causes = s.named->failure_causes();
+    ASSERT_NE(lim.causes, nullptr) << f;
+    auto& P = s.S.particles;
+    P.vel[first_fluid(P, 3)][0] = std::numeric_limits<double>::infinity();
+    const auto m = check_health(s.S, lim);
+    ASSERT_TRUE(m.has_value());
+    EXPECT_TRUE(has(*m, "pressure solve")) << *m;
+    EXPECT_FALSE(has(*m, "raise fluid.sound_speed")) << *m;
+  }
+  test::Setup<2> w(kTank);
+  EXPECT_EQ(w.named->failure_causes(), nullptr);  // WCSPH: the sound speed's advice
+}
+
 TEST(Health, DensityOutsideTheBandIsCaughtOnBothSides) {
   test::Setup<2> s(kTank);
   auto& P = s.S.particles;

@@ -47,6 +47,7 @@ class ISPH final : public Scheme<D> {
   void restore(const std::map<std::string, double>& s) override;
   void summary(nlohmann::ordered_json& j) const override;
   bool even_steps() const override { return true; }
+  const char* failure_causes() const override { return isph_failure_causes(); }
 
   /// The reference density: the kernel's sum over a full lattice of spacing dx (exposed for tests).
   double reference_density() const { return rho_ref_; }

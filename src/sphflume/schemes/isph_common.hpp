@@ -22,6 +22,13 @@
 
 namespace sph {
 
+/// What a failed ISPH run names as its likely causes (it has no sound speed to raise).
+inline const char* isph_failure_causes() {
+  return "a pressure solve that met particles with a nearly empty or disordered support (a jet or splash against "
+         "a wall, particles pressed into or through a wall: check the walls and the geometry), or a step too large "
+         "for the projection (lower scheme.cfl or set scheme.dt_max; ISPH has no sound speed)";
+}
+
 /// Counters of the pressure solves since the start of the run (summary.json "pressure_solver").
 struct PpeStats {
   long solves = 0;

@@ -53,6 +53,7 @@ class ProjectionISPH final : public Scheme<D> {
   void summary(nlohmann::ordered_json& j) const override;
   /// A short sliver before an output disturbs the scheme (its shift is per step): the driver evens the last steps.
   bool even_steps() const override { return true; }
+  const char* failure_causes() const override { return isph_failure_causes(); }
 
   const PpeStats& stats() const { return stats_; }
   /// Steps 2-4 at the current positions (exposed for tests: a still tank's pressure).

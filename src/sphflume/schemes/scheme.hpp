@@ -48,6 +48,9 @@ class Scheme {
   /// True when a step much shorter than the last one disturbs the scheme (the driver then
   /// splits the time left before an output into two equal steps instead of leaving a sliver).
   virtual bool even_steps() const { return false; }
+  /// The likely causes a failed run names (a collapsing time step, a non-finite value); nullptr: the
+  /// weakly-compressible ones (sound speed, time step, walls).
+  virtual const char* failure_causes() const { return nullptr; }
   /// The scheme's own keys in summary.json (docs/output.md), added to `j` (none by default).
   virtual void summary(nlohmann::ordered_json& j) const { (void)j; }
 };

@@ -74,8 +74,9 @@ std::optional<std::string> check_health(const System<D>& S, const HealthLimits& 
   if (!finite) {
     what = fmt::format("a non-finite value (density {}, pressure {}, velocity {}{})", P.rho[i], P.p[i], P.vel[i][0],
                        D == 3 ? fmt::format(", {}, {}", P.vel[i][1], P.vel[i][2]) : fmt::format(", {}", P.vel[i][1]));
-    cause = "a time step too large for the forces (lower scheme.cfl), a sound speed too small for the flow "
-            "(raise fluid.sound_speed or fluid.reference_velocity), or particles penetrating a wall";
+    cause = lim.causes ? lim.causes
+                       : "a time step too large for the forces (lower scheme.cfl), a sound speed too small for the flow "
+                         "(raise fluid.sound_speed or fluid.reference_velocity), or particles penetrating a wall";
   } else if (P.rho[i] > rhi) {
     what = fmt::format("density {:.6g} kg/m3 = {:.4g} x rho0, above the sane band [{}, {}] x rho0", P.rho[i],
                        P.rho[i] / rho0, lim.density_min_ratio, lim.density_max_ratio);

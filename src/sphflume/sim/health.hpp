@@ -15,6 +15,7 @@ struct HealthLimits {
   // p ≈ 0.75 ρ0 c0², about 75 times the design pressure ρ0 (c0/10)²: far outside any sane run.
   double density_min_ratio = 0.7;
   double density_max_ratio = 1.3;
+  const char* causes = nullptr;  // the scheme's likely causes of a non-finite value (Scheme::failure_causes)
 };
 
 /// The first unhealthy particle (in memory order) as a message, or nothing when all is well.

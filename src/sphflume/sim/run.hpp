@@ -73,6 +73,7 @@ struct Run {
     if (S.transport) S.transport->impose(S);  // the inflow particles' prescribed values
     if (open.needs_prepare()) S.before_rates = [this](System<D>& s) { open.prepare(s); };
     if (!scheme->density_bounded_below()) limits.density_min_ratio = 0.0;  // (compression only)
+    limits.causes = scheme->failure_causes();
   }
 
   void start_fresh() {
@@ -122,9 +123,11 @@ struct Run {
       const std::size_t i = fastest_accelerating(S);
       throw SimulationError(fmt::format(
           "at step {}, t = {:.9g} s: the time step collapsed to {:.3g} s (it started at {:.3g} s; the floor is {} x "
-          "that); {} has the largest acceleration, |a| = {:.3g} m/s2; likely cause: particles accelerated violently, "
-          "by penetrating a wall or colliding (raise fluid.sound_speed, lower scheme.cfl, check the walls)",
-          S.step, S.time, dt, rs.dt_first, kDtFloor, describe_particle(S, i), norm(S.particles.acc[i])));
+          "that); {} has the largest acceleration, |a| = {:.3g} m/s2; likely cause: {}",
+          S.step, S.time, dt, rs.dt_first, kDtFloor, describe_particle(S, i), norm(S.particles.acc[i]),
+          scheme->failure_causes() ? scheme->failure_causes()
+                                   : "particles accelerated violently, by penetrating a wall or colliding (raise "
+                                     "fluid.sound_speed, lower scheme.cfl, check the walls)"));
     }
     const double to_out = std::min(rs.next_output, c.t_end) - S.time;
     if (dt > to_out && to_out > 1e-12 * dt) dt = to_out;
