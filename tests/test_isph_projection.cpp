@@ -94,8 +94,8 @@ TEST(IsphProjection, StillTankIsHydrostaticFromOneSolve) {
 // The same with a wall box standing on the bed at the left (a paddle at rest: the bed's particles under it have
 // their mirror points inside the box and carry Adami's extrapolation; left out of the sums they drew the water
 // into the box's foot at 0.07 m/s), at h = 1.5 dx and 2 dx with the surface blend on (at 2 dx the second row,
-// ∇·r = 1.63, falls inside the blend band [1.5, 1.7]; its Robin part places the surface at the depth its ∇·r reads
-// on the lattice, 1.5 dx; dx/2 put the bed 1.1 % low): ρ g (H − z) within 0.2 % of ρ g H away from the contact lines
+// ∇·r = 1.63, fell inside the blend band [1.5, 1.7], whose Robin part at dx/2 put the bed 1.1 % low; the band now
+// ends below the second row's lattice value): ρ g (H − z) within 0.2 % of ρ g H away from the contact lines
 // (within one support of a side wall and of the surface: within 1 %; the solve spreads their first-order error).
 TEST(IsphProjection, StillTankBesideAWallBoxOnTheBedIsHydrostatic) {
   const std::string box = R"(

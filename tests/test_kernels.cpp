@@ -61,3 +61,23 @@ TEST(Kernels, GradientIsOdd) {
   EXPECT_DOUBLE_EQ(ga, -gb);
   EXPECT_LT(F, 0.0);
 }
+
+// ∇·r by row below a flat lattice surface (the ISPH surface's blend band ends below the second row's value):
+// an independent evaluation in numpy of −Σ dx² F r² over the half lattice with Wendland C2's dW/dr gave
+// 1.242, 1.821, 1.995 (h/dx 1.5) and 1.184, 1.627, 1.938, 1.998 (h/dx 2.0); deep rows reach the full value
+// (2 up to the kernel's lattice discretisation) and stay there.
+TEST(Kernels, PositionDivergenceByDepthBelowALatticeSurface) {
+  const double dx = 0.01;
+  const auto a = lattice_divr_by_depth<2>(WendlandC2<2>(1.5 * dx), dx);
+  const auto b = lattice_divr_by_depth<2>(WendlandC2<2>(2.0 * dx), dx);
+  ASSERT_GE(a.size(), 3u);
+  ASSERT_GE(b.size(), 4u);
+  EXPECT_NEAR(a[0], 1.242, 5e-4);
+  EXPECT_NEAR(a[1], 1.821, 5e-4);
+  EXPECT_NEAR(a[2], 1.995, 5e-4);
+  EXPECT_NEAR(b[0], 1.184, 5e-4);
+  EXPECT_NEAR(b[1], 1.627, 5e-4);
+  EXPECT_NEAR(b[2], 1.938, 5e-4);
+  EXPECT_NEAR(b[3], 1.998, 5e-4);
+  EXPECT_NEAR(a.back(), a[2], 1e-12);  // the support full from the third row on
+}

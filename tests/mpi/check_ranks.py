@@ -264,6 +264,19 @@ cases = [
      GAUGES_DB + [{"name": "volume", "type": "water_volume"},
                   {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
      0.01, 1000 * 9.81 * 0.3534),
+    # the projection of Lind, Skillen and Chow (issue 57, check 6): the walls' mirror-point rows, the moments and the
+    # surface's Robin rows across the cut; the Liu case with its lifted gate (a moving wall over the ranks) and the
+    # porosity field
+    ("isph_lind_dambreak", "dambreak_2d.yaml",
+     {"particles.dx": 0.0073, "time.end": 0.3, "time.output_interval": 0.02, "scheme.type": "isph",
+      "scheme.formulation": "lind", "scheme.solver": {"type": "boomeramg", "tolerance": 1e-11}},
+     GAUGES_DB + [{"name": "p_wall", "type": "pressure", "point": [0.584, 0.0146]}], 0.0073, 1000 * 9.81 * 0.292),
+    ("isph_lind_porous_gate", "porous_dambreak_liu.yaml",
+     {"particles.dx": 0.01, "time.end": 0.3, "time.output_interval": 0.02, "scheme.type": "isph",
+      "scheme.formulation": "lind", "scheme.solver": {"type": "boomeramg", "tolerance": 1e-11}},
+     GAUGES_DB + [{"name": "volume", "type": "water_volume"},
+                  {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
+     0.01, 1000 * 9.81 * 0.3534),
 ]
 def one_and_ranks(name, case):
     """Run `case` in one process and on each rank count (checking that each ran). Returns the one-process output

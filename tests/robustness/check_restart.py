@@ -43,8 +43,10 @@ def kill_after(args, out, k):
     p.wait()
     return snapshots(out), p.returncode
 # each WCSPH integrator, and the projection scheme (its pressures are the next solve's warm start)
-for integ in ["verlet", "symplectic", "isph"]:
+# (isph_lind: the projection of Lind, Skillen and Chow, issue 57)
+for integ in ["verlet", "symplectic", "isph", "isph_lind"]:
     scheme = ["--set", "scheme.type=isph", "--set", "scheme.shifting.coefficient=2"] if integ == "isph" else \
+        ["--set", "scheme.type=isph", "--set", "scheme.formulation=lind"] if integ == "isph_lind" else \
         ["--set", f"scheme.integrator={integ}"]
     sets = ["--set", "particles.dx=0.0073", "--set", "time.end=0.5", "--set", "time.output_interval=0.02"] + scheme
     args = ["run", case, "-q", "--threads", "2"] + sets
@@ -102,11 +104,12 @@ for tname, tsets in [("channel_release", ["particles.dx=0.01", "time.end=0.6", "
 # moving walls (a piston paddle; gauges at every output, snapshots at every other one): the paddle's place
 # comes from its law and the stored origins, under both schemes
 pcase = os.path.join(ROOT, "cases", "piston_bore.yaml")
-for pscheme in ["wcsph", "isph"]:
+for pscheme in ["wcsph", "isph", "isph_lind"]:
     ok, why, _, _, left = killed_and_restarted(
         f"piston_{pscheme}", ["run", pcase, "-q", "--threads", "2"] + sets_of(
             "particles.dx=0.01", "time.end=0.4", "time.output_interval=0.01", "time.snapshot_interval=0.02",
-            f"scheme.type={pscheme}"), rng.randint(3, 15))
+            *(["scheme.type=isph", "scheme.formulation=lind"] if pscheme == "isph_lind" else [f"scheme.type={pscheme}"])),
+        rng.randint(3, 15))
     check(ok, f"piston ({pscheme}, moving walls): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
 
 # resolution levels (issue 42): the particles' h and level travel in the restart data

@@ -41,7 +41,14 @@ void ProjectionISPH<D>::initialise(System<D>& S) {
     return s;
   });
   conc_ref_ = S.with_kernel([&](const auto& K) { return lattice_kernel_sum<D>(K, S.dx) * std::pow(S.dx, D); });
-  divr_depth_ = S.with_kernel([&](const auto& K) { return lattice_divr_by_depth<D>(K, S.dx); });
+  // the blend band [thr, thr + blend] ends below the second row's ∇·r on a lattice under a flat surface (1.82 at
+  // h/dx 1.5, 1.63 at 2.0), so that a flat surface's second row keeps the interior's row (at 2.0 the band
+  // [1.5, 1.7] took it, and its Robin part at dx/2 put the bed 1.1 % low; the Robin distance read from ∇·r
+  // instead made the rows unstable, docs/numerics.md §13b)
+  const auto depth = S.with_kernel([&](const auto& K) { return lattice_divr_by_depth<D>(K, S.dx); });
+  const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
+  blend_ = o_.fs_blend;
+  if (depth.size() > 1 && depth[1] > thr) blend_ = std::min(blend_, 0.8 * (depth[1] - thr));
   S.update_neighbours();
 }
 
@@ -175,20 +182,6 @@ void ProjectionISPH<D>::number_unknowns(System<D>& S) {
     fs += f;
   }
   stats_.free_surface = fs;
-}
-
-template <int D>
-double ProjectionISPH<D>::surface_distance(double divr, double dx) const {
-  const auto& t = divr_depth_;
-  for (std::size_t k = 0; k + 1 < t.size(); ++k) {
-    if (divr < t[k]) return 0.5 * dx;  // (k = 0 only: the table rises)
-    if (t[k + 1] - t[k] < 1e-9 * t[k]) break;  // the support full
-    if (divr < t[k + 1]) return dx * (double(k) + 0.5 + (divr - t[k]) / (t[k + 1] - t[k]));
-  }
-  // deeper than the table's last partial row: the distance of that row's lower neighbour
-  std::size_t k = 0;
-  while (k + 1 < t.size() && t[k + 1] - t[k] >= 1e-9 * t[k]) ++k;
-  return dx * (double(k) + 0.5);
 }
 
 template <int D>

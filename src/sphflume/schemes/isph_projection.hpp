@@ -98,10 +98,7 @@ class ProjectionISPH final : public Scheme<D> {
   std::vector<char> cls_;
   std::vector<double> gc_, conc_;  // conc_: Σ_j V_j W_ij (the particle's number density × its volume)
   double conc_ref_ = 1.0;  // the same on a full lattice
-  std::vector<double> divr_depth_;  // ∇·r of the lattice's rows below a flat surface (kernels.hpp)
-  /// The distance from a surface particle to the surface (P = 0) its ∇·r reads on the lattice: dx/2 on the top
-  /// row, (k + 1/2) dx on the k-th row below, linear between, dx/2 for the emptier supports of a splash.
-  double surface_distance(double divr, double dx) const;
+  double blend_ = 0.0;  // the surface's blend band's width in ∇·r (initialise: `blend`, ending below the second row)
   std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's weights (MLS at its mirror point, or Adami's)
   std::vector<Vec<D>> lever_;  // a wall row's offset ρ0 (g − a_w)·lever: r_b − r_m, or Adami's Σ w (r_b − r_f)
   std::vector<Vec<D>> ub_;     // a wet wall's velocity in the divergence (per particle incl. images)

@@ -238,10 +238,8 @@ double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::s
   const double rho0 = S.eos.rho0, ws = wall_scale_;
   const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
   const double* phi = pf ? pf->data() : nullptr;
-  // the surface's Robin row, P + δ n·∇P = 0 (P = 0 at the surface, δ beyond the particle along its outward
-  // normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal.
-  // δ: the depth its ∇·r reads on the lattice, dx/2 on the top row (a row in the blend band deeper: at
-  // h = 2 dx the second row, ∇·r = 1.63, is 1.5 dx deep; dx/2 there put the bed 1.1 % low, docs/numerics.md §13b)
+  // the surface's Robin row, P + (dx/2) n·∇P = 0 (P = 0 at the surface, dx/2 beyond the particle along its
+  // outward normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal
 
     Vec<D> nrm{};
     double gn = 0.0;
@@ -253,7 +251,7 @@ double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::s
     Vec<D> ln{};  // L_iᵀ n: n·L∇W = (Lᵀn)·∇W
     for (int a = 0; a < D; ++a)
       for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
-    const double delta = surface_distance(divr_[i], S.dx);
+    const double delta = 0.5 * S.dx;
     double diag = 1.0;
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
       if (!(r2 > 0.0)) return;
@@ -279,7 +277,7 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
   const double* phi = pf ? pf->data() : nullptr;
   const double* mob = mf ? mf->data() : nullptr;
   const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
-  const double blend = o_.fs_blend;
+  const double blend = blend_;
   // a fluid unknown: Σ_j c_ij (P_j − P_i) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i ∇W_ij over fluid and wet walls,
   // c_ij = −2 V_j F r²/(r² + η²) (porous: the conductivities' harmonic mean over φ_i, the divergence of φ u*)
   const double* L = &L_[i * D * D];
