@@ -27,6 +27,12 @@ void ProjectionISPH<D>::initialise(System<D>& S) {
     else if (P.kind[i] == Kind::Wall) P.p[i] = 0.0;
     if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = S.eos.rho0;
   }
+  constants(S);
+  S.update_neighbours();
+}
+
+template <int D>
+void ProjectionISPH<D>::constants(const System<D>& S) {
   // a wall row's weight: the Laplacian's diagonal on a full lattice, Σ 2 V |F| r²/(r² + η²)
   const double eta2 = o_.eta2 * S.h * S.h;
   wall_scale_ = S.with_kernel([&](const auto& K) {
@@ -49,13 +55,14 @@ void ProjectionISPH<D>::initialise(System<D>& S) {
   const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
   blend_ = o_.fs_blend;
   if (depth.size() > 1 && depth[1] > thr) blend_ = std::min(blend_, 0.8 * (depth[1] - thr));
-  S.update_neighbours();
 }
 
 template <int D>
 void ProjectionISPH<D>::step(System<D>& S, double dt) {
   auto& P = S.particles;
-  if (!(wall_scale_ > 1.0)) initialise(S);  // a run restarted from a snapshot
+  // a run restarted from a snapshot: the lattice's constants only (its pressures are the next solve's warm
+  // start, as in the run it continues)
+  if (!(wall_scale_ > 1.0)) constants(S);
   // 1. prediction at r_n, gravity left to the correction (its hydrostatic part is carried by the walls'
   // offsets, Chow et al. 2018): u* = u_n + Δt (a − g), r* = r_n + Δt u_n
   const auto t_pred = std::chrono::steady_clock::now();

@@ -77,6 +77,8 @@ class ProjectionISPH final : public Scheme<D> {
                    std::vector<std::pair<int, double>>& e) const;
   template <class K> void correct(System<D>& S, const K& ker, double dt);
   void number_unknowns(System<D>& S);
+  /// The lattice's constants: the wall rows' weight, the full support's Σ V W, the blend band.
+  void constants(const System<D>& S);
 
   IsphConfig o_;
   WCSPH<D> forces_;
