@@ -8,7 +8,10 @@ Metrics:
   2. high-frequency content of the pressure at the downstream wall (gauge `p_wall_right`, a/10 above the bed), from
      the impact + 0.02 s to the end: RMS of the signal minus its 0.02 s centred moving average, over the mean |p| of
      the same window; ISPH's must be the smaller (issue 21: "ISPH must be the smoother");
-  3. both runs exit 0 and conserve the fluid mass (round-off).
+  3. both runs exit 0 and conserve the fluid mass (round-off);
+  4. the front against Martin & Moyce (1952, n^2 = 2, their 2.25 in column; bench/data/martin_moyce_1952.csv, with
+     its source): the RMS of x/a - Z over their points with T = t sqrt(2 g/a) inside the run and Z < 0.55 m / a,
+     the simulated front linear between outputs; ISPH's no larger than WCSPH's (issue 57, check 2).
 Information: impact time and peak at the wall, total energy (gauge `energy`) of both runs against the initial
 potential energy (the energy ISPH dissipates), wall time of each run and the pressure solver's share.
 Outputs every 2 ms (the gauges are written at the output interval). The check's own key `--set formulation=lind`
@@ -41,6 +44,28 @@ MODES = {
 FRONT_TOL = 0.03
 X_WALL = 0.55
 WINDOW = 0.02  # s: the moving average that separates the slow pressure from the high-frequency content
+MM_CSV = os.path.normpath(os.path.join(HERE, "..", "..", "bench", "data", "martin_moyce_1952.csv"))
+MM_SERIES = "a2.25in"
+
+
+def martin_moyce():
+    """{series: array of (T, Z)} from the digitised Martin & Moyce (1952) file."""
+    out = {}
+    with open(MM_CSV) as f:
+        for line in f:
+            if line.startswith("#") or line.startswith("series"):
+                continue
+            k, T, Z = line.strip().split(",")
+            out.setdefault(k, []).append((float(T), float(Z)))
+    return {k: np.array(v) for k, v in out.items()}
+
+
+def mm_rms(t, x, exp):
+    """RMS of the simulated front x/a at the experiment's T (Z < X_WALL/A, T inside the run) and the point count."""
+    T, Z = t * np.sqrt(2 * 9.81 / A), x / A
+    sel = (exp[:, 1] < X_WALL / A) & (exp[:, 0] >= T[0]) & (exp[:, 0] <= T[-1])
+    zs = np.interp(exp[sel, 0], T, Z)
+    return float(np.sqrt(np.mean((zs - exp[sel, 1]) ** 2))), int(sel.sum())
 
 
 def gauge(out, name):
@@ -99,6 +124,18 @@ def main():
     rep.metric(f"front, max |ISPH - WCSPH| / WCSPH while x < {X_WALL} m (t <= {tw[sel][-1]:.3f} s)", f"{100 * worst:.2f} %",
                worst <= FRONT_TOL, f"<= {100 * FRONT_TOL:g} %", "issue 21 (at a/40)")
 
+    # 4. the front against Martin & Moyce
+    mm = martin_moyce()
+    rms = {}
+    for k in g:
+        t, x = g[k]["front"]["time"], g[k]["front"]["front"]
+        rms[k], npts = mm_rms(t, x, mm[MM_SERIES])
+        both = np.concatenate(list(mm.values()))
+        rb, nb = mm_rms(t, x, both)
+        print(f"  front {k} vs Martin & Moyce ({MM_SERIES}, {npts} points): RMS {rms[k]:.3f} a; both series ({nb} points): {rb:.3f} a")
+    rep.metric(f"front RMS vs Martin & Moyce ({MM_SERIES}), ISPH against WCSPH", f"{rms['isph']:.3f} a vs {rms['wcsph']:.3f} a",
+               rms["isph"] <= rms["wcsph"], "ISPH <= WCSPH", "issue 57, check 2")
+
     # 2. wall pressure and its high-frequency content
     hf, sm, imp = {}, {}, {}
     for k in g:
@@ -124,6 +161,9 @@ def main():
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.5))
     ax[0].plot(tw, xw / A, "-", label="WCSPH")
     ax[0].plot(ti, xi / A, "--", label="ISPH")
+    e = mm[MM_SERIES]
+    ax[0].plot(e[:, 0] / np.sqrt(2 * 9.81 / A), e[:, 1], "ko", ms=3, label=f"Martin & Moyce ({MM_SERIES})")
+    ax[0].set_ylim(0, X_WALL / A * 1.1)
     ax[0].set_xlabel("t (s)")
     ax[0].set_ylabel("front x / a")
     ax[0].set_title(f"surge front, a/{A / dx:.0f}: max diff {100 * worst:.1f} %")
