@@ -187,9 +187,11 @@ time: {end: 1.0}
   EXPECT_TRUE(k.isph.shifting.constant && k.isph.shifting.automatic);
   EXPECT_TRUE(c.isph.fs_at_surface);
   EXPECT_EQ(c.isph.alpha, 0.02);  // Monaghan's term, as under tsurudome: it damps the surface rows' slow mode (§13b)
+  EXPECT_EQ(c.isph.cfl, 0.4);     // lind's Courant number (the dam break's metrics those of 0.2, §13b)
   EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, source: {type: split}}"}), InputError);
   EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, correction: {min_eigenvalue: 0.3}}"}), InputError);
   EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.formulation, IsphFormulation::Tsurudome);
+  EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.cfl, 0.2);  // Tsurudome's eq 3.6.6
 }
 
 }  // namespace sph::test
