@@ -16,7 +16,8 @@ Information: impact time and peak at the wall, total energy (gauge `energy`) of 
 potential energy (the energy ISPH dissipates), wall time of each run and the pressure solver's share.
 Outputs every 2 ms (the gauges are written at the output interval). The check's own key `--set formulation=lind`
 runs ISPH with `scheme.formulation: lind` (docs/numerics.md §13b; its `shifting: {coefficient: 2}` is then Skillen's
-velocity-scaled form, the same as under Tsurudome's).
+velocity-scaled form, the same as under Tsurudome's; its Courant number 0.4, the formulation's default, over the case's
+0.2, which is WCSPH's acoustic one).
 Usage: /usr/bin/python3 validation/isph_dambreak/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import json
@@ -94,7 +95,10 @@ def main():
     dx = base["particles.dx"] = float(base["particles.dx"])  # (the mode's, or a --set particles.dx=..., e.g. a/80)
     formulation = base.pop("formulation", "tsurudome")
     runs = {}
-    for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.formulation": formulation, "scheme.shifting": "{coefficient: 2}"})):
+    isph = {"scheme.type": "isph", "scheme.formulation": formulation, "scheme.shifting": "{coefficient: 2}"}
+    if formulation == "lind":
+        isph["scheme.cfl"] = 0.4  # the formulation's own default (the case's cfl 0.2 is WCSPH's acoustic one)
+    for scheme, extra in (("wcsph", {}), ("isph", isph)):
         out = os.path.join(a.out, f"{scheme}_dx{dx:g}")
         s, wall, rc = run_case(a.sphflume, CASE, out, {**base, **extra}, a.threads, a.reuse)
         runs[scheme] = (out, s, wall, rc)

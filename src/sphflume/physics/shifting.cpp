@@ -147,12 +147,9 @@ void Shifting<D>::compute(System<D>& S, double dt) {
   }
   auto& P = S.particles;
   const std::size_t n = P.n_owned(), nall = P.size();
-  auto& dr = P.vector(field::shift);  // a particle field: it follows the store's re-sorting
-  std::fill(dr.begin(), dr.end(), Vec<D>{});
   const double surface = cfg_.surface > 0.0 ? cfg_.surface : (D == 2 ? 1.5 : 2.75);
   const auto* pf = S.porous ? P.find(field::porosity) : nullptr;  // SPHAM volumes m/(φρ)
   const double* phi = pf ? pf->data() : nullptr;
-  const double ah = cfg_.coefficient * S.h * dt;
   // pass 1: ∇C and ∇·r of every owned fluid particle; images take their sources' values
   gc_.assign(nall, Vec<D>{});
   at_surface_.assign(nall, 0);
@@ -172,8 +169,39 @@ void Shifting<D>::compute(System<D>& S, double dt) {
       gc_[a] = gc;
       at_surface_[a] = divr < surface ? 1 : 0;
     }
-    S.refresh_halos(gc_.data());
-    S.refresh_halos(at_surface_.data());
+  });
+  displace(S, dt);
+}
+
+template <int D>
+void Shifting<D>::compute(System<D>& S, double dt, const double* gc, const double* divr) {
+  if (cfg_.constant || !gc || !divr) {
+    compute(S, dt);
+    return;
+  }
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned(), nall = P.size();
+  const double surface = cfg_.surface > 0.0 ? cfg_.surface : (D == 2 ? 1.5 : 2.75);
+  gc_.assign(nall, Vec<D>{});
+  at_surface_.assign(nall, 0);
+  for (std::size_t a = 0; a < n; ++a) {
+    if (P.kind[a] != Kind::Fluid) continue;
+    for (int k = 0; k < D; ++k) gc_[a][k] = gc[a * D + k];
+    at_surface_[a] = divr[a] < surface ? 1 : 0;
+  }
+  displace(S, dt);
+}
+
+template <int D>
+void Shifting<D>::displace(System<D>& S, double dt) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned(), nall = P.size();
+  auto& dr = P.vector(field::shift);  // a particle field: it follows the store's re-sorting
+  std::fill(dr.begin(), dr.end(), Vec<D>{});
+  const double ah = cfg_.coefficient * S.h * dt;
+  S.refresh_halos(gc_.data());
+  S.refresh_halos(at_surface_.data());
+  S.with_kernel([&](const auto& K) {
     // pass 2: the displacement; zero at the surface, tangential next to it (Lind et al. 2012).
     // Only particles in cells next to a surface particle's cell can have one within the support.
     S.cells.mark_near(near_cells_, [&](std::size_t i) { return i < nall && at_surface_[i]; });

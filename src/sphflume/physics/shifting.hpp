@@ -31,6 +31,10 @@ class Shifting {
   /// and neighbour lists (S.cells valid for S.particles.pos); zero for other kinds.
   /// Stored in the particle field "shift", so that they follow the store's re-sorting.
   void compute(System<D>& S, double dt);
+  /// The same (the velocity-scaled form) with ∇C (D per owned particle) and ∇·r of the owned particles given, as a
+  /// scheme has just summed them at these positions (ProjectionISPH's moments, over the fluid and wet walls): the
+  /// first pass skipped. The constant form, or null arrays, compute them as compute(S, dt) does.
+  void compute(System<D>& S, double dt, const double* gc, const double* divr);
   /// Adds the displacements compute() found to the positions.
   void apply(System<D>& S) const;
   /// Lind et al. (2012)'s form (ShiftingConfig::constant): a constant diffusion coefficient D = coefficient h²,
@@ -46,6 +50,7 @@ class Shifting {
  private:
   ShiftingConfig cfg_;
   double auto_coefficient_ = 0.0;
+  void displace(System<D>& S, double dt);  // the velocity-scaled form's second pass, from gc_ and at_surface_
   std::vector<Vec<D>> gc_;       // ∇C per particle (images included)
   std::vector<char> at_surface_;  // ∇·r below the threshold
   std::vector<double> divr_;      // ∇·r (constant form)

@@ -93,7 +93,9 @@ void ProjectionISPH<D>::step(System<D>& S, double dt) {
   // 5. correction, position, shifting
   const auto t_corr = std::chrono::steady_clock::now();
   S.with_kernel([&](const auto& K) { this->correct(S, K, dt); });
-  if (shift_.on()) shift_.compute(S, dt);  // at r*, with u_{n+1} (the lists of r*)
+  // at r*, with u_{n+1} (the lists of r*); the velocity-scaled form from the moments' ∇C and ∇·r (the same
+  // positions; over the fluid and wet walls)
+  if (shift_.on()) shift_.compute(S, dt, gc_.data(), divr_.data());
   const auto& x0s = P.vector(field::x0);
   const auto& v0s = P.vector(field::v0);
   double amax2 = 0.0;
