@@ -1,9 +1,11 @@
 #!/usr/bin/python3
-"""ISPH against WCSPH, side by side in one run of this script (issue 21, performance).
+"""ISPH against WCSPH, side by side in one run of this script (issues 21 and 57, performance).
 
-Part 1, time to solution: cases/dambreak_2d.yaml to t = 0.4 s at a/40 (and a/80 with --full), once with the case's
-WCSPH and once with `scheme.type: isph` (+ shifting A = 2); wall time, ratio ISPH / WCSPH (issue 21's target
-<= 0.5), steps, the PPE's share (assembly + solve), bytes per particle (summary.json, matrix included).
+Part 1, time to solution: cases/dambreak_2d.yaml to t = 0.4 s at a/40 (and a/80 with --full), and with --flume or
+--full Flume A at the thesis's d0 (cases/runup_flume_a.yaml, dx = 0.005, H/h0 = 0.163, to 4.5 s), once with the case's
+WCSPH and once under ISPH (`--formulation`, default lind: its own cfl 0.4; tsurudome: shifting A = 2); wall time, the
+ratio ISPH / WCSPH (issue 57: <= 2, goal <= 1), steps, the PPE's share (assembly + solve) and the ISPH step's passes
+(prediction, assembly, solve, correction with shifting), bytes per particle (summary.json, matrix included).
 Part 2, the pressure solver against N: cases/hydrostatic_isph.yaml at dx giving about 5 k, 20 k and 80 k fluid
 particles (--full; 5 k and 20 k otherwise), a fixed number of steps, for each solver (--solvers: Eigen's
 Jacobi BiCGSTAB, hypre's BoomerAMG-preconditioned BiCGSTAB); mean iterations per solve,
@@ -11,7 +13,8 @@ solve time per solve and iterations x N relative to the smallest (issue 21: at m
 iterations x N means iterations constant; a Jacobi-preconditioned Krylov solver on a 2D Poisson matrix needs
 iterations ~ N^(1/2), so iterations x N grows as N^1.5).
 Prints the machine (CPU model, cores) and the commit. Usage:
-  /usr/bin/python3 bench/isph_vs_wcsph.py [--sphflume PATH] [--threads 2] [--full] [--out DIR]
+  /usr/bin/python3 bench/isph_vs_wcsph.py [--sphflume PATH] [--threads 2] [--full] [--flume] [--part 1|2|both]
+                                          [--formulation lind|tsurudome] [--out DIR]
 """
 import argparse
 import json
@@ -53,7 +56,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sphflume", default=os.environ.get("SPHFLUME", os.path.join(ROOT, "build", "sphflume")))
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--full", action="store_true", help="also a/80 and the 80 k tank")
+    ap.add_argument("--full", action="store_true", help="also a/80, Flume A at d0 and the 80 k tank")
+    ap.add_argument("--flume", action="store_true", help="also Flume A at d0 (part 1)")
+    ap.add_argument("--formulation", choices=["lind", "tsurudome"], default="lind", help="the ISPH runs' formulation")
     ap.add_argument("--part", choices=["1", "2", "both"], default="both")
     ap.add_argument("--solvers", default="bicgstab,boomeramg", help="scheme.solver.type values for part 2")
     ap.add_argument("--out", default=os.path.join(tempfile.gettempdir(), "sphflume-bench-isph"))
@@ -65,23 +70,38 @@ def main():
         solver_scaling(a)
 
 
+def isph_sets(a):
+    """The ISPH run's keys: the formulation, and under lind its own Courant number (the cases' `cfl` is WCSPH's
+    acoustic one) and its default shifting; under tsurudome its shifting A = 2 (docs/numerics.md §13)."""
+    if a.formulation == "lind":
+        return {"scheme.type": "isph", "scheme.formulation": "lind", "scheme.cfl": 0.4}
+    return {"scheme.type": "isph", "scheme.formulation": "tsurudome", "scheme.shifting": "{coefficient: 2}"}
+
+
 def dambreak(a):
-    print("\n1. dam break to t = 0.4 s, same dx, same script run")
-    print(f"{'dx':>10} {'scheme':>6} {'particles':>9} {'steps':>6} {'wall s':>8} {'PPE share':>9} {'iter/solve':>10} {'B/particle':>10}")
-    for n in ([40, 80] if a.full else [40]):
-        dx = A / n
+    print(f"\n1. time to solution, same dx, same script run (ISPH formulation: {a.formulation})")
+    print(f"{'case':>14} {'scheme':>6} {'particles':>9} {'steps':>6} {'wall s':>8} {'PPE share':>9} {'iter/solve':>10} "
+          f"{'B/particle':>10}  passes (s): predict / assemble / solve / correct")
+    runs = [(f"dam break a/{n}", "dambreak_2d.yaml", {"particles.dx": A / n, "time.end": 0.4, "time.output_interval": 0.1})
+            for n in ([40, 80] if a.full else [40])]
+    if a.full or a.flume:
+        # Flume A at the thesis's d0 (dx = 0.005), H/h0 = 0.163, to the run-up's end (validation/runup_flume_a)
+        runs.append(("Flume A d0", "runup_flume_a.yaml", {"particles.dx": 0.005, "time.end": 4.5, "time.output_interval": 0.5,
+                                                          "motions.0.height": 0.163 * 0.21}))
+    for label, case, sets in runs:
         walls = {}
-        for scheme, extra in (("wcsph", {}), ("isph", {"scheme.type": "isph", "scheme.shifting": "{coefficient: 2}"})):
-            out = os.path.join(a.out, f"dambreak_a{n}_{scheme}")
-            s, wall = run(a.sphflume, "dambreak_2d.yaml", out,
-                          {"particles.dx": dx, "time.end": 0.4, "time.output_interval": 0.1, **extra}, a.threads)
+        for scheme, extra in (("wcsph", {}), ("isph", isph_sets(a))):
+            out = os.path.join(a.out, f"{case[:-5]}_{sets['particles.dx']:g}_{scheme}")
+            s, wall = run(a.sphflume, case, out, {**sets, **extra}, a.threads)
             walls[scheme] = wall
             ps = s.get("pressure_solver")
             share = f"{100 * (ps['assemble_seconds'] + ps['solve_seconds']) / s['wall_seconds']:.0f} %" if ps else "-"
             it = f"{ps['mean_iterations']:.1f}" if ps else "-"
-            print(f"{'a/' + str(n):>10} {scheme:>6} {s['particles']['total']:>9} {s['steps']:>6} {wall:>8.2f} {share:>9} {it:>10} "
-                  f"{s.get('bytes_per_particle', float('nan')):>10.0f}", flush=True)
-        print(f"{'':>10} ISPH / WCSPH wall time: {walls['isph'] / walls['wcsph']:.2f} (target <= 0.5)")
+            split = (f"{ps['predict_seconds']:.1f} / {ps['assemble_seconds']:.1f} / {ps['solve_seconds']:.1f} / "
+                     f"{ps['correct_seconds']:.1f}") if ps and "predict_seconds" in ps else ""
+            print(f"{label:>14} {scheme:>6} {s['particles']['total']:>9} {s['steps']:>6} {wall:>8.2f} {share:>9} {it:>10} "
+                  f"{s.get('bytes_per_particle', float('nan')):>10.0f}  {split}", flush=True)
+        print(f"{'':>14} ISPH / WCSPH time to solution: {walls['isph'] / walls['wcsph']:.2f} (issue 57: <= 2 bar, <= 1 goal)")
 
 
 def solver_scaling(a):
@@ -95,7 +115,7 @@ def solver_scaling(a):
             out = os.path.join(a.out, f"tank_{solver}_dx{dx:g}")
             s, wall = run(a.sphflume, "hydrostatic_isph.yaml", out,
                           {"particles.dx": dx, "time.end": 20.5 * dt, "time.output_interval": 20.5 * dt,
-                           "scheme.solver": f"{{type: {solver}}}"}, a.threads)
+                           "scheme.solver": f"{{type: {solver}}}", **isph_sets(a)}, a.threads)
             ps = s["pressure_solver"]
             n = s["particles"]["fluid"]
             work = ps["mean_iterations"] * n
