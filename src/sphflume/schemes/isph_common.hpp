@@ -102,7 +102,14 @@ SchemeConfig isph_force_config(const Case& c);
 /// its periodic image, the dummies standing in for one foot) summed.
 inline void finish_row(std::vector<std::pair<int, double>>& e, int me, double diag) {
   e.emplace_back(me, diag);
-  std::sort(e.begin(), e.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  // insertion sort: a row's 20–60 entries come in cell order, their columns (rows by particle id) mostly
+  // ascending already, where std::sort's partitioning cost 2.8 % of a dam break's time (perf)
+  for (std::size_t i = 1; i < e.size(); ++i) {
+    const auto x = e[i];
+    std::size_t j = i;
+    for (; j > 0 && e[j - 1].first > x.first; --j) e[j] = e[j - 1];
+    e[j] = x;
+  }
   std::size_t w = 0;
   for (std::size_t r = 1; r < e.size(); ++r) {
     if (e[r].first == e[w].first) e[w].second += e[r].second;

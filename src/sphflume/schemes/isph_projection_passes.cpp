@@ -26,6 +26,23 @@ namespace {
 /// guard as the ISPH codes use one, docs/numerics.md §13).
 template <int D>
 void guarded_inverse(const double* M, double lmin, double* L) {
+  if constexpr (D == 2) {
+    // in closed form: eigenvalues l1,2 = m ± d; L = i2 I + (i1 − i2) P1, P1 = (M − l2 I)/(l1 − l2) the projector
+    // on the first eigenvector, i = 1/max(l, lmin) (the eigen-decomposition below without its iterations)
+    const double a = M[0], b = 0.5 * (M[1] + M[2]), c = M[3];
+    const double m = 0.5 * (a + c), d = std::sqrt(0.25 * (a - c) * (a - c) + b * b);
+    const double i1 = 1.0 / std::max(m + d, lmin), i2 = 1.0 / std::max(m - d, lmin);
+    if (!(d > 1e-14 * std::abs(m))) {  // isotropic: M = m I
+      L[0] = L[3] = i1;
+      L[1] = L[2] = 0.0;
+      return;
+    }
+    const double k = (i1 - i2) / (2.0 * d);
+    L[0] = i2 + k * (a - (m - d));
+    L[1] = L[2] = k * b;
+    L[3] = i2 + k * (c - (m - d));
+    return;
+  }
   Eigen::Matrix<double, D, D> A;
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b) A(a, b) = 0.5 * (M[a * D + b] + M[b * D + a]);
