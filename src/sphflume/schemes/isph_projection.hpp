@@ -107,6 +107,22 @@ class ProjectionISPH final : public Scheme<D> {
   double dt_ = 0.0;            // the step being solved (wall_rows' wall velocity at t_n)
   // per owned fluid particle, D slots: the walls within dx (their normals, 0 where none, and velocities)
   std::vector<Vec<D>> wall_n_, wall_u_;
+  // the moments' neighbours (fluid and wet walls) of each owned fluid particle with their kernel factor F_ij, for
+  // the rows and the correction at the same positions (one neighbour search per step instead of three): per thread
+  // a buffer; per particle its thread, first entry and count
+  struct Near { std::uint32_t j; double F; };
+  std::vector<std::vector<Near>> near_buf_;
+  std::vector<std::uint32_t> near_thread_, near_first_, near_count_;
+  /// f(j, r_ij, r², F_ij) over particle i's cached neighbours, in the order the moments met them.
+  template <class Fn>
+  void for_near(const System<D>& S, std::size_t i, Fn&& f) const {
+    const auto& P = S.particles;
+    const Near* e = near_buf_[near_thread_[i]].data() + near_first_[i];
+    for (std::uint32_t k = 0; k < near_count_[i]; ++k) {
+      const Vec<D> r = P.pos[i] - P.pos[e[k].j];
+      f(e[k].j, r, dot(r, r), e[k].F);
+    }
+  }
   std::vector<int> unknown_;
   std::vector<double> L_, divr_;
   std::vector<double> col_, wet_;

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 // (GCC 12 warns of uninitialised lanes inside its own AVX-512 intrinsics as Eigen's small fixed-size
 // solvers inline them: a false positive of the header, silenced for this file alone)
@@ -217,24 +220,62 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   divr_.assign(n, 0.0);
   gc_.assign(n * D, 0.0);
   conc_.assign(n, 0.0);
+  // the neighbours kept for the rows and the correction, and the walls within dx kept for the wall checks
+  // (correct(), step(): the positions and the walls' velocities do not change before them)
+  const auto& to = P.vector(field::wall_to_surface);
+  const double dx2 = S.dx * S.dx;
+  wall_n_.assign(n * D, Vec<D>{});
+  wall_u_.assign(n * D, Vec<D>{});
+#ifdef _OPENMP
+  near_buf_.resize(static_cast<std::size_t>(omp_get_max_threads()));
+#else
+  near_buf_.resize(1);
+#endif
+  for (auto& b : near_buf_) b.clear();
+  near_thread_.assign(n, 0);
+  near_first_.assign(n, 0);
+  near_count_.assign(n, 0);
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
+#ifdef _OPENMP
+    const int tid = omp_get_thread_num();
+#else
+    const int tid = 0;
+#endif
+    auto& buf = near_buf_[static_cast<std::size_t>(tid)];
+    near_thread_[i] = static_cast<std::uint32_t>(tid);
+    near_first_[i] = static_cast<std::uint32_t>(buf.size());
+    Vec<D>* wn = &wall_n_[i * D];
+    Vec<D>* wu = &wall_u_[i * D];
+    int walls = 0;  // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance)
     double M[D * D] = {}, gc[D] = {};
     double c = P.mass[i] / (rho0 * (phi ? phi[i] : 1.0)) * ker.W(0.0);  // Σ_j V_j W_ij, the particle itself included
     S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
       if (!(r2 > 0.0)) return;
       const bool fl = P.kind[j] == Kind::Fluid;
+      if (P.kind[j] == Kind::Wall && r2 < dx2 && dot(to[j], to[j]) < dx2) {
+        const Vec<D> nw = (1.0 / norm(to[j])) * to[j];
+        bool seen = false;
+        for (int k = 0; k < walls; ++k) seen = seen || dot(wn[k], nw) > 0.99;
+        if (!seen && walls < D) {
+          wn[walls] = nw;
+          wu[walls++] = P.vel[j];
+        }
+      }
       if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
       const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
       const double rr = std::sqrt(r2);
       c += V * ker.W(rr);
-      const double f = -V * ker.F(rr);
+      const double Fj = ker.F(rr);
+      buf.push_back({j, Fj});
+      const double f = -V * Fj;
       for (int a = 0; a < D; ++a) {
         gc[a] -= f * r[a];
         for (int c = 0; c < D; ++c) M[a * D + c] += f * r[a] * r[c];
       }
     });
+    near_count_[i] = static_cast<std::uint32_t>(buf.size()) - near_first_[i];
     for (int a = 0; a < D; ++a) gc_[i * D + a] = gc[a];
     conc_[i] = c;
     double tr = 0.0;
@@ -251,6 +292,7 @@ template <int D>
 template <class K>
 double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::size_t i, int me, double weight,
                                         std::vector<std::pair<int, double>>& e) const {
+  (void)ker;  // (the kernel's factors cached by the moments)
   const auto& P = S.particles;
   const double rho0 = S.eos.rho0, ws = wall_scale_;
   const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
@@ -270,12 +312,10 @@ double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::s
       for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
     const double delta = 0.5 * S.dx;
     double diag = 1.0;
-    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-      if (!(r2 > 0.0)) return;
+    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F) {
       const bool fl = P.kind[j] == Kind::Fluid;
-      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
       const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
-      const double w = delta * V * ker.F(std::sqrt(r2)) * dot(ln, r);
+      const double w = delta * V * F * dot(ln, r);
       diag -= w;
       if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -weight * ws * w);
     });
@@ -310,13 +350,10 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
   nb.clear();
   Vec<D> a{};  // Σ_j c_ij r_ji: the truncated support's first moment
   double m2 = 0.0;  // ½ Σ_j c_ij r_ij²: its second moment (D on a full support, up to η²)
-  S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-    if (!(r2 > 0.0)) return;
+  for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double r2, double F) {
     const bool fl = P.kind[j] == Kind::Fluid;
-    if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
     const double phij = fl && phi ? phi[j] : (fl ? 1.0 : phii);
     const double V = P.mass[j] / (rho0 * (fl ? phij : 1.0));
-    const double F = ker.F(std::sqrt(r2));
     double c = -2.0 * V * F * r2 / (r2 + eta2);
     if (phi) {
       const double kj = fl ? phij * (mob ? mob[j] : 1.0) : ki;
@@ -427,40 +464,27 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
 template <int D>
 template <class K>
 void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
+  (void)ker;  // (the kernel's factors cached by the moments)
   // u_{n+1} = u* + Δt m_d (g − L_i Σ_j V_j (P_j − P_i) ∇W_ij / ρ0) for every fluid particle, over fluid and wet walls
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double rho0 = S.eos.rho0;
   const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
   const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
-  const auto& to = P.vector(field::wall_to_surface);
-  const double dx2 = S.dx * S.dx;
   std::vector<Vec<D>> dv(n);
-  wall_n_.assign(n * D, Vec<D>{});
-  wall_u_.assign(n * D, Vec<D>{});
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid) continue;
     Vec<D> g{};
     const double pi = P.p[i];
-    Vec<D>* wn = &wall_n_[i * D];
-    Vec<D>* wu = &wall_u_[i * D];
-    int walls = 0;  // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance)
-    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-      if (!(r2 > 0.0)) return;
+    const Vec<D>* wn = &wall_n_[i * D];
+    const Vec<D>* wu = &wall_u_[i * D];
+    int walls = 0;  // the walls within dx the moments found (wall_n_ zero past them)
+    while (walls < D && dot(wn[walls], wn[walls]) > 0.0) ++walls;
+    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F) {
       const bool fl = P.kind[j] == Kind::Fluid;
-      if (P.kind[j] == Kind::Wall && r2 < dx2 && dot(to[j], to[j]) < dx2) {
-        const Vec<D> nw = (1.0 / norm(to[j])) * to[j];
-        bool seen = false;
-        for (int k = 0; k < walls; ++k) seen = seen || dot(wn[k], nw) > 0.99;
-        if (!seen && walls < D) {
-          wn[walls] = nw;
-          wu[walls++] = P.vel[j];
-        }
-      }
-      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
       const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
-      g += (V * (P.p[j] - pi) * ker.F(std::sqrt(r2))) * r;
+      g += (V * (P.p[j] - pi) * F) * r;
     });
     dv[i] = (dt * (mob ? mob[i] : 1.0)) * (S.gravity - (1.0 / rho0) * apply<D>(&L_[i * D * D], g));
     // no flow into a wall (Chow et al. 2018's velocity check): a particle nearer to a wall particle than the
