@@ -87,6 +87,7 @@ def dambreak(a):
     if a.full or a.flume:
         # Flume A at the thesis's d0 (dx = 0.005), H/h0 = 0.163, to the run-up's end (validation/runup_flume_a)
         runs.append(("Flume A d0", "runup_flume_a.yaml", {"particles.dx": 0.005, "time.end": 4.5, "time.output_interval": 0.5,
+                                                          "time.snapshot_interval": 0.5,
                                                           "motions.0.height": 0.163 * 0.21}))
     for label, case, sets in runs:
         walls = {}
