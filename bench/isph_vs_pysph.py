@@ -55,6 +55,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from isph_vs_wcsph import cpu_and_commit  # noqa: E402
+
 import numpy as np
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -81,13 +84,7 @@ SISPH_DB_DT = 0.125 * 1.3 * 0.03 / math.sqrt(2 * 9.81 * 2.0)
 
 
 def machine():
-    cpu = "?"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+    cpu, commit = cpu_and_commit()
     dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no", "--", "src", "app"],
                            capture_output=True, text=True).stdout.strip()
     try:
@@ -95,7 +92,7 @@ def machine():
         pv = pysph.__version__
     except ImportError:
         pv = "not installed"
-    return dict(cpu=cpu, cores=os.cpu_count(), system=platform.system(), commit=commit or "?",
+    return dict(cpu=cpu, cores=os.cpu_count(), system=platform.system(), commit=commit,
                 src_modified=bool(dirty), pysph=pv)
 
 

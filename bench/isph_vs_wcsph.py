@@ -41,7 +41,8 @@ def run(exe, case, out, sets, threads):
         return json.load(f), wall
 
 
-def machine():
+def cpu_and_commit():
+    """The CPU model and the tree's short commit ('?' where unknown); bench/isph_vs_pysph.py uses it too."""
     cpu = "?"
     try:
         with open("/proc/cpuinfo") as f:
@@ -49,7 +50,12 @@ def machine():
     except (OSError, StopIteration):
         pass
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    return f"{cpu}, {os.cpu_count()} cores, {platform.system()}; commit {commit or '?'}"
+    return cpu, commit or "?"
+
+
+def machine():
+    cpu, commit = cpu_and_commit()
+    return f"{cpu}, {os.cpu_count()} cores, {platform.system()}; commit {commit}"
 
 
 def main():
