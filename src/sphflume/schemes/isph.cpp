@@ -354,11 +354,10 @@ void ISPH<D>::solve_into(System<D>& S, std::vector<double>& field, bool pressure
 
 template <int D>
 std::size_t ISPH<D>::bytes() const {
-  const std::size_t n = std::max<std::size_t>(cls_.size(), 1);
   const std::size_t own = cls_.capacity() + (unknown_.capacity() + map_.capacity()) * sizeof(int) +
                           sys_.col.capacity() * sizeof(int) + sys_.val.capacity() * sizeof(double) +
                           (sys_.start.capacity() + 0) * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double);
-  return (own + solver_.get().bytes()) / n;
+  return own + solver_.get().bytes();  // (per particle before 2026-11-29: the summary took it for a total)
 }
 
 template <int D>

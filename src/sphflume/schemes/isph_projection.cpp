@@ -195,12 +195,18 @@ void ProjectionISPH<D>::number_unknowns(System<D>& S) {
 
 template <int D>
 std::size_t ProjectionISPH<D>::bytes() const {
-  const std::size_t n = std::max<std::size_t>(cls_.size(), 1);
   const std::size_t own = cls_.capacity() + unknown_.capacity() * sizeof(int) +
                           (L_.capacity() + divr_.capacity() + col_.capacity() + wet_.capacity() + offset_.capacity()) * sizeof(double) +
                           sys_.col.capacity() * sizeof(int) + sys_.val.capacity() * sizeof(double) +
-                          sys_.start.capacity() * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double);
-  return (own + solver_.get().bytes()) / n;
+                          sys_.start.capacity() * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double) +
+                          (near_thread_.capacity() + near_first_.capacity() + near_count_.capacity()) * sizeof(std::uint32_t);
+  std::size_t near = 0;
+  for (const auto& b : near_buf_) near += b.capacity() * sizeof(Near);
+  for (const auto& r : rows_) near += r.capacity() * sizeof(std::pair<int, double>) + sizeof(r);
+  for (const auto& w : mls_) near += w.capacity() * sizeof(std::pair<std::uint32_t, double>) + sizeof(w);
+  near += (gc_.capacity() + conc_.capacity()) * sizeof(double) +
+          (lever_.capacity() + ub_.capacity() + wall_n_.capacity() + wall_u_.capacity()) * sizeof(Vec<D>);
+  return own + near + solver_.get().bytes();
 }
 
 template <int D>

@@ -39,7 +39,8 @@ class Scheme {
   virtual std::string distributed_refusal() const { return {}; }
   /// Rates passes (neighbour sweeps) per step, for throughput accounting.
   virtual int passes_per_step() const = 0;
-  /// Bytes per owned particle held by the scheme itself (integrator state).
+  /// Bytes held by the scheme itself, in total (integrator state, a pressure system and its solver): the run's
+  /// bytes per particle add them to the store's, the cell list's and the walls' (sim/summary.cpp).
   virtual std::size_t bytes() const = 0;
   /// The scheme's own state beyond the particle store, by name: restart points save it and
   /// restore() puts it back, so that a restarted run goes on bit for bit.
