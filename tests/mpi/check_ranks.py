@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """The same case on 1, 2 (and 4) MPI ranks (issue 24): `mpirun -np N sphflume run CASE`.
 
-For each case below (2D and 3D dam breaks, an ISPH dam break, a dam break with the mixing-length model, a porous
-dam break, two periodic channels: one cut
+For each case below (2D and 3D dam breaks, an ISPH dam break under each formulation, a dam break with the
+mixing-length model, a porous dam break (under ISPH too, lind's with its lifted gate), two periodic channels: one cut
 across its periodic axis, one along it), one process and N ranks (1 thread each; oversubscribed on a 2-core machine, which is fine for
 correctness) must give:
 - the same particle counts (fluid, wall, total) and the same mass: initial and final mass equal to 1e-12 relative
