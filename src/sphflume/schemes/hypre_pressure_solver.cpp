@@ -48,7 +48,8 @@ void start_hypre() {
 
 class HypreAmg final : public PressureSolver {
  public:
-  HypreAmg(double tol, int maxit, bool all_ranks) : tol_(tol), maxit_(maxit), comm_(all_ranks ? MPI_COMM_WORLD : MPI_COMM_SELF) {
+  HypreAmg(double tol, int maxit, bool all_ranks, int aggressive_levels)
+      : tol_(tol), maxit_(maxit), agg_(aggressive_levels), comm_(all_ranks ? MPI_COMM_WORLD : MPI_COMM_SELF) {
     start_hypre();
   }
   const char* name() const override { return "hypre_boomeramg"; }
@@ -178,6 +179,7 @@ class HypreAmg final : public PressureSolver {
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetMaxIter(amg_, 1);          // one V-cycle as the preconditioner
     HYPRE_BoomerAMGSetTol(amg_, 0.0);
+    if (agg_ > 0) HYPRE_BoomerAMGSetAggNumLevels(amg_, agg_);  // (with HMIS: multipass interpolation there)
   }
   void release_hierarchy() {
     if (amg_) HYPRE_BoomerAMGDestroy(amg_);
@@ -191,6 +193,7 @@ class HypreAmg final : public PressureSolver {
   int setup_its_ = 0, last_its_ = 0, age_ = 0;
   double tol_;
   int maxit_;
+  int agg_ = 0;  // levels coarsened aggressively
   MPI_Comm comm_;
   std::vector<HYPRE_Int> ncols_, rows_, cols_;
   std::vector<double> vals_, rhs_;
@@ -201,8 +204,9 @@ class HypreAmg final : public PressureSolver {
 
 bool have_hypre() { return true; }
 
-std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks) {
-  return std::make_unique<HypreAmg>(tolerance, max_iterations, all_ranks);
+std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks,
+                                                  int aggressive_levels) {
+  return std::make_unique<HypreAmg>(tolerance, max_iterations, all_ranks, aggressive_levels);
 }
 
 }  // namespace sph

@@ -8,7 +8,7 @@ namespace sph {
 
 bool have_hypre() { return false; }
 
-std::unique_ptr<PressureSolver> make_hypre_solver(double, int, bool) {
+std::unique_ptr<PressureSolver> make_hypre_solver(double, int, bool, int) {
   throw std::logic_error("SPHFlume was built without hypre (install libhypre-dev and rebuild)");
 }
 

@@ -71,7 +71,10 @@ std::unique_ptr<PressureSolver> make_eigen_solver(double tolerance, int max_iter
 /// hypre's BiCGSTAB with a BoomerAMG V-cycle as the preconditioner (scheme.solver.type: boomeramg),
 /// when SPHFlume was built with hypre (have_hypre()). all_ranks: the system is distributed over
 /// the ranks of MPI_COMM_WORLD (each passes its rows; every rank calls solve), else one process's.
+/// aggressive_levels: BoomerAMG's levels coarsened aggressively (0: none; the lind formulation takes 1: its
+/// solve 13 % cheaper at a/80, bench/README.md).
 bool have_hypre();
-std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks = false);
+std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks = false,
+                                                  int aggressive_levels = 0);
 
 }  // namespace sph
