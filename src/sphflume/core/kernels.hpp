@@ -5,11 +5,11 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sph {
 
@@ -211,8 +211,9 @@ double lattice_kernel_sum(const K& ker, double s) {
 }
 
 /// ∇·r = −Σ_k s^D F(|x_k|) |x_k|² of a particle k rows below the free surface of a square (cubic) lattice of
-/// spacing s (its neighbours above the top row missing), for k = 0, 1, … until the support is full: the row's
-/// depth as the position divergence sees it (the ISPH surface's Robin distance, docs/numerics.md §13b).
+/// spacing s (its neighbours above the top row missing), for k = 0, 1, … until the support is full: how the
+/// position divergence sees each row's depth (the ISPH surface's blend band ends below row 1's value,
+/// docs/numerics.md §13b).
 template <int D, class K>
 std::vector<double> lattice_divr_by_depth(const K& ker, double s) {
   const int nl = static_cast<int>(std::ceil(ker.support / s)) + 1;

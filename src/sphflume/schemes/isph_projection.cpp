@@ -200,13 +200,13 @@ std::size_t ProjectionISPH<D>::bytes() const {
                           sys_.col.capacity() * sizeof(int) + sys_.val.capacity() * sizeof(double) +
                           sys_.start.capacity() * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double) +
                           (near_thread_.capacity() + near_first_.capacity() + near_count_.capacity()) * sizeof(std::uint32_t);
-  std::size_t near = 0;
-  for (const auto& b : near_buf_) near += b.capacity() * sizeof(Near);
-  for (const auto& r : rows_) near += r.capacity() * sizeof(std::pair<int, double>) + sizeof(r);
-  for (const auto& w : mls_) near += w.capacity() * sizeof(std::pair<std::uint32_t, double>) + sizeof(w);
-  near += (gc_.capacity() + conc_.capacity()) * sizeof(double) +
-          (lever_.capacity() + ub_.capacity() + wall_n_.capacity() + wall_u_.capacity()) * sizeof(Vec<D>);
-  return own + near + solver_.get().bytes();
+  std::size_t lists = 0;  // the neighbour cache, the rows as built, the wall rows' weights, per-particle vectors
+  for (const auto& b : near_buf_) lists += b.capacity() * sizeof(Near);
+  for (const auto& r : rows_) lists += r.capacity() * sizeof(std::pair<int, double>) + sizeof(r);
+  for (const auto& w : mls_) lists += w.capacity() * sizeof(std::pair<std::uint32_t, double>) + sizeof(w);
+  lists += (gc_.capacity() + conc_.capacity()) * sizeof(double) +
+           (lever_.capacity() + ub_.capacity() + wall_n_.capacity() + wall_u_.capacity()) * sizeof(Vec<D>);
+  return own + lists + solver_.get().bytes();
 }
 
 template <int D>
