@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "sphflume/core/cell_list.hpp"
 #include "sphflume/core/config.hpp"
 #include "sphflume/core/errors.hpp"
 #include "sphflume/core/system.hpp"
@@ -98,6 +99,31 @@ double isph_time_step(const System<D>& S, const IsphConfig& o, double amax) {
 /// diffusion, XSPH or shifting, with the projection's viscosity options.
 SchemeConfig isph_force_config(const Case& c);
 
+/// The ISPH pair passes' padding on the pair-pass skeleton (core/pair_pass.hpp): 8 doubles (one AVX-512 vector,
+/// two AVX2 ones).
+constexpr std::size_t kIsphLanes = 8;
+
+/// Particle p's position relative to the cell's origin (the gathered columns' frame: small differences keep their
+/// digits).
+template <int D>
+[[gnu::always_inline]] inline void relative(const Vec<D>& p, const Vec<D>& origin, double& a0, double& a1, double& a2) {
+  a0 = p[0] - origin[0];
+  a1 = p[1] - origin[1];
+  a2 = p[D - 1] - origin[D - 1];
+}
+
+/// The owned fluid and wall particles of a cell (the particles ISPH's passes run); the count.
+template <int D>
+inline std::size_t owned_in(const CellList<D>& cells, std::size_t cell, std::size_t n_owned, const Kind* kind, bool fluid_only) {
+  const std::uint32_t* sorted = cells.sorted().data();
+  std::size_t m = 0;
+  for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) {
+    const std::uint32_t a = sorted[k];
+    if (a < n_owned && (kind[a] == Kind::Fluid || (!fluid_only && kind[a] == Kind::Wall))) ++m;
+  }
+  return m;
+}
+
 /// A PPE row's entries with its diagonal in place, the columns ascending and repeated columns (a particle and
 /// its periodic image, the dummies standing in for one foot) summed.
 inline void finish_row(std::vector<std::pair<int, double>>& e, int me, double diag) {
@@ -116,6 +142,29 @@ inline void finish_row(std::vector<std::pair<int, double>>& e, int me, double di
     else e[++w] = e[r];
   }
   e.resize(w + 1);
+}
+
+/// finish_row without the sort, for solvers that take a row's columns in any order (hypre, Eigen's SpMV and
+/// Jacobi): the diagonal first, the others in the order they came, repeated columns summed through a marker per
+/// column (the lind rows' columns are numbered by particle id, so that they come in no order: the insertion sort
+/// cost 10 % of a dam break's time, perf, session 26)
+inline void finish_row_unsorted(std::vector<std::pair<int, double>>& e, int me, double diag) {
+  thread_local std::vector<int> slot;  // column -> its place in the row, -1 elsewhere (left so on return)
+  e.emplace_back(me, diag);
+  std::swap(e.front(), e.back());
+  std::size_t w = 0;
+  for (std::size_t r = 0; r < e.size(); ++r) {
+    const auto c = static_cast<std::size_t>(e[r].first);
+    if (c >= slot.size()) slot.resize(std::max(c + 1, 2 * slot.size()), -1);
+    if (slot[c] >= 0) {
+      e[static_cast<std::size_t>(slot[c])].second += e[r].second;
+      continue;
+    }
+    slot[c] = static_cast<int>(w);
+    e[w++] = e[r];
+  }
+  e.resize(w);
+  for (const auto& q : e) slot[static_cast<std::size_t>(q.first)] = -1;
 }
 
 /// Rows numbered by particle id (one process with hypre): every owned particle with has_row(i) gets row

@@ -15,17 +15,6 @@
 namespace sph {
 namespace {
 
-constexpr std::size_t kLanes = 8;  // padding: 8 doubles (one AVX-512 vector, two AVX2 ones)
-
-/// Particle p's position relative to the cell's origin (the gathered columns' frame: small
-/// differences keep their digits).
-template <int D>
-[[gnu::always_inline]] inline void relative(const Vec<D>& p, const Vec<D>& origin, double& a0, double& a1, double& a2) {
-  a0 = p[0] - origin[0];
-  a1 = p[1] - origin[1];
-  a2 = p[D - 1] - origin[D - 1];
-}
-
 /// The PPE's per-candidate columns of one cell's stencil (assemble), and each particle's sums over them.
 struct PpeColumns {
   const double* __restrict x0; const double* __restrict x1; const double* __restrict x2;
@@ -105,18 +94,6 @@ PpeSums ppe_sums(const K& kl, const PpeColumns& b, const PpeRow& a, double eta2)
   return {diag, div, known};
 }
 
-/// The owned fluid and wall particles of a cell (the particles ISPH's passes run); the count.
-template <int D>
-std::size_t owned_in(const CellList<D>& cells, std::size_t cell, std::size_t n_owned, const Kind* kind, bool fluid_only) {
-  const std::uint32_t* sorted = cells.sorted().data();
-  std::size_t m = 0;
-  for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) {
-    const std::uint32_t a = sorted[k];
-    if (a < n_owned && (kind[a] == Kind::Fluid || (!fluid_only && kind[a] == Kind::Wall))) ++m;
-  }
-  return m;
-}
-
 }  // namespace
 
 template <int D>
@@ -133,7 +110,7 @@ void ISPH<D>::kernel_density(System<D>& S, const K& ker) {
   double* out = P.drho.data();
   const auto& cells = S.cells;
   enum { X0, X1, X2, MV, NCOL };
-  sweep_cells<double>(cells, NCOL, kLanes, [&](std::size_t cell) { return owned_in(cells, cell, n_owned, kind, false); },
+  sweep_cells<double>(cells, NCOL, kIsphLanes, [&](std::size_t cell) { return owned_in(cells, cell, n_owned, kind, false); },
                       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
     const K kl = ker;
     const double sup2 = kl.support2, w0 = kl.W(0.0);
@@ -194,7 +171,7 @@ void ISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
   // porosity and mobility (1 outside media), the PPE column a neighbour's pressure stands in
   // (-1: known), a dummy's known offset; per candidate of the particle: c_ij
   enum { X0, X1, X2, U0, U1, U2, RHO, MASS, FL, IN, PHI, MOB, COL, OFF, C, NCOL };
-  sweep_cells<double>(cells, NCOL, kLanes, [&](std::size_t cell) {
+  sweep_cells<double>(cells, NCOL, kIsphLanes, [&](std::size_t cell) {
     const std::uint32_t* so = cells.sorted().data();
     std::size_t m = 0;
     for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
@@ -285,7 +262,7 @@ void ISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   // columns: position; the neighbour's volume factor m_j (a porous fluid neighbour m_j/φ_j, 0
   // for a particle outside the PPE); P_j/ρ_j²; ψ_j/ρ_j² (source.type split)
   enum { X0, X1, X2, MV, PR, PS, NCOL };
-  sweep_cells<double>(cells, NCOL, kLanes, [&](std::size_t cell) { return owned_in(cells, cell, n_owned, kind, true); },
+  sweep_cells<double>(cells, NCOL, kIsphLanes, [&](std::size_t cell) { return owned_in(cells, cell, n_owned, kind, true); },
                       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
     const K kl = ker;
     const double sup2 = kl.support2;

@@ -201,7 +201,7 @@ std::size_t ProjectionISPH<D>::bytes() const {
                           sys_.start.capacity() * sizeof(std::size_t) + (sys_.rhs.capacity() + x_.capacity()) * sizeof(double) +
                           (near_thread_.capacity() + near_first_.capacity() + near_count_.capacity()) * sizeof(std::uint32_t);
   std::size_t lists = 0;  // the neighbour cache, the rows as built, the wall rows' weights, per-particle vectors
-  for (const auto& b : near_buf_) lists += b.capacity() * sizeof(Near);
+  for (const auto& b : near_buf_) lists += b.v.capacity() * sizeof(Near);
   for (const auto& r : rows_) lists += r.capacity() * sizeof(std::pair<int, double>) + sizeof(r);
   for (const auto& w : mls_) lists += w.capacity() * sizeof(std::pair<std::uint32_t, double>) + sizeof(w);
   lists += (gc_.capacity() + conc_.capacity()) * sizeof(double) +

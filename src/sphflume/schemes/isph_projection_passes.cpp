@@ -17,6 +17,7 @@
 #pragma GCC diagnostic pop
 
 #include "sphflume/core/cell_list.hpp"
+#include "sphflume/core/pair_pass.hpp"
 #include "sphflume/physics/porous.hpp"
 #include "sphflume/schemes/isph_projection.hpp"
 
@@ -231,61 +232,130 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
 #else
   near_buf_.resize(1);
 #endif
-  for (auto& b : near_buf_) b.clear();
+  for (auto& b : near_buf_) b.v.clear();
   near_thread_.assign(n, 0);
   near_first_.assign(n, 0);
   near_count_.assign(n, 0);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (P.kind[i] != Kind::Fluid) continue;
+  // on the pair-pass skeleton (core/pair_pass.hpp): a cell's candidates copied once into columns, each particle's
+  // sums in one vector loop, its neighbours (fluid and wet walls within the support) then kept in their stencil
+  // order; the first-layer walls within dx, rare, walked only where the vector loop saw one
+  const Vec<D>* pos = P.pos.data();
+  const Kind* kind = P.kind.data();
+  const double* mass = P.mass.data();
+  const double* wet = wet_.data();
+  const auto& cells = S.cells;
+  enum { X0, X1, X2, VOL, WALL1, IDX, FK, IN, NCOL };
+  sweep_cells<double>(cells, NCOL, kIsphLanes, [&](std::size_t cell) { return owned_in(cells, cell, n, kind, true); },
+                      [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
 #ifdef _OPENMP
     const int tid = omp_get_thread_num();
 #else
     const int tid = 0;
 #endif
-    auto& buf = near_buf_[static_cast<std::size_t>(tid)];
-    near_thread_[i] = static_cast<std::uint32_t>(tid);
-    near_first_[i] = static_cast<std::uint32_t>(buf.size());
-    Vec<D>* wn = &wall_n_[i * D];
-    Vec<D>* wu = &wall_u_[i * D];
-    int walls = 0;  // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance)
-    double M[D * D] = {}, gc[D] = {};
-    double c = P.mass[i] / (rho0 * (phi ? phi[i] : 1.0)) * ker.W(0.0);  // Σ_j V_j W_ij, the particle itself included
-    S.cells.for_neighbours(P.pos, P.pos[i], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-      if (!(r2 > 0.0)) return;
-      const bool fl = P.kind[j] == Kind::Fluid;
-      if (P.kind[j] == Kind::Wall && r2 < dx2 && dot(to[j], to[j]) < dx2) {
-        const Vec<D> nw = (1.0 / norm(to[j])) * to[j];
-        bool seen = false;
-        for (int k = 0; k < walls; ++k) seen = seen || dot(wn[k], nw) > 0.99;
-        if (!seen && walls < D) {
-          wn[walls] = nw;
-          wu[walls++] = P.vel[j];
+    auto& buf = near_buf_[static_cast<std::size_t>(tid)].v;
+    const K kl = ker;
+    const double sup2 = kl.support2;
+    const std::uint32_t* sorted = cells.sorted().data();
+    const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+    const Vec<D> origin = pos[sorted[c0k]];
+    // V_j for the fluid and the wet walls (0: out of the sums), the first-layer walls (closer than dx to their surface)
+    gather_columns(st, B, pos, origin,
+                   column(VOL, 0.0, [=](std::size_t j) {
+                     return kind[j] == Kind::Fluid ? mass[j] / (rho0 * (phi ? phi[j] : 1.0))
+                            : kind[j] == Kind::Wall && wet[j] > 0.0 ? mass[j] / rho0 : 0.0;
+                   }),
+                   column(WALL1, 0.0, [&](std::size_t j) { return kind[j] == Kind::Wall && dot(to[j], to[j]) < dx2 ? 1.0 : 0.0; }),
+                   column(IDX, -1.0, [](std::size_t j) { return static_cast<double>(j); }));
+    const double* __restrict bx0 = B[X0];
+    const double* __restrict bx1 = B[X1];
+    const double* __restrict bx2 = B[X0 + D - 1];
+    const double* __restrict bv = B[VOL];
+    const double* __restrict bw = B[WALL1];
+    const double* __restrict bi = B[IDX];
+    double* __restrict bf = B[FK];
+    double* __restrict bin = B[IN];
+    const std::size_t npad = st.padded;
+    std::uint64_t pairs = 0;
+    for (std::uint32_t k = c0k; k < c1k; ++k) {
+      const std::uint32_t i = sorted[k];
+      if (i >= n || kind[i] != Kind::Fluid) continue;
+      double xa0, xa1, xa2;
+      relative<D>(pos[i], origin, xa0, xa1, xa2);
+      // Σ V W (the particle itself added below), −Σ V F r (∇C), −Σ V F r ⊗ r (M), the first-layer walls within dx
+      double c = 0.0, g0 = 0.0, g1 = 0.0, g2 = 0.0, m00 = 0.0, m01 = 0.0, m02 = 0.0, m11 = 0.0, m12 = 0.0, m22 = 0.0,
+             walls_near = 0.0;
+#pragma omp simd reduction(+ : c, g0, g1, g2, m00, m01, m02, m11, m12, m22, walls_near)
+      for (std::size_t m = 0; m < npad; ++m) {
+        const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
+        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+        const double pair = (r2 < sup2) & (r2 > 0.0) ? 1.0 : 0.0;
+        walls_near += (r2 < dx2) & (r2 > 0.0) ? bw[m] : 0.0;
+        const double in = bv[m] > 0.0 ? pair : 0.0;
+        const double rr = std::sqrt(r2);
+        const double F = kl.F(rr);
+        const double v = in * bv[m];
+        bf[m] = F;
+        bin[m] = in;
+        c += v * kl.W(rr);
+        const double f = v * F;  // −(−V F): the sums below carry M's and ∇C's signs
+        g0 += f * r0;
+        g1 += f * r1;
+        m00 -= f * r0 * r0;
+        m01 -= f * r0 * r1;
+        m11 -= f * r1 * r1;
+        if constexpr (D == 3) {
+          g2 += f * r2c;
+          m02 -= f * r0 * r2c;
+          m12 -= f * r1 * r2c;
+          m22 -= f * r2c * r2c;
         }
       }
-      if (!fl && !(P.kind[j] == Kind::Wall && wet_[j] > 0.0)) return;
-      const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
-      const double rr = std::sqrt(r2);
-      c += V * ker.W(rr);
-      const double Fj = ker.F(rr);
-      buf.push_back({j, Fj});
-      const double f = -V * Fj;
-      for (int a = 0; a < D; ++a) {
-        gc[a] -= f * r[a];
-        for (int c = 0; c < D; ++c) M[a * D + c] += f * r[a] * r[c];
+      near_thread_[i] = static_cast<std::uint32_t>(tid);
+      near_first_[i] = static_cast<std::uint32_t>(buf.size());
+      const std::size_t cnt = st.count;
+      for (std::size_t m = 0; m < cnt; ++m)
+        if (bin[m] > 0.0) buf.push_back({static_cast<std::uint32_t>(bi[m]), bf[m]});
+      near_count_[i] = static_cast<std::uint32_t>(buf.size()) - near_first_[i];
+      // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance), in the
+      // stencil's order
+      if (walls_near > 0.0) {
+        Vec<D>* wn = &wall_n_[i * D];
+        Vec<D>* wu = &wall_u_[i * D];
+        int walls = 0;
+        for (std::size_t m = 0; m < cnt && walls < D; ++m) {
+          if (!(bw[m] > 0.0)) continue;
+          const auto j = static_cast<std::uint32_t>(bi[m]);
+          const Vec<D> r = pos[i] - pos[j];
+          const double r2 = dot(r, r);
+          if (!(r2 < dx2) || !(r2 > 0.0)) continue;
+          const Vec<D> nw = (1.0 / norm(to[j])) * to[j];
+          bool seen = false;
+          for (int q = 0; q < walls; ++q) seen = seen || dot(wn[q], nw) > 0.99;
+          if (!seen) {
+            wn[walls] = nw;
+            wu[walls++] = P.vel[j];
+          }
+        }
       }
-    });
-    near_count_[i] = static_cast<std::uint32_t>(buf.size()) - near_first_[i];
-    for (int a = 0; a < D; ++a) gc_[i * D + a] = gc[a];
-    conc_[i] = c;
-    double tr = 0.0;
-    for (int a = 0; a < D; ++a) tr += M[a * D + a];
-    divr_[i] = tr;
-    guarded_inverse<D>(M, lmin, &L_[i * D * D]);
-    // with P = 0 at the surface (Surface: a Robin row), a particle whose support is less than about half
-    // full (∇·r < 1 in 2D, 1.5 in 3D: a splash, a jet's tip, a film) keeps P = 0 on its centre
-    cls_[i] = tr >= thr ? Inner : o_.fs_at_surface && tr >= (D == 2 ? 1.0 : 1.5) ? Surface : Known;
-  }
+      const double gs[3] = {g0, g1, g2};
+      const double Ms[3][3] = {{m00, m01, m02}, {m01, m11, m12}, {m02, m12, m22}};
+      double M[D * D];
+      for (int a = 0; a < D; ++a) {
+        gc_[i * D + a] = gs[a];
+        for (int q = 0; q < D; ++q) M[a * D + q] = Ms[a][q];
+      }
+      conc_[i] = c + mass[i] / (rho0 * (phi ? phi[i] : 1.0)) * kl.W(0.0);
+      double tr = 0.0;
+      for (int a = 0; a < D; ++a) tr += M[a * D + a];
+      divr_[i] = tr;
+      guarded_inverse<D>(M, lmin, &L_[i * D * D]);
+      // with P = 0 at the surface (Surface: a Robin row), a particle whose support is less than about half
+      // full (∇·r < 1 in 2D, 1.5 in 3D: a splash, a jet's tip, a film) keeps P = 0 on its centre
+      cls_[i] = tr >= thr ? Inner : o_.fs_at_surface && tr >= (D == 2 ? 1.0 : 1.5) ? Surface : Known;
+      pairs += st.count;
+    }
+    return pairs;
+  });
 }
 
 template <int D>
@@ -404,7 +474,7 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
     if (col_[q.j] >= 0.0 && static_cast<int>(col_[q.j]) != me) e.emplace_back(static_cast<int>(col_[q.j]), alpha * c);
   }
   if (o_.fs_at_surface && alpha < 1.0) diag += robin_entries(S, ker, i, me, 1.0 - alpha, e);
-  finish_row(e, me, diag);
+  finish_row_unsorted(e, me, diag);
   double rhs = alpha * rho0 / dt * div;
   // the weak volume correction (`volume_correction` ω): on a particle with a full support (∇·r ≥ 0.975 D), a
   // fraction ω per step of its number density's error against the lattice's, ρ0 ω (C_ref − C_i)/(C_ref Δt²); the
@@ -443,13 +513,13 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       // r_m (Shepard's where the fluid there is too sparse for the linear fit), scaled by the lattice's diagonal
       for (const auto& [j, w] : mls_[i])
         if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w);
-      finish_row(e, me, -ws);
+      finish_row_unsorted(e, me, -ws);
       const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
       rhs[row] = -ws * rho0 * dot(g, lever_[i]);
       continue;
     }
     if (cls_[i] == Surface) {
-      finish_row(e, me, robin_entries(S, ker, i, me, 1.0, e));
+      finish_row_unsorted(e, me, robin_entries(S, ker, i, me, 1.0, e));
       rhs[row] = 0.0;
       continue;
     }

@@ -34,12 +34,18 @@ struct SparseRows {
   std::size_t nonzeros() const { return col.size(); }
   /// The matrix from rows of (column, value) entries, in row order (the right-hand side apart).
   void set_rows(const std::vector<std::vector<std::pair<int, double>>>& rows) {
-    start.assign(1, 0);
-    col.clear();
-    val.clear();
-    for (const auto& e : rows) {
-      for (const auto& [c, v] : e) { col.push_back(c); val.push_back(v); }
-      start.push_back(col.size());
+    start.resize(rows.size() + 1);
+    start[0] = 0;
+    for (std::size_t r = 0; r < rows.size(); ++r) start[r + 1] = start[r] + rows[r].size();
+    col.resize(start.back());
+    val.resize(start.back());
+#pragma omp parallel for schedule(static)
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      std::size_t k = start[r];
+      for (const auto& [c, v] : rows[r]) {
+        col[k] = c;
+        val[k++] = v;
+      }
     }
   }
 };
