@@ -48,8 +48,8 @@ void start_hypre() {
 
 class HypreAmg final : public PressureSolver {
  public:
-  HypreAmg(double tol, int maxit, bool all_ranks, int aggressive_levels)
-      : tol_(tol), maxit_(maxit), agg_(aggressive_levels), comm_(all_ranks ? MPI_COMM_WORLD : MPI_COMM_SELF) {
+  HypreAmg(double tol, int maxit, bool all_ranks, AmgCycle cycle)
+      : tol_(tol), maxit_(maxit), cycle_(cycle), comm_(all_ranks ? MPI_COMM_WORLD : MPI_COMM_SELF) {
     start_hypre();
   }
   const char* name() const override { return "hypre_boomeramg"; }
@@ -179,7 +179,12 @@ class HypreAmg final : public PressureSolver {
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetMaxIter(amg_, 1);          // one V-cycle as the preconditioner
     HYPRE_BoomerAMGSetTol(amg_, 0.0);
-    if (agg_ > 0) HYPRE_BoomerAMGSetAggNumLevels(amg_, agg_);  // (with HMIS: multipass interpolation there)
+    if (cycle_.aggressive_levels > 0)  // (with HMIS: multipass interpolation there)
+      HYPRE_BoomerAMGSetAggNumLevels(amg_, cycle_.aggressive_levels);
+    if (cycle_.one_way_sweeps) {  // hybrid Gauss–Seidel forward on the way down, backward on the way up
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 3, 1);
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 4, 2);
+    }
   }
   void release_hierarchy() {
     if (amg_) HYPRE_BoomerAMGDestroy(amg_);
@@ -193,7 +198,7 @@ class HypreAmg final : public PressureSolver {
   int setup_its_ = 0, last_its_ = 0, age_ = 0;
   double tol_;
   int maxit_;
-  int agg_ = 0;  // levels coarsened aggressively
+  AmgCycle cycle_;
   MPI_Comm comm_;
   std::vector<HYPRE_Int> ncols_, rows_, cols_;
   std::vector<double> vals_, rhs_;
@@ -205,8 +210,8 @@ class HypreAmg final : public PressureSolver {
 bool have_hypre() { return true; }
 
 std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks,
-                                                  int aggressive_levels) {
-  return std::make_unique<HypreAmg>(tolerance, max_iterations, all_ranks, aggressive_levels);
+                                                  AmgCycle cycle) {
+  return std::make_unique<HypreAmg>(tolerance, max_iterations, all_ranks, cycle);
 }
 
 }  // namespace sph

@@ -8,7 +8,7 @@ namespace sph {
 
 bool have_hypre() { return false; }
 
-std::unique_ptr<PressureSolver> make_hypre_solver(double, int, bool, int) {
+std::unique_ptr<PressureSolver> make_hypre_solver(double, int, bool, AmgCycle) {
   throw std::logic_error("SPHFlume was built without hypre (install libhypre-dev and rebuild)");
 }
 

@@ -29,13 +29,17 @@ std::string isph_distributed_refusal(const IsphConfig& o) {
 }
 
 namespace {
-// BoomerAMG's aggressive coarsening on the first level under lind (its solve 13 % cheaper on the a/80 dam break at
-// the same tolerance, bench/README.md); Tsurudome's formulation keeps the hierarchy its results were measured with
-int aggressive_levels(const IsphConfig& o) { return o.formulation == IsphFormulation::Lind ? 1 : 0; }
+// lind's V-cycle: aggressive coarsening on the first level (its solve 13 % cheaper on the a/80 dam break at the same
+// tolerance) and one Gauss–Seidel sweep each way (11 % cheaper at a/40; the dam break's front, Martin & Moyce's
+// RMS and the wall pressure's high-frequency content within their run-to-run scatter, bench/README.md, session 26);
+// Tsurudome's formulation keeps the hierarchy its results were measured with
+AmgCycle amg_cycle(const IsphConfig& o) {
+  return o.formulation == IsphFormulation::Lind ? AmgCycle{1, true} : AmgCycle{};
+}
 }  // namespace
 
 IsphSolver::IsphSolver(const IsphConfig& o)
-    : o_(o), solver_(o.amg ? make_hypre_solver(o.tolerance, o.max_iterations, false, aggressive_levels(o))
+    : o_(o), solver_(o.amg ? make_hypre_solver(o.tolerance, o.max_iterations, false, amg_cycle(o))
                            : make_eigen_solver(o.tolerance, o.max_iterations)) {}
 
 void IsphSolver::prepare(bool distributed) {
@@ -43,10 +47,10 @@ void IsphSolver::prepare(bool distributed) {
     // solver.type auto: hypre's BoomerAMG whenever the build has it (its hierarchy reused over
     // steps: faster than Eigen's Jacobi BiCGSTAB from 1 k unknowns on, docs/numerics.md §13)
     chosen_ = true;
-    if (have_hypre()) solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, false, aggressive_levels(o_));
+    if (have_hypre()) solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, false, amg_cycle(o_));
   }
   if (distributed && !all_ranks_) {  // a distributed run: hypre over every rank's rows
-    solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, true, aggressive_levels(o_));
+    solver_ = make_hypre_solver(o_.tolerance, o_.max_iterations, true, amg_cycle(o_));
     all_ranks_ = chosen_ = true;
   }
 }

@@ -77,10 +77,14 @@ std::unique_ptr<PressureSolver> make_eigen_solver(double tolerance, int max_iter
 /// hypre's BiCGSTAB with a BoomerAMG V-cycle as the preconditioner (scheme.solver.type: boomeramg),
 /// when SPHFlume was built with hypre (have_hypre()). all_ranks: the system is distributed over
 /// the ranks of MPI_COMM_WORLD (each passes its rows; every rank calls solve), else one process's.
-/// aggressive_levels: BoomerAMG's levels coarsened aggressively (0: none; the lind formulation takes 1: its
-/// solve 13 % cheaper at a/80, bench/README.md).
+/// cycle: BoomerAMG's V-cycle as a formulation tunes it (the defaults: Tsurudome's, as its results were measured).
+struct AmgCycle {
+  int aggressive_levels = 0;    // levels coarsened aggressively (0: none)
+  bool one_way_sweeps = false;  // one forward Gauss–Seidel sweep down and one backward up, instead of a
+                                // symmetric sweep (forward and backward) each way: half the smoothing
+};
 bool have_hypre();
 std::unique_ptr<PressureSolver> make_hypre_solver(double tolerance, int max_iterations, bool all_ranks = false,
-                                                  int aggressive_levels = 0);
+                                                  AmgCycle cycle = {});
 
 }  // namespace sph
