@@ -11,6 +11,13 @@
 #include <HYPRE_IJ_mv.h>
 #include <HYPRE_parcsr_ls.h>
 #include <HYPRE_utilities.h>
+// (hypre's internal header, for one process's matrix built directly: it warns under C++20 and -Wextra)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wvolatile"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#include <_hypre_parcsr_mv.h>
+#pragma GCC diagnostic pop
 
 #include <cmath>
 #include <cstdint>
@@ -46,6 +53,88 @@ void start_hypre() {
   (void)started;
 }
 
+/// A system matrix, made through hypre's IJ interface (a distributed run) or directly (one process).
+struct Matrix {
+  HYPRE_IJMatrix ij = nullptr;
+  hypre_ParCSRMatrix* par = nullptr;
+  void destroy() {
+    if (ij) HYPRE_IJMatrixDestroy(ij);
+    if (par) hypre_ParCSRMatrixDestroy(par);
+    ij = nullptr;
+    par = nullptr;
+  }
+};
+
+/// One solve's vectors (right-hand side, solution, residual), destroyed together.
+struct Vectors {
+  HYPRE_IJVector made[3] = {nullptr, nullptr, nullptr};
+  hypre_ParVector* par[3] = {nullptr, nullptr, nullptr};
+  int count = 0;
+  /// A one-process vector holding sign × v.
+  HYPRE_ParVector local(const double* v, std::size_t n, double sign) {
+    HYPRE_BigInt starts[2] = {0, static_cast<HYPRE_BigInt>(n)};
+    hypre_ParVector* p = hypre_ParVectorCreate(MPI_COMM_SELF, static_cast<HYPRE_BigInt>(n), starts);
+    hypre_ParVectorInitialize(p);
+    double* d = hypre_VectorData(hypre_ParVectorLocalVector(p));
+    for (std::size_t i = 0; i < n; ++i) d[i] = sign * v[i];
+    par[count++] = p;
+    return p;
+  }
+  /// A distributed vector through IJ (v already in hypre's sign).
+  HYPRE_ParVector ij(MPI_Comm comm, HYPRE_Int lo, HYPRE_Int hi, const HYPRE_Int* rows, const double* v) {
+    HYPRE_IJVector& V = made[count++];
+    HYPRE_IJVectorCreate(comm, lo, hi, &V);
+    HYPRE_IJVectorSetObjectType(V, HYPRE_PARCSR);
+    HYPRE_IJVectorInitialize(V);
+    HYPRE_IJVectorSetValues(V, hi - lo + 1, rows, v);
+    HYPRE_IJVectorAssemble(V);
+    HYPRE_ParVector p;
+    HYPRE_IJVectorGetObject(V, reinterpret_cast<void**>(&p));
+    return p;
+  }
+  void destroy() {
+    for (auto& v : made)
+      if (v) HYPRE_IJVectorDestroy(v);
+    for (auto& v : par)
+      if (v) hypre_ParVectorDestroy(v);
+  }
+};
+
+/// One process's system as hypre's compressed rows, negated (−A, an M-matrix: what hypre's smoothers want), each
+/// row's diagonal first (where hypre's smoothers read it); repeated columns are left as they are (the scheme sums
+/// them: SparseRows).
+hypre_ParCSRMatrix* local_matrix(const SparseRows& s) {
+  const auto n = static_cast<HYPRE_Int>(s.rows());
+  const auto nnz = static_cast<HYPRE_Int>(s.nonzeros());
+  HYPRE_BigInt starts[2] = {0, n};
+  hypre_ParCSRMatrix* A = hypre_ParCSRMatrixCreate(MPI_COMM_SELF, n, n, starts, starts, 0, nnz, 0);
+  hypre_ParCSRMatrixInitialize(A);
+  hypre_CSRMatrix* d = hypre_ParCSRMatrixDiag(A);
+  HYPRE_Int* I = hypre_CSRMatrixI(d);
+  HYPRE_Int* J = hypre_CSRMatrixJ(d);
+  double* a = hypre_CSRMatrixData(d);
+#pragma omp parallel for schedule(static)
+  for (HYPRE_Int r = 0; r < n; ++r) {
+    const std::size_t k0 = s.start[static_cast<std::size_t>(r)], k1 = s.start[static_cast<std::size_t>(r) + 1];
+    I[r] = static_cast<HYPRE_Int>(k0);
+    std::size_t dk = k0;  // the diagonal's place in the scheme's row
+    for (std::size_t k = k0; k < k1; ++k)
+      if (s.col[k] == r) { dk = k; break; }
+    J[k0] = r;
+    a[k0] = -s.val[dk];
+    std::size_t w = k0 + 1;
+    for (std::size_t k = k0; k < k1; ++k)
+      if (k != dk) {
+        J[w] = s.col[k];
+        a[w++] = -s.val[k];
+      }
+  }
+  I[n] = nnz;
+  hypre_ParCSRMatrixSetNumNonzeros(A);
+  hypre_MatvecCommPkgCreate(A);
+  return A;
+}
+
 class HypreAmg final : public PressureSolver {
  public:
   HypreAmg(double tol, int maxit, bool all_ranks, AmgCycle cycle)
@@ -66,30 +155,31 @@ class HypreAmg final : public PressureSolver {
     rep.unknowns = sizes[0];
     rep.nonzeros = sizes[1];
     if (sizes[0] == 0) { rep.converged = true; return rep; }  // (the same answer on every rank)
-    load(s, lo);
-
-    HYPRE_IJMatrix A;
-    HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &A);
-    HYPRE_IJMatrixSetObjectType(A, HYPRE_PARCSR);
-    HYPRE_IJMatrixSetRowSizes(A, ncols_.data());
-    HYPRE_IJMatrixInitialize(A);
-    HYPRE_IJMatrixSetValues(A, n, ncols_.data(), rows_.data(), cols_.data(), vals_.data());
-    HYPRE_IJMatrixAssemble(A);
+    // the matrix and the vectors: one process builds hypre's compressed rows directly from the scheme's (one copy;
+    // the IJ interface's assembly cost 3 % of a dam break, perf, session 26); a distributed run goes through IJ
+    Matrix A;
     HYPRE_ParCSRMatrix pA;
-    HYPRE_IJMatrixGetObject(A, reinterpret_cast<void**>(&pA));
-    auto vec = [&](const double* v, HYPRE_IJVector& V) {
-      HYPRE_IJVectorCreate(comm_, lo, hi, &V);
-      HYPRE_IJVectorSetObjectType(V, HYPRE_PARCSR);
-      HYPRE_IJVectorInitialize(V);
-      HYPRE_IJVectorSetValues(V, n, rows_.data(), v);
-      HYPRE_IJVectorAssemble(V);
-      HYPRE_ParVector p;
-      HYPRE_IJVectorGetObject(V, reinterpret_cast<void**>(&p));
-      return p;
-    };
-    HYPRE_IJVector B, X, R;
-    HYPRE_ParVector pb = vec(rhs_.data(), B), px = vec(x.data(), X);  // x: the warm start
-    HYPRE_ParVector pr = vec(rhs_.data(), R);
+    HYPRE_ParVector pb, px, pr;
+    Vectors V;
+    if (comm_ == MPI_COMM_SELF) {
+      A.par = local_matrix(s);
+      pA = A.par;
+      pb = V.local(s.rhs.data(), s.rows(), -1.0);
+      px = V.local(x.data(), s.rows(), 1.0);  // x: the warm start
+      pr = V.local(s.rhs.data(), s.rows(), -1.0);
+    } else {
+      load(s, lo);
+      HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &A.ij);
+      HYPRE_IJMatrixSetObjectType(A.ij, HYPRE_PARCSR);
+      HYPRE_IJMatrixSetRowSizes(A.ij, ncols_.data());
+      HYPRE_IJMatrixInitialize(A.ij);
+      HYPRE_IJMatrixSetValues(A.ij, n, ncols_.data(), rows_.data(), cols_.data(), vals_.data());
+      HYPRE_IJMatrixAssemble(A.ij);
+      HYPRE_IJMatrixGetObject(A.ij, reinterpret_cast<void**>(&pA));
+      pb = V.ij(comm_, lo, hi, rows_.data(), rhs_.data());
+      px = V.ij(comm_, lo, hi, rows_.data(), x.data());
+      pr = V.ij(comm_, lo, hi, rows_.data(), rhs_.data());
+    }
 
     // the hierarchy: rebuilt for this matrix, or the last one reused (rows numbered by particle,
     // same size, not too old, and the last solve not much slower than the one after the build).
@@ -119,13 +209,16 @@ class HypreAmg final : public PressureSolver {
     double rn = 0.0, bn = 0.0;
     HYPRE_ParVectorInnerProd(pr, pr, &rn);
     HYPRE_ParVectorInnerProd(pb, pb, &bn);
-    HYPRE_IJVectorGetValues(X, n, rows_.data(), x.data());
+    if (comm_ == MPI_COMM_SELF) {
+      const double* xs = hypre_VectorData(hypre_ParVectorLocalVector(px));
+      std::copy(xs, xs + s.rows(), x.begin());
+    } else {
+      HYPRE_IJVectorGetValues(V.made[1], n, rows_.data(), x.data());
+    }
     HYPRE_ParCSRBiCGSTABDestroy(krylov);
-    HYPRE_IJVectorDestroy(B);
-    HYPRE_IJVectorDestroy(X);
-    HYPRE_IJVectorDestroy(R);
+    V.destroy();
     if (reuse) {
-      HYPRE_IJMatrixDestroy(A);  // (the hierarchy keeps the matrix it was built from)
+      A.destroy();  // (the hierarchy keeps the matrix it was built from)
       ++age_;
     } else if (s.stable_rows) {
       setup_A_ = A;  // kept alive with its hierarchy
@@ -134,7 +227,7 @@ class HypreAmg final : public PressureSolver {
       age_ = 0;
     } else {
       release_hierarchy();
-      HYPRE_IJMatrixDestroy(A);
+      A.destroy();
     }
     last_its_ = static_cast<int>(its);
     rep.setup = !reuse;
@@ -188,12 +281,11 @@ class HypreAmg final : public PressureSolver {
   }
   void release_hierarchy() {
     if (amg_) HYPRE_BoomerAMGDestroy(amg_);
-    if (setup_A_) HYPRE_IJMatrixDestroy(setup_A_);
+    setup_A_.destroy();
     amg_ = nullptr;
-    setup_A_ = nullptr;
   }
   HYPRE_Solver amg_ = nullptr;
-  HYPRE_IJMatrix setup_A_ = nullptr;
+  Matrix setup_A_;
   std::uint64_t setup_rows_ = 0;
   int setup_its_ = 0, last_its_ = 0, age_ = 0;
   double tol_;

@@ -167,6 +167,13 @@ inline void finish_row_unsorted(std::vector<std::pair<int, double>>& e, int me, 
   for (const auto& q : e) slot[static_cast<std::size_t>(q.first)] = -1;
 }
 
+/// A row whose columns are distinct (no periodic image or halo copy among the neighbours, no Robin part over the
+/// same neighbours): the diagonal put first, nothing to sum.
+inline void finish_row_distinct(std::vector<std::pair<int, double>>& e, int me, double diag) {
+  e.emplace_back(me, diag);
+  std::swap(e.front(), e.back());
+}
+
 /// Rows numbered by particle id (one process with hypre): every owned particle with has_row(i) gets row
 /// row_of_id[id] in id order, so that row r is the same particle from step to step and the solver may reuse
 /// its multigrid hierarchy (pressure_solver.hpp); unknown[i] set, the row count returned.

@@ -133,10 +133,12 @@ void ProjectionISPH<D>::solve_pressure(System<D>& S, double dt) {
     auto& mob = P.scalar(field::mobility);
     const auto* kr = P.find(field::drag_rate);
     const auto* im = P.find(field::inertia);
+#pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i)
       mob[i] = kr && im && P.kind[i] == Kind::Fluid ? (*im)[i] / (1.0 + dt * (*kr)[i]) : 1.0;
     S.refresh_halos(mob.data());
   }
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i)
     if (P.kind[i] == Kind::Fluid || P.kind[i] == Kind::Wall) P.rho[i] = S.eos.rho0;
   solver_.prepare(S.comm->size() > 1);
@@ -149,11 +151,13 @@ void ProjectionISPH<D>::solve_pressure(System<D>& S, double dt) {
   stats_.assemble_s += seconds_since(t0);
   // warm start from the last pressures, the solve, the solution back into the particles
   x_.assign(sys_.rows(), 0.0);
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i)
     if (unknown_[i] >= 0 && unknown(cls_[i])) x_[static_cast<std::size_t>(unknown_[i])] = P.p[i];
   sys_.fresh = fresh_hierarchy_;  // (the first solve after a restart point builds its own hierarchy)
   fresh_hierarchy_ = false;
   solver_.solve(sys_, x_, stats_, S.step, S.time, "pressure Poisson equation", o_.tolerance);
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
     P.p[i] = unknown_[i] >= 0 && unknown(cls_[i]) ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;

@@ -312,10 +312,17 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
       }
       near_thread_[i] = static_cast<std::uint32_t>(tid);
       near_first_[i] = static_cast<std::uint32_t>(buf.size());
-      const std::size_t cnt = st.count;
-      for (std::size_t m = 0; m < cnt; ++m)
-        if (bin[m] > 0.0) buf.push_back({static_cast<std::uint32_t>(bi[m]), bf[m]});
-      near_count_[i] = static_cast<std::uint32_t>(buf.size()) - near_first_[i];
+      // (kept without a branch: which candidates are in is a coin toss for the branch predictor)
+      const std::size_t cnt = st.count, first = buf.size();
+      buf.resize(first + cnt);
+      Near* __restrict o = buf.data() + first;
+      std::size_t kept = 0;
+      for (std::size_t m = 0; m < cnt; ++m) {
+        o[kept] = {static_cast<std::uint32_t>(bi[m]), bf[m], bv[m]};
+        kept += bin[m] > 0.0 ? 1 : 0;
+      }
+      buf.resize(first + kept);
+      near_count_[i] = static_cast<std::uint32_t>(kept);
       // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance), in the
       // stencil's order
       if (walls_near > 0.0) {
@@ -363,10 +370,7 @@ template <class K>
 double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::size_t i, int me, double weight,
                                         std::vector<std::pair<int, double>>& e) const {
   (void)ker;  // (the kernel's factors cached by the moments)
-  const auto& P = S.particles;
-  const double rho0 = S.eos.rho0, ws = wall_scale_;
-  const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
-  const double* phi = pf ? pf->data() : nullptr;
+  const double ws = wall_scale_;
   // the surface's Robin row, P + (dx/2) n·∇P = 0 (P = 0 at the surface, dx/2 beyond the particle along its
   // outward normal n = −∇C/|∇C|, ∇P = L_i Σ_j V_j (P_j − P_i) ∇W_ij), as −weight ws (…) into e; returns its diagonal
 
@@ -382,9 +386,7 @@ double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::s
       for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
     const double delta = 0.5 * S.dx;
     double diag = 1.0;
-    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F) {
-      const bool fl = P.kind[j] == Kind::Fluid;
-      const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
+    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F, double V) {
       const double w = delta * V * F * dot(ln, r);
       diag -= w;
       if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -weight * ws * w);
@@ -420,10 +422,9 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
   nb.clear();
   Vec<D> a{};  // Σ_j c_ij r_ji: the truncated support's first moment
   double m2 = 0.0;  // ½ Σ_j c_ij r_ij²: its second moment (D on a full support, up to η²)
-  for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double r2, double F) {
+  for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double r2, double F, double V) {
     const bool fl = P.kind[j] == Kind::Fluid;
     const double phij = fl && phi ? phi[j] : (fl ? 1.0 : phii);
-    const double V = P.mass[j] / (rho0 * (fl ? phij : 1.0));
     double c = -2.0 * V * F * r2 / (r2 + eta2);
     if (phi) {
       const double kj = fl ? phij * (mob ? mob[j] : 1.0) : ki;
@@ -473,8 +474,11 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
     diag -= lap * c;
     if (col_[q.j] >= 0.0 && static_cast<int>(col_[q.j]) != me) e.emplace_back(static_cast<int>(col_[q.j]), alpha * c);
   }
-  if (o_.fs_at_surface && alpha < 1.0) diag += robin_entries(S, ker, i, me, 1.0 - alpha, e);
-  finish_row_unsorted(e, me, diag);
+  const bool robin = o_.fs_at_surface && alpha < 1.0;
+  if (robin) diag += robin_entries(S, ker, i, me, 1.0 - alpha, e);
+  // (repeated columns: the Robin part's over the same neighbours, or a periodic image or halo copy)
+  if (robin || P.size() > P.n_owned()) finish_row_unsorted(e, me, diag);
+  else finish_row_distinct(e, me, diag);
   double rhs = alpha * rho0 / dt * div;
   // the weak volume correction (`volume_correction` ω): on a particle with a full support (∇·r ≥ 0.975 D), a
   // fraction ω per step of its number density's error against the lattice's, ρ0 ω (C_ref − C_i)/(C_ref Δt²); the
@@ -513,13 +517,16 @@ void ProjectionISPH<D>::assemble(System<D>& S, const K& ker, double dt) {
       // r_m (Shepard's where the fluid there is too sparse for the linear fit), scaled by the lattice's diagonal
       for (const auto& [j, w] : mls_[i])
         if (col_[j] >= 0.0) e.emplace_back(static_cast<int>(col_[j]), ws * w);
-      finish_row_unsorted(e, me, -ws);
+      if (P.size() > P.n_owned()) finish_row_unsorted(e, me, -ws);
+      else finish_row_distinct(e, me, -ws);
       const Vec<D> g = aw ? S.gravity - (*aw)[i] : S.gravity;
       rhs[row] = -ws * rho0 * dot(g, lever_[i]);
       continue;
     }
     if (cls_[i] == Surface) {
-      finish_row_unsorted(e, me, robin_entries(S, ker, i, me, 1.0, e));
+      const double d = robin_entries(S, ker, i, me, 1.0, e);
+      if (P.size() > P.n_owned()) finish_row_unsorted(e, me, d);
+      else finish_row_distinct(e, me, d);
       rhs[row] = 0.0;
       continue;
     }
@@ -539,7 +546,6 @@ void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double rho0 = S.eos.rho0;
-  const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;
   const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
   std::vector<Vec<D>> dv(n);
 #pragma omp parallel for schedule(dynamic, 64)
@@ -551,9 +557,7 @@ void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
     const Vec<D>* wu = &wall_u_[i * D];
     int walls = 0;  // the walls within dx the moments found (wall_n_ zero past them)
     while (walls < D && dot(wn[walls], wn[walls]) > 0.0) ++walls;
-    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F) {
-      const bool fl = P.kind[j] == Kind::Fluid;
-      const double V = P.mass[j] / (rho0 * (fl && phi ? phi[j] : 1.0));
+    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F, double V) {
       g += (V * (P.p[j] - pi) * F) * r;
     });
     dv[i] = (dt * (mob ? mob[i] : 1.0)) * (S.gravity - (1.0 / rho0) * apply<D>(&L_[i * D * D], g));
