@@ -111,24 +111,28 @@ class ProjectionISPH final : public Scheme<D> {
   // the moments' neighbours (fluid and wet walls) of each owned fluid particle with their kernel factor F_ij, for
   // the rows and the correction at the same positions (one neighbour search per step instead of three): per thread
   // a buffer; per particle its thread, first entry and count
-  struct Near { std::uint32_t j; double F, V; };  // V: m/(ρ0 φ) of the fluid, m/ρ0 of a wet wall
+  // V: m/(ρ0 φ) of the fluid, m/ρ0 of a wet wall; c: the interior row's Laplacian weight c_ij (moments())
+  struct Near { std::uint32_t j; double F, V, c; };
   // one list per thread, each on its own cache lines (their headers side by side, the threads' push_backs
   // shared a line: the moments took as long on two threads as on one, perf, session 26)
   struct alignas(64) NearList { std::vector<Near> v; };
   std::vector<NearList> near_buf_;
   std::vector<std::uint32_t> near_thread_, near_first_, near_count_;
-  /// f(j, r_ij, r², F_ij, V_j) over particle i's cached neighbours, in the order the moments met them.
+  /// f(neighbour, r_ij, r²) over particle i's cached neighbours, in the order the moments met them.
   template <class Fn>
   void for_near(const System<D>& S, std::size_t i, Fn&& f) const {
     const auto& P = S.particles;
     const Near* e = near_buf_[near_thread_[i]].v.data() + near_first_[i];
     for (std::uint32_t k = 0; k < near_count_[i]; ++k) {
       const Vec<D> r = P.pos[i] - P.pos[e[k].j];
-      f(e[k].j, r, dot(r, r), e[k].F, e[k].V);
+      f(e[k], r, dot(r, r));
     }
   }
   std::vector<int> unknown_;
   std::vector<double> L_, divr_;
+  // per owned fluid particle, from the moments: the Laplacian weights' first moment Σ c r_ji (D), half second
+  // moment ½ Σ c r², and the corrected divergence of u* (the interior row's source)
+  std::vector<double> lap_a_, lap_m2_, div_;
   std::vector<double> col_, wet_;
   std::vector<std::vector<std::pair<int, double>>> rows_;
   std::vector<double> offset_;  // a wall row's right-hand side ρ0 (g − a_w)·(r_b − r_m)

@@ -110,6 +110,94 @@ bool mls_weights(const System<D>& S, const K& ker, const Vec<D>& x, std::vector<
   return wabs <= 3.0;
 }
 
+/// The candidate columns of one cell's stencil that moments() reads (positions, V, first-layer walls, the fluid
+/// flag, φ, φ m_d, the velocity in the divergence) and writes (F, the in-the-sums flag, the Laplacian's weight).
+struct MomentCols {
+  const double *x0, *x1, *x2, *v, *w, *fl, *phi, *kj, *u0, *u1, *u2;
+  double *f, *in, *c;
+};
+
+/// One fluid particle's sums over its cell's candidates (moments()): Σ V W, ∇C = Σ V F r, M = −Σ V F r ⊗ r, the
+/// first-layer walls within dx, and the interior row's pair sums: the Laplacian's weights c_ij = −2 V F r²/(r² + η²)
+/// (porous: times the conductivities' harmonic mean over φ_i) with their first moment a = Σ c r_ji and half second
+/// moment m2 = ½ Σ c r², and G = Σ V F du ⊗ r (du = (φ_j/φ_i) u_j − u_i), whose contraction with L_i is the
+/// corrected divergence. One vector loop; F, the flag and c_ij are written per candidate for the neighbour list.
+struct MomentSums {
+  double conc, g[3], M[3][3], walls_near, a[3], m2, G[3][3];
+};
+template <int D, bool Porous, class K>
+[[gnu::always_inline]] inline MomentSums moment_sums(const K& kl, const MomentCols& b, std::size_t npad, const double* xa,
+                                                     const double* ui, double phii, double ki, double eta2, double dx2) {
+  const double sup2 = kl.support2;
+  const double* __restrict bx0 = b.x0;
+  const double* __restrict bx1 = b.x1;
+  const double* __restrict bx2 = b.x2;
+  const double* __restrict bv = b.v;
+  const double* __restrict bw = b.w;
+  const double* __restrict bu0 = b.u0;
+  const double* __restrict bu1 = b.u1;
+  const double* __restrict bu2 = b.u2;
+  double* __restrict bf = b.f;
+  double* __restrict bin = b.in;
+  double* __restrict bc = b.c;
+  const double xa0 = xa[0], xa1 = xa[1], xa2 = xa[2], ui0 = ui[0], ui1 = ui[1], ui2 = ui[2];
+  double c = 0.0, g0 = 0.0, g1 = 0.0, g2 = 0.0, m00 = 0.0, m01 = 0.0, m02 = 0.0, m11 = 0.0, m12 = 0.0, m22 = 0.0,
+         wn = 0.0, a0 = 0.0, a1 = 0.0, a2 = 0.0, m2 = 0.0, G00 = 0.0, G01 = 0.0, G02 = 0.0, G10 = 0.0, G11 = 0.0,
+         G12 = 0.0, G20 = 0.0, G21 = 0.0, G22 = 0.0;
+#pragma omp simd reduction(+ : c, g0, g1, g2, m00, m01, m02, m11, m12, m22, wn, a0, a1, a2, m2, G00, G01, G02, G10, G11, G12, G20, G21, G22)
+  for (std::size_t m = 0; m < npad; ++m) {
+    const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
+    const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+    const double pair = (r2 < sup2) & (r2 > 0.0) ? 1.0 : 0.0;
+    wn += (r2 < dx2) & (r2 > 0.0) ? bw[m] : 0.0;
+    const double in = bv[m] > 0.0 ? pair : 0.0;
+    const double rr = std::sqrt(r2);
+    const double F = kl.F(rr);
+    const double v = in * bv[m];
+    bf[m] = F;
+    bin[m] = in;
+    c += v * kl.W(rr);
+    const double f = v * F;  // −(−V F): the sums below carry M's and ∇C's signs
+    g0 += f * r0;
+    g1 += f * r1;
+    m00 -= f * r0 * r0;
+    m01 -= f * r0 * r1;
+    m11 -= f * r1 * r1;
+    double cij = -2.0 * f * r2 / (r2 + eta2);
+    double ratio = 1.0;
+    if constexpr (Porous) {
+      const bool fl = b.fl[m] > 0.0;
+      const double kj = fl ? b.kj[m] : ki;
+      cij *= 2.0 * ki * kj / ((ki + kj) * phii);
+      ratio = fl ? b.phi[m] / phii : 1.0;
+    }
+    bc[m] = cij;
+    a0 -= cij * r0;
+    a1 -= cij * r1;
+    m2 += 0.5 * cij * r2;
+    const double d0 = ratio * bu0[m] - ui0, d1 = ratio * bu1[m] - ui1;
+    G00 += f * d0 * r0;
+    G01 += f * d0 * r1;
+    G10 += f * d1 * r0;
+    G11 += f * d1 * r1;
+    if constexpr (D == 3) {
+      const double d2 = ratio * bu2[m] - ui2;
+      g2 += f * r2c;
+      m02 -= f * r0 * r2c;
+      m12 -= f * r1 * r2c;
+      m22 -= f * r2c * r2c;
+      a2 -= cij * r2c;
+      G02 += f * d0 * r2c;
+      G12 += f * d1 * r2c;
+      G20 += f * d2 * r0;
+      G21 += f * d2 * r1;
+      G22 += f * d2 * r2c;
+    }
+  }
+  return {c, {g0, g1, g2}, {{m00, m01, m02}, {m01, m11, m12}, {m02, m12, m22}}, wn, {a0, a1, a2}, m2,
+          {{G00, G01, G02}, {G10, G11, G12}, {G20, G21, G22}}};
+}
+
 }  // namespace
 
 template <int D>
@@ -221,6 +309,9 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   divr_.assign(n, 0.0);
   gc_.assign(n * D, 0.0);
   conc_.assign(n, 0.0);
+  lap_a_.assign(n * D, 0.0);
+  lap_m2_.assign(n, 0.0);
+  div_.assign(n, 0.0);
   // the neighbours kept for the rows and the correction, and the walls within dx kept for the wall checks
   // (correct(), step(): the positions and the walls' velocities do not change before them)
   const auto& to = P.vector(field::wall_to_surface);
@@ -244,7 +335,11 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   const double* mass = P.mass.data();
   const double* wet = wet_.data();
   const auto& cells = S.cells;
-  enum { X0, X1, X2, VOL, WALL1, IDX, FK, IN, NCOL };
+  const double* mob = S.porous ? P.scalar(field::mobility).data() : nullptr;
+  const double eta2 = o_.eta2 * S.h * S.h;
+  const Vec<D>* vel = P.vel.data();
+  const Vec<D>* ub = ub_.data();
+  enum { X0, X1, X2, VOL, WALL1, IDX, FL, PHI, KJ, U0, U1, U2, FK, IN, CIJ, NCOL };
   sweep_cells<double>(cells, NCOL, kIsphLanes, [&](std::size_t cell) { return owned_in(cells, cell, n, kind, true); },
                       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
 #ifdef _OPENMP
@@ -254,62 +349,43 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
 #endif
     auto& buf = near_buf_[static_cast<std::size_t>(tid)].v;
     const K kl = ker;
-    const double sup2 = kl.support2;
     const std::uint32_t* sorted = cells.sorted().data();
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
     const Vec<D> origin = pos[sorted[c0k]];
-    // V_j for the fluid and the wet walls (0: out of the sums), the first-layer walls (closer than dx to their surface)
+    // V_j for the fluid and the wet walls (0: out of the sums), the first-layer walls (closer than dx to their
+    // surface), the fluid flag, φ_j and φ_j m_d,j (porous), the velocity in the divergence (u* of the fluid, a wet
+    // wall's mirrored one)
     gather_columns(st, B, pos, origin,
                    column(VOL, 0.0, [=](std::size_t j) {
                      return kind[j] == Kind::Fluid ? mass[j] / (rho0 * (phi ? phi[j] : 1.0))
                             : kind[j] == Kind::Wall && wet[j] > 0.0 ? mass[j] / rho0 : 0.0;
                    }),
                    column(WALL1, 0.0, [&](std::size_t j) { return kind[j] == Kind::Wall && dot(to[j], to[j]) < dx2 ? 1.0 : 0.0; }),
-                   column(IDX, -1.0, [](std::size_t j) { return static_cast<double>(j); }));
-    const double* __restrict bx0 = B[X0];
-    const double* __restrict bx1 = B[X1];
-    const double* __restrict bx2 = B[X0 + D - 1];
+                   column(IDX, -1.0, [](std::size_t j) { return static_cast<double>(j); }),
+                   column(FL, 0.0, [=](std::size_t j) { return kind[j] == Kind::Fluid ? 1.0 : 0.0; }),
+                   column(PHI, 1.0, [=](std::size_t j) { return phi ? phi[j] : 1.0; }),
+                   column(KJ, 1.0, [=](std::size_t j) { return (phi ? phi[j] : 1.0) * (mob ? mob[j] : 1.0); }),
+                   column(U0, 0.0, [=](std::size_t j) { return kind[j] == Kind::Fluid ? vel[j][0] : ub[j][0]; }),
+                   column(U1, 0.0, [=](std::size_t j) { return kind[j] == Kind::Fluid ? vel[j][1] : ub[j][1]; }),
+                   only_if<D == 3>(column(U2, 0.0, [=](std::size_t j) { return kind[j] == Kind::Fluid ? vel[j][D - 1] : ub[j][D - 1]; })));
+    const MomentCols cols{B[X0], B[X1], B[X0 + D - 1], B[VOL], B[WALL1], B[FL], B[PHI], B[KJ], B[U0], B[U1],
+                          B[D == 3 ? U2 : U0], B[FK], B[IN], B[CIJ]};
     const double* __restrict bv = B[VOL];
     const double* __restrict bw = B[WALL1];
     const double* __restrict bi = B[IDX];
-    double* __restrict bf = B[FK];
-    double* __restrict bin = B[IN];
+    const double* __restrict bf = B[FK];
+    const double* __restrict bin = B[IN];
+    const double* __restrict bc = B[CIJ];
     const std::size_t npad = st.padded;
     std::uint64_t pairs = 0;
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t i = sorted[k];
       if (i >= n || kind[i] != Kind::Fluid) continue;
-      double xa0, xa1, xa2;
-      relative<D>(pos[i], origin, xa0, xa1, xa2);
-      // Σ V W (the particle itself added below), −Σ V F r (∇C), −Σ V F r ⊗ r (M), the first-layer walls within dx
-      double c = 0.0, g0 = 0.0, g1 = 0.0, g2 = 0.0, m00 = 0.0, m01 = 0.0, m02 = 0.0, m11 = 0.0, m12 = 0.0, m22 = 0.0,
-             walls_near = 0.0;
-#pragma omp simd reduction(+ : c, g0, g1, g2, m00, m01, m02, m11, m12, m22, walls_near)
-      for (std::size_t m = 0; m < npad; ++m) {
-        const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
-        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-        const double pair = (r2 < sup2) & (r2 > 0.0) ? 1.0 : 0.0;
-        walls_near += (r2 < dx2) & (r2 > 0.0) ? bw[m] : 0.0;
-        const double in = bv[m] > 0.0 ? pair : 0.0;
-        const double rr = std::sqrt(r2);
-        const double F = kl.F(rr);
-        const double v = in * bv[m];
-        bf[m] = F;
-        bin[m] = in;
-        c += v * kl.W(rr);
-        const double f = v * F;  // −(−V F): the sums below carry M's and ∇C's signs
-        g0 += f * r0;
-        g1 += f * r1;
-        m00 -= f * r0 * r0;
-        m01 -= f * r0 * r1;
-        m11 -= f * r1 * r1;
-        if constexpr (D == 3) {
-          g2 += f * r2c;
-          m02 -= f * r0 * r2c;
-          m12 -= f * r1 * r2c;
-          m22 -= f * r2c * r2c;
-        }
-      }
+      double xa[3], ui[3] = {vel[i][0], vel[i][1], vel[i][D - 1]};
+      relative<D>(pos[i], origin, xa[0], xa[1], xa[2]);
+      const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
+      const MomentSums sm = phi ? moment_sums<D, true>(kl, cols, npad, xa, ui, phii, ki, eta2, dx2)
+                                : moment_sums<D, false>(kl, cols, npad, xa, ui, phii, ki, eta2, dx2);
       near_thread_[i] = static_cast<std::uint32_t>(tid);
       near_first_[i] = static_cast<std::uint32_t>(buf.size());
       // (kept without a branch: which candidates are in is a coin toss for the branch predictor)
@@ -318,14 +394,14 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
       Near* __restrict o = buf.data() + first;
       std::size_t kept = 0;
       for (std::size_t m = 0; m < cnt; ++m) {
-        o[kept] = {static_cast<std::uint32_t>(bi[m]), bf[m], bv[m]};
+        o[kept] = {static_cast<std::uint32_t>(bi[m]), bf[m], bv[m], bc[m]};
         kept += bin[m] > 0.0 ? 1 : 0;
       }
       buf.resize(first + kept);
       near_count_[i] = static_cast<std::uint32_t>(kept);
       // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance), in the
       // stencil's order
-      if (walls_near > 0.0) {
+      if (sm.walls_near > 0.0) {
         Vec<D>* wn = &wall_n_[i * D];
         Vec<D>* wu = &wall_u_[i * D];
         int walls = 0;
@@ -344,18 +420,24 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
           }
         }
       }
-      const double gs[3] = {g0, g1, g2};
-      const double Ms[3][3] = {{m00, m01, m02}, {m01, m11, m12}, {m02, m12, m22}};
       double M[D * D];
       for (int a = 0; a < D; ++a) {
-        gc_[i * D + a] = gs[a];
-        for (int q = 0; q < D; ++q) M[a * D + q] = Ms[a][q];
+        gc_[i * D + a] = sm.g[a];
+        lap_a_[i * D + a] = sm.a[a];
+        for (int q = 0; q < D; ++q) M[a * D + q] = sm.M[a][q];
       }
-      conc_[i] = c + mass[i] / (rho0 * (phi ? phi[i] : 1.0)) * kl.W(0.0);
+      lap_m2_[i] = sm.m2;
+      conc_[i] = sm.conc + mass[i] / (rho0 * phii) * kl.W(0.0);
       double tr = 0.0;
       for (int a = 0; a < D; ++a) tr += M[a * D + a];
       divr_[i] = tr;
+      const double* L = &L_[i * D * D];
       guarded_inverse<D>(M, lmin, &L_[i * D * D]);
+      // the corrected divergence Σ_j V_j (u_j − u_i)·L_i ∇W_ij = Σ_ab L_ab Σ_j V_j F_ij du_a r_b
+      double div = 0.0;
+      for (int a = 0; a < D; ++a)
+        for (int q = 0; q < D; ++q) div += L[a * D + q] * sm.G[a][q];
+      div_[i] = div;
       // with P = 0 at the surface (Surface: a Robin row), a particle whose support is less than about half
       // full (∇·r < 1 in 2D, 1.5 in 3D: a splash, a jet's tip, a film) keeps P = 0 on its centre
       cls_[i] = tr >= thr ? Inner : o_.fs_at_surface && tr >= (D == 2 ? 1.0 : 1.5) ? Surface : Known;
@@ -386,8 +468,9 @@ double ProjectionISPH<D>::robin_entries(const System<D>& S, const K& ker, std::s
       for (int b = 0; b < D; ++b) ln[a] += L[b * D + a] * nrm[b];
     const double delta = 0.5 * S.dx;
     double diag = 1.0;
-    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F, double V) {
-      const double w = delta * V * F * dot(ln, r);
+    for_near(S, i, [&](const Near& q, const Vec<D>& r, double) {
+      const std::uint32_t j = q.j;
+      const double w = delta * q.V * q.F * dot(ln, r);
       diag -= w;
       if (col_[j] >= 0.0 && static_cast<int>(col_[j]) != me) e.emplace_back(static_cast<int>(col_[j]), -weight * ws * w);
     });
@@ -400,45 +483,21 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
                                     std::vector<std::pair<int, double>>& e) const {
   const auto& P = S.particles;
   const double rho0 = S.eos.rho0;
-  const double eta2 = o_.eta2 * S.h * S.h;
-  const auto* pf = S.porous ? P.find(field::porosity) : nullptr;
-  const auto* mf = S.porous ? P.find(field::mobility) : nullptr;
-  const double* phi = pf ? pf->data() : nullptr;
-  const double* mob = mf ? mf->data() : nullptr;
   const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
   const double blend = blend_;
-  // a fluid unknown: Σ_j c_ij (P_j − P_i) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i ∇W_ij over fluid and wet walls,
-  // c_ij = −2 V_j F r²/(r² + η²) (porous: the conductivities' harmonic mean over φ_i, the divergence of φ u*)
+  // a fluid unknown: Σ_j c_ij (P_j − P_i) = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i ∇W_ij over fluid and wet walls
   const double* L = &L_[i * D * D];
-  const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
   // Skillen et al. (2013)'s blend: over ∇·r ∈ [thr, thr + blend] the row's neighbours and source weighed by
   // α = (1 − cos(π (∇·r − thr)/blend))/2, so that the pressure rises smoothly from the surface's P = 0
   const double x = blend > 0.0 ? (divr_[i] - thr) / blend : 1.0;
   const double alpha = x >= 1.0 ? 1.0 : 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(x, 0.0)));
-  double div = 0.0;
-  // the neighbours' Laplacian weights c_ij, V_j |F_ij| and r_ij (the first-moment correction below)
-  struct Nb { std::uint32_t j; double c, vf; Vec<D> r; };
-  thread_local std::vector<Nb> nb;
-  nb.clear();
-  Vec<D> a{};  // Σ_j c_ij r_ji: the truncated support's first moment
-  double m2 = 0.0;  // ½ Σ_j c_ij r_ij²: its second moment (D on a full support, up to η²)
-  for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double r2, double F, double V) {
-    const bool fl = P.kind[j] == Kind::Fluid;
-    const double phij = fl && phi ? phi[j] : (fl ? 1.0 : phii);
-    double c = -2.0 * V * F * r2 / (r2 + eta2);
-    if (phi) {
-      const double kj = fl ? phij * (mob ? mob[j] : 1.0) : ki;
-      c *= 2.0 * ki * kj / ((ki + kj) * phii);
-    }
-    nb.push_back({j, c, -V * F, r});
-    a -= c * r;
-    m2 += 0.5 * c * r2;
-    // a wall's velocity at t_n (its acceleration is in its pressure's offset)
-    const Vec<D> uj = fl ? P.vel[j] : ub_[j];
-    const Vec<D> du = (phi ? phij / phii : 1.0) * uj - P.vel[i];
-    const Vec<D> gw = apply<D>(L, F * r);
-    div += V * dot(du, gw);
-  });
+  // the moments' pair sums (moment_sums): c_ij = −2 V_j F r²/(r² + η²) (porous: the conductivities' harmonic mean
+  // over φ_i, the divergence of φ u*), a = Σ_j c_ij r_ji (the truncated support's first moment), m2 = ½ Σ_j c_ij r_ij²
+  // (its second moment: D on a full support, up to η²), div = Σ_j V_j (u*_j − u*_i)·L_i ∇W_ij over fluid and wet walls
+  Vec<D> a{};
+  for (int q = 0; q < D; ++q) a[q] = lap_a_[i * D + q];
+  const double m2 = lap_m2_[i];
+  const double div = div_[i];
   // the Laplacian corrected to first order (Schwaiger 2008; Fatehi & Manzari 2011): the truncated support's
   // first moment removed with the corrected gradient, Σ_j c_ij (P_j − P_i − r_ji·∇P_i), and the result scaled
   // by D/m2, so that a linear pressure reads 0 and a quadratic one its Laplacian at the surface too;
@@ -457,10 +516,10 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
   // docs/numerics.md §13b)
   if (o_.laplacian_corrected) {
     double theta = 1.0;
-    for (const auto& q : nb) {
-      const double ex = q.vf * dot(la, q.r);
+    for_near(S, i, [&](const Near& q, const Vec<D>& r, double) {
+      const double ex = -q.V * q.F * dot(la, r);
       if (q.c + ex < 0.0) theta = std::min(theta, q.c / -ex);
-    }
+    });
     la = theta * la;
     scale = 1.0 + theta * (scale - 1.0);
   }
@@ -469,11 +528,11 @@ double ProjectionISPH<D>::inner_row(const System<D>& S, const K& ker, std::size_
   // the pressure rises from 0 smoothly); with P = 0 at the surface, α of the Laplacian's row and 1 − α of the
   // Robin row (a particle moving between the two classes changes its equation smoothly)
   const double lap = o_.fs_at_surface ? alpha : 1.0;
-  for (const auto& q : nb) {
-    const double c = scale * (q.c + q.vf * dot(la, q.r));
+  for_near(S, i, [&](const Near& q, const Vec<D>& r, double) {
+    const double c = scale * (q.c - q.V * q.F * dot(la, r));
     diag -= lap * c;
     if (col_[q.j] >= 0.0 && static_cast<int>(col_[q.j]) != me) e.emplace_back(static_cast<int>(col_[q.j]), alpha * c);
-  }
+  });
   const bool robin = o_.fs_at_surface && alpha < 1.0;
   if (robin) diag += robin_entries(S, ker, i, me, 1.0 - alpha, e);
   // (repeated columns: the Robin part's over the same neighbours, or a periodic image or halo copy)
@@ -557,8 +616,8 @@ void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
     const Vec<D>* wu = &wall_u_[i * D];
     int walls = 0;  // the walls within dx the moments found (wall_n_ zero past them)
     while (walls < D && dot(wn[walls], wn[walls]) > 0.0) ++walls;
-    for_near(S, i, [&](std::uint32_t j, const Vec<D>& r, double, double F, double V) {
-      g += (V * (P.p[j] - pi) * F) * r;
+    for_near(S, i, [&](const Near& q, const Vec<D>& r, double) {
+      g += (q.V * (P.p[q.j] - pi) * q.F) * r;
     });
     dv[i] = (dt * (mob ? mob[i] : 1.0)) * (S.gravity - (1.0 / rho0) * apply<D>(&L_[i * D * D], g));
     // no flow into a wall (Chow et al. 2018's velocity check): a particle nearer to a wall particle than the
