@@ -91,6 +91,36 @@ TEST(IsphProjection, StillTankIsHydrostaticFromOneSolve) {
   }
 }
 
+// `negative_pressure: clamp` (no tension): the still tank with a diverging velocity u = k (x − 0.15, 0), k = 2 s⁻¹,
+// whose source ρ0 k/Δt (2·10⁶ Pa/m² at Δt = 1 ms) lowers the pressure by about that times (0.15 m)²/8 ≈ 5.6 kPa,
+// below ρ g H = 1.47 kPa: solved as is, part of the water is in tension (P < 0); clamped, no fluid pressure is
+// below 0 and every particle the solve left at P ≥ 0 keeps its solved pressure.
+TEST(IsphProjection, NegativePressureClampHoldsTheFluidAtOrAboveZero) {
+  auto solve = [](const std::vector<std::string>& sets) {
+    Tank t(sets);
+    auto& P = t.s.S.particles;
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.kind[i] == Kind::Fluid) P.vel[i] = Vec<2>{2.0 * (P.pos[i][0] - 0.15), 0.0};
+    t.isph.solve_pressure(t.s.S, 1e-3);
+    std::vector<double> p;
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.kind[i] == Kind::Fluid) p.push_back(P.p[i]);
+    return p;
+  };
+  const auto keep = solve({});
+  const auto clamp = solve({"scheme.negative_pressure=clamp"});
+  ASSERT_EQ(keep.size(), clamp.size());
+  int tension = 0;
+  for (std::size_t k = 0; k < keep.size(); ++k) {
+    tension += keep[k] < 0.0;
+    EXPECT_GE(clamp[k], 0.0);
+    if (keep[k] >= 0.0) {
+      EXPECT_EQ(clamp[k], keep[k]);
+    }
+  }
+  EXPECT_GT(tension, 50);  // the source does put water in tension
+}
+
 // The same with a wall box standing on the bed at the left (a paddle at rest: the bed's particles under it have
 // their mirror points inside the box and carry Adami's extrapolation; left out of the sums they drew the water
 // into the box's foot at 0.07 m/s), at h = 1.5 dx and 2 dx with the surface blend on (at 2 dx the second row,
@@ -192,6 +222,9 @@ time: {end: 1.0}
   EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, correction: {min_eigenvalue: 0.3}}"}), InputError);
   EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.formulation, IsphFormulation::Tsurudome);
   EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.cfl, 0.2);  // Tsurudome's eq 3.6.6
+  EXPECT_FALSE(c.isph.clamp_negative);  // tension kept unless asked
+  EXPECT_TRUE(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, negative_pressure: clamp}"}).isph.clamp_negative);
+  EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, negative_pressure: clamp}"}), InputError);
 }
 
 }  // namespace sph::test

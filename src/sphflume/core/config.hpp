@@ -88,6 +88,7 @@ struct IsphConfig {
   bool laplacian_corrected = true;   // lind: the PPE's Laplacian corrected to first order (`laplacian: corrected`)
   bool wall_adami = false;           // lind: walls' pressure by Adami et al. (2012)'s extrapolation, not the mirror points
   double volume_correction = 0.0;    // lind: ω of the weak volume correction on full-support particles
+  bool clamp_negative = false;       // lind: the fluid's pressure held at ≥ 0 after the solve (no tension)
   bool fs_at_surface = true;         // lind: P = 0 at the surface, dx/2 beyond a surface particle (a Robin row),
                                      // instead of on the surface particles' centres (free_surface.condition)
   double cfl = 0.2;                  // dt <= cfl dx / |u|max (Tsurudome §3.6, eq 3.6.6: the particle spacing, not h)

@@ -62,9 +62,13 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   only("wall_pressure", lind, "lind");
   only("laplacian", lind, "lind");
   only("volume_correction", lind, "lind");
+  only("negative_pressure", lind, "lind");
   if (lind) o.volume_correction = r.in_range("volume_correction", 0.0, 0.0, 1.0);
   if (lind) o.laplacian_corrected = r.choice("laplacian", "corrected", {"corrected", "morris"}) == "corrected";
   if (lind) o.wall_adami = r.choice("wall_pressure", "mirror", {"mirror", "adami"}) == "adami";
+  // `clamp`: no tension in the water, the fluid's solved pressure held at ≥ 0 (an isolated particle of a splash,
+  // or one under a lifting gate, could otherwise take −10⁴ … −10⁵ Pa and be thrown out; docs/numerics.md §13b)
+  if (lind) o.clamp_negative = r.choice("negative_pressure", "keep", {"keep", "clamp"}) == "clamp";
   // the Courant number on dx/|u|max: Tsurudome's 0.2 (§3.6, eq 3.6.6); 0.4 under lind, where the dam break's
   // front, wall pressure and energy are those of 0.2 (docs/numerics.md §13b) in half the steps
   o.cfl = r.in_range("cfl", lind ? 0.4 : 0.2, 1e-4, 1.0);

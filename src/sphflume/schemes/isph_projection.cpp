@@ -161,6 +161,8 @@ void ProjectionISPH<D>::solve_pressure(System<D>& S, double dt) {
   for (std::size_t i = 0; i < n; ++i) {
     if (P.kind[i] != Kind::Fluid && P.kind[i] != Kind::Wall) continue;
     P.p[i] = unknown_[i] >= 0 && unknown(cls_[i]) ? x_[static_cast<std::size_t>(unknown_[i])] : 0.0;
+    // `negative_pressure: clamp`: no tension (the correction then leaves such a particle's divergence)
+    if (o_.clamp_negative && P.kind[i] == Kind::Fluid && P.p[i] < 0.0) P.p[i] = 0.0;
   }
   S.refresh_halos(P.p.data());
 }
