@@ -113,13 +113,18 @@ hypre_ParCSRMatrix* local_matrix(const SparseRows& s) {
   HYPRE_Int* I = hypre_CSRMatrixI(d);
   HYPRE_Int* J = hypre_CSRMatrixJ(d);
   double* a = hypre_CSRMatrixData(d);
-#pragma omp parallel for schedule(static)
+  int missing = 0;
+#pragma omp parallel for schedule(static) reduction(max : missing)
   for (HYPRE_Int r = 0; r < n; ++r) {
     const std::size_t k0 = s.start[static_cast<std::size_t>(r)], k1 = s.start[static_cast<std::size_t>(r) + 1];
     I[r] = static_cast<HYPRE_Int>(k0);
-    std::size_t dk = k0;  // the diagonal's place in the scheme's row
+    std::size_t dk = k1;  // the diagonal's place in the scheme's row (every scheme row has one: finish_row)
     for (std::size_t k = k0; k < k1; ++k)
       if (s.col[k] == r) { dk = k; break; }
+    if (dk == k1) {
+      missing = 1;
+      continue;
+    }
     J[k0] = r;
     a[k0] = -s.val[dk];
     std::size_t w = k0 + 1;
@@ -128,6 +133,10 @@ hypre_ParCSRMatrix* local_matrix(const SparseRows& s) {
         J[w] = s.col[k];
         a[w++] = -s.val[k];
       }
+  }
+  if (missing) {
+    hypre_ParCSRMatrixDestroy(A);
+    throw std::logic_error("hypre: a row of the pressure system has no diagonal entry");
   }
   I[n] = nnz;
   hypre_ParCSRMatrixSetNumNonzeros(A);
