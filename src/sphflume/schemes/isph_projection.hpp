@@ -34,6 +34,9 @@
 #include "sphflume/schemes/wcsph.hpp"
 
 namespace sph {
+namespace projection_detail {
+struct MomentCols;
+}
 
 template <int D>
 class ProjectionISPH final : public Scheme<D> {
@@ -65,6 +68,9 @@ class ProjectionISPH final : public Scheme<D> {
 
  private:
   template <class K> void moments(System<D>& S, const K& ker);
+  /// The moments' per-particle steps after its vector loop: its neighbours kept (F, V, c_ij), the first-layer walls.
+  void keep_neighbours(std::size_t i, int tid, std::size_t cnt, const projection_detail::MomentCols& b, const double* idx);
+  void first_layer_walls(const System<D>& S, std::size_t i, std::size_t cnt, const double* wall1, const double* idx);
   template <class K> void wall_rows(System<D>& S, const K& ker);
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
   /// The surface's Robin row P + (dx/2) n·∇P = 0 of particle i, times −weight × the lattice diagonal, into e

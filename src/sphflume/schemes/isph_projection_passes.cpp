@@ -118,6 +118,53 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
 }
 
 template <int D>
+void ProjectionISPH<D>::keep_neighbours(std::size_t i, int tid, std::size_t cnt, const projection_detail::MomentCols& b,
+                                        const double* idx) {
+  // particle i's neighbours in the sums (the flag `in`) with F, V and c_ij, appended to its thread's list in the
+  // stencil's order (kept without a branch: which candidates are in is a coin toss for the branch predictor)
+  auto& buf = near_buf_[static_cast<std::size_t>(tid)].v;
+  near_thread_[i] = static_cast<std::uint32_t>(tid);
+  near_first_[i] = static_cast<std::uint32_t>(buf.size());
+  const std::size_t first = buf.size();
+  buf.resize(first + cnt);
+  Near* __restrict o = buf.data() + first;
+  std::size_t kept = 0;
+  for (std::size_t m = 0; m < cnt; ++m) {
+    o[kept] = {static_cast<std::uint32_t>(idx[m]), b.f[m], b.v[m], b.c[m]};
+    kept += b.in[m] > 0.0 ? 1 : 0;
+  }
+  buf.resize(first + kept);
+  near_count_[i] = static_cast<std::uint32_t>(kept);
+}
+
+template <int D>
+void ProjectionISPH<D>::first_layer_walls(const System<D>& S, std::size_t i, std::size_t cnt, const double* wall1,
+                                          const double* idx) {
+  // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance), in the
+  // stencil's order, with their velocities (correct(), step(): no flow or displacement into them)
+  const auto& P = S.particles;
+  const auto& to = *P.find(field::wall_to_surface);
+  const double dx2 = S.dx * S.dx;
+  Vec<D>* wn = &wall_n_[i * D];
+  Vec<D>* wu = &wall_u_[i * D];
+  int walls = 0;
+  for (std::size_t m = 0; m < cnt && walls < D; ++m) {
+    if (!(wall1[m] > 0.0)) continue;
+    const auto j = static_cast<std::uint32_t>(idx[m]);
+    const Vec<D> r = P.pos[i] - P.pos[j];
+    const double r2 = dot(r, r);
+    if (!(r2 < dx2) || !(r2 > 0.0)) continue;
+    const Vec<D> nw = (1.0 / norm(to[j])) * to[j];
+    bool seen = false;
+    for (int q = 0; q < walls; ++q) seen = seen || dot(wn[q], nw) > 0.99;
+    if (!seen) {
+      wn[walls] = nw;
+      wu[walls++] = P.vel[j];
+    }
+  }
+}
+
+template <int D>
 template <class K>
 void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   // M_i = −Σ_j V_j F r_ij ⊗ r_ij over fluid and wet wall neighbours, L_i its guarded inverse, ∇·r_i = tr M_i;
@@ -170,7 +217,6 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
 #else
     const int tid = 0;
 #endif
-    auto& buf = near_buf_[static_cast<std::size_t>(tid)].v;
     const K kl = ker;
     const std::uint32_t* sorted = cells.sorted().data();
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
@@ -193,12 +239,8 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
                    only_if<D == 3>(column(U2, 0.0, [=](std::size_t j) { return kind[j] == Kind::Fluid ? vel[j][D - 1] : ub[j][D - 1]; })));
     const MomentCols cols{B[X0], B[X1], B[X0 + D - 1], B[VOL], B[WALL1], B[FL], B[PHI], B[KJ], B[U0], B[U1],
                           B[D == 3 ? U2 : U0], B[FK], B[IN], B[CIJ]};
-    const double* __restrict bv = B[VOL];
     const double* __restrict bw = B[WALL1];
     const double* __restrict bi = B[IDX];
-    const double* __restrict bf = B[FK];
-    const double* __restrict bin = B[IN];
-    const double* __restrict bc = B[CIJ];
     const std::size_t npad = st.padded;
     std::uint64_t pairs = 0;
     for (std::uint32_t k = c0k; k < c1k; ++k) {
@@ -209,40 +251,9 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
       const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
       const MomentSums sm = phi ? moment_sums<D, true>(kl, cols, npad, xa, ui, phii, ki, eta2, dx2)
                                 : moment_sums<D, false>(kl, cols, npad, xa, ui, phii, ki, eta2, dx2);
-      near_thread_[i] = static_cast<std::uint32_t>(tid);
-      near_first_[i] = static_cast<std::uint32_t>(buf.size());
-      // (kept without a branch: which candidates are in is a coin toss for the branch predictor)
-      const std::size_t cnt = st.count, first = buf.size();
-      buf.resize(first + cnt);
-      Near* __restrict o = buf.data() + first;
-      std::size_t kept = 0;
-      for (std::size_t m = 0; m < cnt; ++m) {
-        o[kept] = {static_cast<std::uint32_t>(bi[m]), bf[m], bv[m], bc[m]};
-        kept += bin[m] > 0.0 ? 1 : 0;
-      }
-      buf.resize(first + kept);
-      near_count_[i] = static_cast<std::uint32_t>(kept);
-      // the distinct walls (normals) of the first-layer wall particles closer than dx (the rest distance), in the
-      // stencil's order
-      if (sm.walls_near > 0.0) {
-        Vec<D>* wn = &wall_n_[i * D];
-        Vec<D>* wu = &wall_u_[i * D];
-        int walls = 0;
-        for (std::size_t m = 0; m < cnt && walls < D; ++m) {
-          if (!(bw[m] > 0.0)) continue;
-          const auto j = static_cast<std::uint32_t>(bi[m]);
-          const Vec<D> r = pos[i] - pos[j];
-          const double r2 = dot(r, r);
-          if (!(r2 < dx2) || !(r2 > 0.0)) continue;
-          const Vec<D> nw = (1.0 / norm(to[j])) * to[j];
-          bool seen = false;
-          for (int q = 0; q < walls; ++q) seen = seen || dot(wn[q], nw) > 0.99;
-          if (!seen) {
-            wn[walls] = nw;
-            wu[walls++] = P.vel[j];
-          }
-        }
-      }
+      const std::size_t cnt = st.count;
+      keep_neighbours(i, tid, cnt, cols, bi);
+      if (sm.walls_near > 0.0) first_layer_walls(S, i, cnt, bw, bi);
       double M[D * D];
       for (int a = 0; a < D; ++a) {
         gc_[i * D + a] = sm.g[a];
