@@ -165,7 +165,8 @@ class HypreAmg final : public PressureSolver {
     rep.nonzeros = sizes[1];
     if (sizes[0] == 0) { rep.converged = true; return rep; }  // (the same answer on every rank)
     // the matrix and the vectors: one process builds hypre's compressed rows directly from the scheme's (one copy;
-    // the IJ interface's assembly cost 3 % of a dam break, perf, session 26); a distributed run goes through IJ
+    // through the IJ interface the a/40 dam break's solve took 25 % longer, bench/README.md, session 26); a
+    // distributed run goes through IJ
     Matrix A;
     HYPRE_ParCSRMatrix pA;
     HYPRE_ParVector pb, px, pr;

@@ -210,7 +210,7 @@ std::size_t ProjectionISPH<D>::bytes() const {
   for (const auto& b : near_buf_) lists += b.v.capacity() * sizeof(Near);
   for (const auto& r : rows_) lists += r.capacity() * sizeof(std::pair<int, double>) + sizeof(r);
   for (const auto& w : mls_) lists += w.capacity() * sizeof(std::pair<std::uint32_t, double>) + sizeof(w);
-  lists += (gc_.capacity() + conc_.capacity()) * sizeof(double) +
+  lists += (gc_.capacity() + conc_.capacity() + lap_a_.capacity() + lap_m2_.capacity() + div_.capacity()) * sizeof(double) +
            (lever_.capacity() + ub_.capacity() + wall_n_.capacity() + wall_u_.capacity()) * sizeof(Vec<D>);
   return own + lists + solver_.get().bytes();
 }
