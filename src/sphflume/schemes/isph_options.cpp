@@ -37,20 +37,8 @@ void read_lind_shifting(Reader& r, IsphConfig& o) {
   }
 }
 
-}  // namespace
-
-void read_isph_options(Reader& r, IsphConfig& o) {
-  // keys of the weakly-compressible scheme: meaningless here, reported, not refused
-  for (const char* k : {"integrator", "verlet_steps", "density_diffusion", "delta", "pressure_gradient",
-                        "shepard_every", "xsph", "frozen"})
-    if (r.has(k)) {
-      const Node& n = r.get(k);
-      o.ignored.push_back(fmt::format("{}: scheme.{}", n.key_line() > 0 ? fmt::format("line {}", n.key_line())
-                                                                      : std::string("(given with --set)"), k));
-    }
-  const std::string form = r.choice("formulation", "tsurudome", {"lind", "tsurudome"});
-  o.formulation = form == "lind" ? IsphFormulation::Lind : IsphFormulation::Tsurudome;
-  const bool lind = o.formulation == IsphFormulation::Lind;
+/// The keys that belong to one formulation: refused under the other (with the fix), read under their own.
+void read_formulation_keys(Reader& r, IsphConfig& o, bool lind) {
   // keys of one formulation given to the other: refused with the fix
   auto only = [&](const char* key, bool ok, const char* which) {
     if (r.has(key) && !ok)
@@ -69,6 +57,23 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   // `clamp`: no tension in the water, the fluid's solved pressure held at ≥ 0 (an isolated particle of a splash,
   // or one under a lifting gate, could otherwise take −10⁴ … −10⁵ Pa and be thrown out; docs/numerics.md §13b)
   if (lind) o.clamp_negative = r.choice("negative_pressure", "keep", {"keep", "clamp"}) == "clamp";
+}
+
+}  // namespace
+
+void read_isph_options(Reader& r, IsphConfig& o) {
+  // keys of the weakly-compressible scheme: meaningless here, reported, not refused
+  for (const char* k : {"integrator", "verlet_steps", "density_diffusion", "delta", "pressure_gradient",
+                        "shepard_every", "xsph", "frozen"})
+    if (r.has(k)) {
+      const Node& n = r.get(k);
+      o.ignored.push_back(fmt::format("{}: scheme.{}", n.key_line() > 0 ? fmt::format("line {}", n.key_line())
+                                                                      : std::string("(given with --set)"), k));
+    }
+  const std::string form = r.choice("formulation", "tsurudome", {"lind", "tsurudome"});
+  o.formulation = form == "lind" ? IsphFormulation::Lind : IsphFormulation::Tsurudome;
+  const bool lind = o.formulation == IsphFormulation::Lind;
+  read_formulation_keys(r, o, lind);
   // the Courant number on dx/|u|max: Tsurudome's 0.2 (§3.6, eq 3.6.6); 0.4 under lind, where the dam break's
   // front, wall pressure and energy are those of 0.2 (docs/numerics.md §13b) in half the steps
   o.cfl = r.in_range("cfl", lind ? 0.4 : 0.2, 1e-4, 1.0);

@@ -36,6 +36,7 @@
 namespace sph {
 namespace projection_detail {
 struct MomentCols;
+struct MomentSums;
 }
 
 template <int D>
@@ -71,6 +72,7 @@ class ProjectionISPH final : public Scheme<D> {
   /// The moments' per-particle steps after its vector loop: its neighbours kept (F, V, c_ij), the first-layer walls.
   void keep_neighbours(std::size_t i, int tid, std::size_t cnt, const projection_detail::MomentCols& b, const double* idx);
   void first_layer_walls(const System<D>& S, std::size_t i, std::size_t cnt, const double* wall1, const double* idx);
+  void store_moments(std::size_t i, const projection_detail::MomentSums& sm, double lmin, double thr);
   template <class K> void wall_rows(System<D>& S, const K& ker);
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
   /// The surface's Robin row P + (dx/2) n·∇P = 0 of particle i, times −weight × the lattice diagonal, into e

@@ -165,6 +165,31 @@ void ProjectionISPH<D>::first_layer_walls(const System<D>& S, std::size_t i, std
 }
 
 template <int D>
+void ProjectionISPH<D>::store_moments(std::size_t i, const projection_detail::MomentSums& sm, double lmin, double thr) {
+  // ∇C, the Laplacian weights' moments, ∇·r = tr M, L = M⁻¹ (guarded), the corrected divergence of u* and the class
+  double M[D * D];
+  for (int a = 0; a < D; ++a) {
+    gc_[i * D + a] = sm.g[a];
+    lap_a_[i * D + a] = sm.a[a];
+    for (int q = 0; q < D; ++q) M[a * D + q] = sm.M[a][q];
+  }
+  lap_m2_[i] = sm.m2;
+  double tr = 0.0;
+  for (int a = 0; a < D; ++a) tr += M[a * D + a];
+  divr_[i] = tr;
+  const double* L = &L_[i * D * D];
+  guarded_inverse<D>(M, lmin, &L_[i * D * D]);
+  // the corrected divergence Σ_j V_j (u_j − u_i)·L_i ∇W_ij = Σ_ab L_ab Σ_j V_j F_ij du_a r_b
+  double div = 0.0;
+  for (int a = 0; a < D; ++a)
+    for (int q = 0; q < D; ++q) div += L[a * D + q] * sm.G[a][q];
+  div_[i] = div;
+  // with P = 0 at the surface (Surface: a Robin row), a particle whose support is less than about half
+  // full (∇·r < 1 in 2D, 1.5 in 3D: a splash, a jet's tip, a film) keeps P = 0 on its centre
+  cls_[i] = tr >= thr ? Inner : o_.fs_at_surface && tr >= (D == 2 ? 1.0 : 1.5) ? Surface : Known;
+}
+
+template <int D>
 template <class K>
 void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   // M_i = −Σ_j V_j F r_ij ⊗ r_ij over fluid and wet wall neighbours, L_i its guarded inverse, ∇·r_i = tr M_i;
@@ -254,27 +279,8 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
       const std::size_t cnt = st.count;
       keep_neighbours(i, tid, cnt, cols, bi);
       if (sm.walls_near > 0.0) first_layer_walls(S, i, cnt, bw, bi);
-      double M[D * D];
-      for (int a = 0; a < D; ++a) {
-        gc_[i * D + a] = sm.g[a];
-        lap_a_[i * D + a] = sm.a[a];
-        for (int q = 0; q < D; ++q) M[a * D + q] = sm.M[a][q];
-      }
-      lap_m2_[i] = sm.m2;
       conc_[i] = sm.conc + mass[i] / (rho0 * phii) * kl.W(0.0);
-      double tr = 0.0;
-      for (int a = 0; a < D; ++a) tr += M[a * D + a];
-      divr_[i] = tr;
-      const double* L = &L_[i * D * D];
-      guarded_inverse<D>(M, lmin, &L_[i * D * D]);
-      // the corrected divergence Σ_j V_j (u_j − u_i)·L_i ∇W_ij = Σ_ab L_ab Σ_j V_j F_ij du_a r_b
-      double div = 0.0;
-      for (int a = 0; a < D; ++a)
-        for (int q = 0; q < D; ++q) div += L[a * D + q] * sm.G[a][q];
-      div_[i] = div;
-      // with P = 0 at the surface (Surface: a Robin row), a particle whose support is less than about half
-      // full (∇·r < 1 in 2D, 1.5 in 3D: a splash, a jet's tip, a film) keeps P = 0 on its centre
-      cls_[i] = tr >= thr ? Inner : o_.fs_at_surface && tr >= (D == 2 ? 1.0 : 1.5) ? Surface : Known;
+      store_moments(i, sm, lmin, thr);
       pairs += st.count;
     }
     return pairs;
