@@ -163,6 +163,45 @@ time: {end: 1.0}
   }
 }
 
+// A layer two particles deep on a flat bed (a film's depth on a gentle beach): the bed's deeper wall layers have
+// their mirror points in the air but lie under the water, so they take Adami's extrapolation and stay in the sums;
+// out of the sums (before session 27) they left the bottom row with a half-empty support, a free surface by ∇·r
+// whose Robin row put the pressure at ρ g dx/2 instead of 1.5 ρ g dx, and the layer fell (docs/numerics.md §13b).
+TEST(IsphProjection, ThinLayerOnTheBedIsCarriedByTheWallsBelow) {
+  const std::string layer = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 10.0}
+scheme: {type: isph, formulation: lind}
+walls: {type: dummy, slip: free_slip}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.1]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.6, 0.02]}
+time: {end: 1.0}
+)";
+  sph::test::Setup<2> s(layer);
+  ProjectionISPH<2> isph(s.c);
+  isph.initialise(s.S);
+  isph.solve_pressure(s.S, 1e-3);
+  const auto& P = s.S.particles;
+  const double rg = 1000.0 * 9.81, dx = 0.01;
+  double worst_bottom = 0.0, worst_top = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid || P.pos[i][0] < 0.1 || P.pos[i][0] > 0.5) continue;  // away from the end walls
+    const bool bottom = P.pos[i][1] < dx;
+    const double exact = rg * (0.02 - P.pos[i][1]);  // 1.5 ρ g dx on the bottom row, ρ g dx/2 on the top
+    (bottom ? worst_bottom : worst_top) = std::max(bottom ? worst_bottom : worst_top, std::abs(P.p[i] - exact));
+    n += bottom;
+  }
+  EXPECT_GT(n, 30);
+  // the Robin row's surface at dx/2 above the top row is exact for a flat surface; a tenth of ρ g dx is a tenth
+  // of the difference between the two rows (the bottom row read ρ g dx/2, an error of ρ g dx, without the walls)
+  EXPECT_LT(worst_bottom, 0.1 * rg * dx);
+  EXPECT_LT(worst_top, 0.1 * rg * dx);
+}
+
 // The shifting's coefficient from the lattice analysis: the stiffest displacement mode of Wendland C2 on its
 // lattice relaxes at λ h² = 3.93 (h/dx 1.5), so the default 1.5/(λ h²) is 0.382 and Lind's 0.5 sits at the
 // stability limit 2/(λ h²) = 0.509 (an independent evaluation with numpy's eigenvalues gave 3.928).
@@ -216,7 +255,9 @@ time: {end: 1.0}
   const Case k = parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, shifting: {form: constant}}"});
   EXPECT_TRUE(k.isph.shifting.constant && k.isph.shifting.automatic);
   EXPECT_TRUE(c.isph.fs_at_surface);
-  EXPECT_EQ(c.isph.alpha, 0.02);  // Monaghan's term, as under tsurudome: it damps the surface rows' slow mode (§13b)
+  // Monaghan's term: it damps the surface rows' slow mode and a thin layer's noise on a slope (§13b); PySPH SISPH's
+  EXPECT_EQ(c.isph.alpha, 0.05);
+  EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.alpha, 0.02);  // tsurudome's, unchanged
   EXPECT_EQ(c.isph.cfl, 0.4);     // lind's Courant number (the dam break's metrics those of 0.2, §13b)
   EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, source: {type: split}}"}), InputError);
   EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, correction: {min_eigenvalue: 0.3}}"}), InputError);

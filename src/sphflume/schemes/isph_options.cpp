@@ -85,8 +85,10 @@ void read_isph_options(Reader& r, IsphConfig& o) {
   o.viscosity = vm != "none";
   // Monaghan's term (c0 the case's reference sound speed) beside the laminar one: it damps the
   // particle-scale velocity noise of the projection (docs/numerics.md §13); `viscosity: artificial`
-  // is the same with the laminar term off
-  o.alpha = r.in_range("alpha", 0.02, 0.0, 1.0);
+  // is the same with the laminar term off. 0.05 under lind (PySPH's SISPH default, Muta et al. 2020): at 0.02 the
+  // noise of a thin layer on a 1:20 slope grew until particles were thrown out (cases/still_shore_isph.yaml, at
+  // 0.05 and 0.1 it stays bounded, docs/numerics.md §13b)
+  o.alpha = r.in_range("alpha", lind ? 0.05 : 0.02, 0.0, 1.0);
   o.laminar = vm == "laminar";
   if (lind) {
     read_lind_shifting(r, o);

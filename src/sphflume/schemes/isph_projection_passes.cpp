@@ -40,6 +40,7 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
   wet_.assign(P.size(), 0.0);
   mls_.resize(n);
   lever_.assign(n, Vec<D>{});
+  const auto* aw = P.find(field::wall_acc);
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t b = 0; b < n; ++b) {
     if (P.kind[b] != Kind::Wall) continue;
@@ -61,37 +62,44 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
     });
     // the fluid's pressure field continued linearly to the mirror point (a linear MLS fit) while the mirror
     // point lies in the water or within about dx of it (∇·r ≥ 1 in 2D, 1.5 in 3D, Chow's BoundaryFS; with P = 0
-    // on the surface particles, ≥ the surface's threshold); a wall further up, or where the fit is ill-posed, is
-    // in the air (Known) and out of the fluid's sums: the fluid there sees a free surface (Adami's extrapolation
-    // there instead sucked the contact line up the wall, docs/numerics.md §13b)
+    // on the surface particles, ≥ the surface's threshold)
     const double air = o_.fs_at_surface ? (D == 2 ? 1.0 : 1.5) : thr;
     cls_[b] = WallRow;
     wet_[b] = 1.0;
     if (!o_.wall_adami && fluid && divr >= air && mls_weights<D>(S, ker, xm, mls_[b])) {
       lever_[b] = P.pos[b] - xm;
-    } else if (!o_.wall_adami && solid < 0.5) {
+      continue;
+    }
+    // otherwise Adami et al. (2012)'s extrapolation from the fluid around the wall particle itself,
+    // P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf (its weights into mls_[b], its mean lever
+    // Σ w (r_b − r_f)), where `wall_pressure: adami`, where the mirror point lies inside another solid (the walls'
+    // Shepard sum there ≥ 1/2, its value on a flat wall's face; 0.25 in the air dx/2 beside a wall, 0.6–0.8 inside
+    // a paddle standing on the bed: out of the sums such a wall left a hole that drew the water into the paddle's
+    // foot at 0.07 m/s), or where the wall lies under the fluid around it ((g − a_w)·lever > 0: the deep layers under
+    // a film or a thin layer, whose mirror points are in the air: out of the sums they left the layer's bottom row
+    // without support, a free surface by ∇·r, and a still shoreline on a 1:20 slope threw its layer up within
+    // 0.5 s, docs/numerics.md §13b). A wall in the air beside or above the water (the lever level or upwards) is
+    // Known, P = 0, and out of the fluid's sums: the fluid there sees a free surface (Adami's extrapolation there
+    // sucked the contact line up the wall)
+    auto& w = mls_[b];
+    w.clear();
+    double sw = 0.0;
+    Vec<D> sr{};
+    S.cells.for_neighbours(P.pos, P.pos[b], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+      if (P.kind[j] != Kind::Fluid) return;
+      const double wj = ker.W(std::sqrt(r2));
+      sw += wj;
+      sr += wj * r;
+      w.emplace_back(j, wj);
+    });
+    for (auto& [j, wj] : w) wj /= sw;
+    lever_[b] = (1.0 / sw) * sr;
+    const Vec<D> ge = aw ? S.gravity - (*aw)[b] : S.gravity;
+    if (!o_.wall_adami && solid < 0.5 && !(dot(ge, lever_[b]) > 0.0)) {
       cls_[b] = Known;
       wet_[b] = 0.0;
-    } else {
-      // `wall_pressure: adami`, or a mirror point inside another solid (the walls' Shepard sum there ≥ 1/2, its
-      // value on a flat wall's face; 0.25 in the air dx/2 beside a wall, 0.6–0.8 inside a paddle standing on the
-      // bed: a bed particle under the paddle, the diagonal of a corner where two bodies meet; out of the sums it
-      // left a hole that drew the water into the paddle's foot at 0.07 m/s, docs/numerics.md §13b):
-      // Adami et al. (2012)'s extrapolation from the fluid around the wall particle itself,
-      // P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf
-      auto& w = mls_[b];
       w.clear();
-      double sw = 0.0;
-      Vec<D> sr{};
-      S.cells.for_neighbours(P.pos, P.pos[b], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-        if (P.kind[j] != Kind::Fluid) return;
-        const double wj = ker.W(std::sqrt(r2));
-        sw += wj;
-        sr += wj * r;
-        w.emplace_back(j, wj);
-      });
-      for (auto& [j, wj] : w) wj /= sw;
-      lever_[b] = (1.0 / sw) * sr;
+      lever_[b] = Vec<D>{};
     }
   }
   S.refresh_halos(wet_.data());
@@ -101,7 +109,6 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
   // (the wall's own velocity there made a film's tip on the bed a sink of −10⁴ … −10⁶ Pa; Chow et al.'s no-slip
   // mirror 2 u_w − u_f doubles that and blew the dam break up at 0.2 s: docs/numerics.md §13). u_w at t_n: a
   // moving wall's acceleration is in its pressure's offset
-  const auto* aw = P.find(field::wall_acc);
   ub_.assign(P.size(), Vec<D>{});
 #pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < n; ++b) {
