@@ -66,6 +66,42 @@ TEST(IsphProjection, CorrectionIsTheIdentityInsideAndDivergenceFlagsTheSurface) 
   EXPECT_EQ(top, 30);
 }
 
+// At h = 2 dx the free surface is found with the detection kernel (h_d = 1.5 dx): the lattice's top row reads
+// ∇·r = 1.24 and its second row 1.82 (with the case's kernel they would read 1.18 and 1.63, the second row only
+// 0.13 above the threshold 1.5 and inside the blend band once the rows stretch by 10 %: it then took part of the
+// surface's row, lost a third of its pressure and rose into the top row, docs/numerics.md §13b). Stretched by 10 %
+// along the surface (squeezed 1/1.1 across, the volume kept) the second row still reads above the band's top
+// (1.5 + 0.2): an interior row.
+TEST(IsphProjection, SurfaceDetectionKeepsTheSecondRowInsideAtTwiceDx) {
+  for (const double stretch : {1.0, 1.1}) {
+    Tank t({"particles.h_over_dx=2.0"});
+    auto& P = t.s.S.particles;
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.kind[i] == Kind::Fluid) {
+        P.pos[i][0] = 0.15 + stretch * (P.pos[i][0] - 0.15);
+        P.pos[i][1] = 0.15 - (0.15 - P.pos[i][1]) / stretch;
+      }
+    t.s.S.update_neighbours();
+    t.isph.solve_pressure(t.s.S, 1e-3);
+    int first = 0, second = 0;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid || std::abs(P.pos[i][0] - 0.15) > 0.06) continue;  // away from the side walls
+      const double depth = (0.145 - P.pos[i][1]) * stretch / 0.01;  // rows below the top one
+      if (depth < 0.5) {
+        ++first;
+        if (stretch == 1.0) { EXPECT_NEAR(t.isph.divergence_of_position(i), 1.242, 0.01); }
+        EXPECT_LT(t.isph.divergence_of_position(i), 1.5);
+      } else if (depth < 1.5) {
+        ++second;
+        if (stretch == 1.0) { EXPECT_NEAR(t.isph.divergence_of_position(i), 1.821, 0.01); }
+        EXPECT_GT(t.isph.divergence_of_position(i), 1.7) << "stretch " << stretch;
+      }
+    }
+    EXPECT_GT(first, 8);
+    EXPECT_GT(second, 8);
+  }
+}
+
 // One pressure solve in a still tank gives the hydrostatic pressure ρ g (H − z) everywhere in the water: the
 // walls carry the fluid's pressure at their mirror points plus ρ g·(r_b − r_m), the surface particles
 // P + (dx/2) n·∇P = 0 (P = 0 at z = H, not on their centres), and the Laplacian is exact for a linear field on a

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <type_traits>
 
 #include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/walls.hpp"
@@ -50,8 +51,13 @@ void ProjectionISPH<D>::constants(const System<D>& S) {
   // the blend band [thr, thr + blend] ends below the second row's ∇·r on a lattice under a flat surface (1.82 at
   // h/dx 1.5, 1.63 at 2.0), so that a flat surface's second row keeps the interior's row (at 2.0 the band
   // [1.5, 1.7] took it, and its Robin part at dx/2 put the bed 1.1 % low; the Robin distance read from ∇·r
-  // instead made the rows unstable, docs/numerics.md §13b)
-  const auto depth = S.with_kernel([&](const auto& K) { return lattice_divr_by_depth<D>(K, S.dx); });
+  // instead made the rows unstable, docs/numerics.md §13b); the rows' values are the detection kernel's (h_d =
+  // min(h, 1.5 dx), isph_projection.hpp)
+  detect_ = S.h > 1.5 * S.dx * (1.0 + 1e-12);
+  detect_h_ = detect_ ? 1.5 * S.dx : S.h;
+  const auto depth = S.with_kernel([&](const auto& K) {
+    return lattice_divr_by_depth<D>(std::decay_t<decltype(K)>(detect_h_), S.dx);
+  });
   const double thr = o_.fs_threshold > 0.0 ? o_.fs_threshold : (D == 2 ? 1.5 : 2.4);
   blend_ = o_.fs_blend;
   if (depth.size() > 1 && depth[1] > thr) blend_ = std::min(blend_, 0.8 * (depth[1] - thr));

@@ -183,6 +183,7 @@ void ProjectionISPH<D>::store_moments(std::size_t i, const projection_detail::Mo
   lap_m2_[i] = sm.m2;
   double tr = 0.0;
   for (int a = 0; a < D; ++a) tr += M[a * D + a];
+  if (detect_) tr = sm.dr;  // the free surface's ∇·r from the detection kernel (constants())
   divr_[i] = tr;
   const double* L = &L_[i * D * D];
   guarded_inverse<D>(M, lmin, &L_[i * D * D]);
@@ -241,6 +242,8 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   const double eta2 = o_.eta2 * S.h * S.h;
   const Vec<D>* vel = P.vel.data();
   const Vec<D>* ub = ub_.data();
+  // the free surface's ∇·r with the detection kernel (h_d = min(h, 1.5 dx), constants()) where h is larger
+  const bool detect = detect_;
   enum { X0, X1, X2, VOL, WALL1, IDX, FL, PHI, KJ, U0, U1, U2, FK, IN, CIJ, NCOL };
   sweep_cells<double>(cells, NCOL, kIsphLanes, [&](std::size_t cell) { return owned_in(cells, cell, n, kind, true); },
                       [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
@@ -250,6 +253,7 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
     const int tid = 0;
 #endif
     const K kl = ker;
+    const K kd(detect ? detect_h_ : ker.h);
     const std::uint32_t* sorted = cells.sorted().data();
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
     const Vec<D> origin = pos[sorted[c0k]];
@@ -281,8 +285,11 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
       double xa[3], ui[3] = {vel[i][0], vel[i][1], vel[i][D - 1]};
       relative<D>(pos[i], origin, xa[0], xa[1], xa[2]);
       const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
-      const MomentSums sm = phi ? moment_sums<D, true>(kl, cols, npad, xa, ui, phii, ki, eta2, dx2)
-                                : moment_sums<D, false>(kl, cols, npad, xa, ui, phii, ki, eta2, dx2);
+      const MomentSums sm =
+          detect ? (phi ? moment_sums<D, true, true>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2)
+                        : moment_sums<D, false, true>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2))
+                 : (phi ? moment_sums<D, true, false>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2)
+                        : moment_sums<D, false, false>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2));
       const std::size_t cnt = st.count;
       keep_neighbours(i, tid, cnt, cols, bi);
       if (sm.walls_near > 0.0) first_layer_walls(S, i, cnt, bw, bi);

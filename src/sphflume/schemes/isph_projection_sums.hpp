@@ -117,12 +117,15 @@ struct MomentCols {
 /// (porous: times the conductivities' harmonic mean over φ_i) with their first moment a = Σ c r_ji and half second
 /// moment m2 = ½ Σ c r², and G = Σ V F du ⊗ r (du = (φ_j/φ_i) u_j − u_i), whose contraction with L_i is the
 /// corrected divergence. One vector loop; F, the flag and c_ij are written per candidate for the neighbour list.
+/// With Detect, also the free surface's ∇·r = −Σ V F_d r² over the same neighbours with the detection kernel kd (its h
+/// at most 1.5 dx, ProjectionISPH::moments); without, dr is left 0.
 struct MomentSums {
-  double conc, g[3], M[3][3], walls_near, a[3], m2, G[3][3];
+  double conc, g[3], M[3][3], walls_near, a[3], m2, G[3][3], dr;
 };
-template <int D, bool Porous, class K>
-[[gnu::always_inline]] inline MomentSums moment_sums(const K& kl, const MomentCols& b, std::size_t npad, const double* xa,
-                                                     const double* ui, double phii, double ki, double eta2, double dx2) {
+template <int D, bool Porous, bool Detect, class K>
+[[gnu::always_inline]] inline MomentSums moment_sums(const K& kl, const K& kd, const MomentCols& b, std::size_t npad,
+                                                     const double* xa, const double* ui, double phii, double ki,
+                                                     double eta2, double dx2) {
   const double sup2 = kl.support2;
   const double* __restrict bx0 = b.x0;
   const double* __restrict bx1 = b.x1;
@@ -138,8 +141,8 @@ template <int D, bool Porous, class K>
   const double xa0 = xa[0], xa1 = xa[1], xa2 = xa[2], ui0 = ui[0], ui1 = ui[1], ui2 = ui[2];
   double c = 0.0, g0 = 0.0, g1 = 0.0, g2 = 0.0, m00 = 0.0, m01 = 0.0, m02 = 0.0, m11 = 0.0, m12 = 0.0, m22 = 0.0,
          wn = 0.0, a0 = 0.0, a1 = 0.0, a2 = 0.0, m2 = 0.0, G00 = 0.0, G01 = 0.0, G02 = 0.0, G10 = 0.0, G11 = 0.0,
-         G12 = 0.0, G20 = 0.0, G21 = 0.0, G22 = 0.0;
-#pragma omp simd reduction(+ : c, g0, g1, g2, m00, m01, m02, m11, m12, m22, wn, a0, a1, a2, m2, G00, G01, G02, G10, G11, G12, G20, G21, G22)
+         G12 = 0.0, G20 = 0.0, G21 = 0.0, G22 = 0.0, dr = 0.0;
+#pragma omp simd reduction(+ : c, g0, g1, g2, m00, m01, m02, m11, m12, m22, wn, a0, a1, a2, m2, G00, G01, G02, G10, G11, G12, G20, G21, G22, dr)
   for (std::size_t m = 0; m < npad; ++m) {
     const double r0 = xa0 - bx0[m], r1 = xa1 - bx1[m], r2c = D == 3 ? xa2 - bx2[m] : 0.0;
     const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
@@ -158,6 +161,7 @@ template <int D, bool Porous, class K>
     m00 -= f * r0 * r0;
     m01 -= f * r0 * r1;
     m11 -= f * r1 * r1;
+    if constexpr (Detect) dr -= v * kd.F(rr) * r2;  // (F_d = 0 beyond its own, smaller, support)
     double cij = -2.0 * f * r2 / (r2 + eta2);
     double ratio = 1.0;
     if constexpr (Porous) {
@@ -190,7 +194,7 @@ template <int D, bool Porous, class K>
     }
   }
   return {c, {g0, g1, g2}, {{m00, m01, m02}, {m01, m11, m12}, {m02, m12, m22}}, wn, {a0, a1, a2}, m2,
-          {{G00, G01, G02}, {G10, G11, G12}, {G20, G21, G22}}};
+          {{G00, G01, G02}, {G10, G11, G12}, {G20, G21, G22}}, dr};
 }
 
 }  // namespace sph::projection_detail
