@@ -7,7 +7,7 @@
 //     (viscosity, force terms; a porous drag point-implicit), r* = r_n + Δt u_n;
 //  2. at r*: the kernel-gradient correction L_i = [Σ_j V_j r_ji ⊗ ∇_iW_ij]⁻¹ (fluid and wet wall
 //     neighbours, eigenvalues held from below), ∇·r_i = tr of the same sum, ∇C_i; free surface where
-//     ∇·r < 1.5 (2D) / 2.4 (3D), ∇·r taken with h_d = min(h, 1.5 dx) (the lattice's rows stay apart at h = 2 dx);
+//     ∇·r < 1.5 (2D) / 2.4 (3D), ∇·r taken with h_d = min(h, 1.5 × the particle's spacing) (the lattice's rows stay apart at h = 2 dx);
 //     the neighbours, their kernel factors and the walls within dx kept for 4 and 5;
 //  3. walls: a wall near the fluid is an unknown, P_b = Σ_j w_j P_j + ρ0 (g − a_w)·(r_b − r_m), w_j the linear
 //     MLS weights of the fluid at the mirror point r_m across the wall surface (Adami's extrapolation around the
@@ -111,11 +111,12 @@ class ProjectionISPH final : public Scheme<D> {
   std::vector<double> gc_, conc_;  // conc_: Σ_j V_j W_ij (the particle's number density × its volume)
   double conc_ref_ = 1.0;  // the same on a full lattice
   double blend_ = 0.0;  // the surface's blend band's width in ∇·r (initialise: `blend`, ending below the second row)
-  // the free surface is found with a kernel of smoothing length h_d = min(h, 1.5 dx) (the case's h where it is not
-  // larger): its ∇·r keeps the lattice's first and second rows 0.58 apart (1.24 / 1.82) where h = 2 dx would put
-  // them 0.44 apart with the second row only 0.13 above the threshold (docs/numerics.md §13b)
-  double detect_h_ = 0.0;
-  bool detect_ = false;  // h > 1.5 dx: the detection kernel's ∇·r
+  // the free surface is found with a kernel of smoothing length h_d = min(h, 1.5 s_i), s_i = (m_i/(φ_i ρ0))^(1/D) the
+  // particle's spacing (dx outside a porous medium): its ∇·r keeps the lattice's first and second rows 0.58 apart
+  // (1.24 / 1.82) where h = 2 dx would put them 0.44 apart with the second row only 0.13 above the threshold
+  // (docs/numerics.md §13b)
+  double detect_h_ = 0.0;  // 1.5 dx where h is larger (the blend band's lattice), else h
+  bool detect_ = false;    // h > 1.5 dx: some particles take the detection kernel's ∇·r
   std::vector<std::vector<std::pair<std::uint32_t, double>>> mls_;  // a wall row's weights (MLS at its mirror point, or Adami's)
   std::vector<Vec<D>> lever_;  // a wall row's offset ρ0 (g − a_w)·lever: r_b − r_m, or Adami's Σ w (r_b − r_f)
   std::vector<Vec<D>> ub_;     // a wet wall's velocity in the divergence (per particle incl. images)

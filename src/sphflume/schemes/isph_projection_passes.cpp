@@ -183,7 +183,7 @@ void ProjectionISPH<D>::store_moments(std::size_t i, const projection_detail::Mo
   lap_m2_[i] = sm.m2;
   double tr = 0.0;
   for (int a = 0; a < D; ++a) tr += M[a * D + a];
-  if (detect_) tr = sm.dr;  // the free surface's ∇·r from the detection kernel (constants())
+  if (sm.dr > 0.0) tr = sm.dr;  // the free surface's ∇·r from the detection kernel (moments())
   divr_[i] = tr;
   const double* L = &L_[i * D * D];
   guarded_inverse<D>(M, lmin, &L_[i * D * D]);
@@ -253,7 +253,6 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
     const int tid = 0;
 #endif
     const K kl = ker;
-    const K kd(detect ? detect_h_ : ker.h);
     const std::uint32_t* sorted = cells.sorted().data();
     const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
     const Vec<D> origin = pos[sorted[c0k]];
@@ -285,8 +284,13 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
       double xa[3], ui[3] = {vel[i][0], vel[i][1], vel[i][D - 1]};
       relative<D>(pos[i], origin, xa[0], xa[1], xa[2]);
       const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
+      // the detection kernel's h: 1.5 times the particle's own spacing (m/(φ ρ0))^(1/D), dx outside a porous medium;
+      // inside one the spacing is dx/φ^(1/D) (1.43 dx at φ 0.49) and the case's h is kept
+      const double si = std::pow(mass[i] / (rho0 * phii), 1.0 / D);
+      const bool det = detect && 1.5 * si < ker.h * (1.0 - 1e-12);
+      const K kd(det ? 1.5 * si : ker.h);
       const MomentSums sm =
-          detect ? (phi ? moment_sums<D, true, true>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2)
+          det ? (phi ? moment_sums<D, true, true>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2)
                         : moment_sums<D, false, true>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2))
                  : (phi ? moment_sums<D, true, false>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2)
                         : moment_sums<D, false, false>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2));
