@@ -95,11 +95,21 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
     for (auto& [j, wj] : w) wj /= sw;
     lever_[b] = (1.0 / sw) * sr;
     const Vec<D> ge = aw ? S.gravity - (*aw)[b] : S.gravity;
-    if (!o_.wall_adami && solid < 0.5 && !(dot(ge, lever_[b]) > 0.0)) {
-      cls_[b] = Known;
-      wet_[b] = 0.0;
-      w.clear();
-      lever_[b] = Vec<D>{};
+    if (!o_.wall_adami && solid < 0.5) {
+      if (!(dot(ge, lever_[b]) > 0.0)) {
+        cls_[b] = Known;
+        wet_[b] = 0.0;
+        w.clear();
+        lever_[b] = Vec<D>{};
+      } else {
+        // under a thin layer: the offset along the wall's normal only, ρ0 (g − a_w)·n (n·lever), the pressure of a
+        // layer lying along the wall. With the whole lever a wall ahead of a film's tip on a slope (higher, so
+        // nearer the tip's height) read less than one behind it: a pressure falling up the slope by ρ0 g sinθ that
+        // cancelled gravity's pull along it, and the swash's tip coasted up Flume B's frictionless 1:20 slope
+        // gaining height (+0.1 m of energy head in 1 s, the run-up +30 %, docs/numerics.md §13b)
+        const Vec<D> nw = (1.0 / norm(to[b])) * to[b];
+        lever_[b] = dot(lever_[b], nw) * nw;
+      }
     }
   }
   S.refresh_halos(wet_.data());
