@@ -75,6 +75,10 @@ class ProjectionISPH final : public Scheme<D> {
   void first_layer_walls(const System<D>& S, std::size_t i, std::size_t cnt, const double* wall1, const double* idx);
   void store_moments(std::size_t i, const projection_detail::MomentSums& sm, double lmin, double thr);
   template <class K> void wall_rows(System<D>& S, const K& ker);
+  /// Wall b's row by Adami's extrapolation from the fluid around it (weights and lever into mls_[b], lever_[b]);
+  /// with `mirror_in_air` (its mirror point in the air, not inside another solid) it is Known unless it lies under
+  /// that fluid, and then takes the offset's part along its normal.
+  template <class K> void adami_row(const System<D>& S, const K& ker, std::size_t b, bool mirror_in_air);
   template <class K> void assemble(System<D>& S, const K& ker, double dt);
   /// The surface's Robin row P + (dx/2) n·∇P = 0 of particle i, times −weight × the lattice diagonal, into e
   /// (its diagonal returned); the interior row (the corrected Laplacian, the blend, the source) into e, its

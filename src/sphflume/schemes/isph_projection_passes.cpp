@@ -70,47 +70,7 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
       lever_[b] = P.pos[b] - xm;
       continue;
     }
-    // otherwise Adami et al. (2012)'s extrapolation from the fluid around the wall particle itself,
-    // P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf (its weights into mls_[b], its mean lever
-    // Σ w (r_b − r_f)), where `wall_pressure: adami`, where the mirror point lies inside another solid (the walls'
-    // Shepard sum there ≥ 1/2, its value on a flat wall's face; 0.25 in the air dx/2 beside a wall, 0.6–0.8 inside
-    // a paddle standing on the bed: out of the sums such a wall left a hole that drew the water into the paddle's
-    // foot at 0.07 m/s), or where the wall lies under the fluid around it ((g − a_w)·lever > 0: the deep layers under
-    // a film or a thin layer, whose mirror points are in the air: out of the sums they left the layer's bottom row
-    // without support, a free surface by ∇·r, and a still shoreline on a 1:20 slope threw its layer up within
-    // 0.5 s, docs/numerics.md §13b). A wall in the air beside or above the water (the lever level or upwards) is
-    // Known, P = 0, and out of the fluid's sums: the fluid there sees a free surface (Adami's extrapolation there
-    // sucked the contact line up the wall)
-    auto& w = mls_[b];
-    w.clear();
-    double sw = 0.0;
-    Vec<D> sr{};
-    S.cells.for_neighbours(P.pos, P.pos[b], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
-      if (P.kind[j] != Kind::Fluid) return;
-      const double wj = ker.W(std::sqrt(r2));
-      sw += wj;
-      sr += wj * r;
-      w.emplace_back(j, wj);
-    });
-    for (auto& [j, wj] : w) wj /= sw;
-    lever_[b] = (1.0 / sw) * sr;
-    const Vec<D> ge = aw ? S.gravity - (*aw)[b] : S.gravity;
-    if (!o_.wall_adami && solid < 0.5) {
-      if (!(dot(ge, lever_[b]) > 0.0)) {
-        cls_[b] = Known;
-        wet_[b] = 0.0;
-        w.clear();
-        lever_[b] = Vec<D>{};
-      } else {
-        // under a thin layer: the offset along the wall's normal only, ρ0 (g − a_w)·n (n·lever), the pressure of a
-        // layer lying along the wall. With the whole lever a wall ahead of a film's tip on a slope (higher, so
-        // nearer the tip's height) read less than one behind it: a pressure falling up the slope by ρ0 g sinθ that
-        // cancelled gravity's pull along it, and the swash's tip coasted up Flume B's frictionless 1:20 slope
-        // gaining height (+0.1 m of energy head in 1 s, the run-up +30 %, docs/numerics.md §13b)
-        const Vec<D> nw = (1.0 / norm(to[b])) * to[b];
-        lever_[b] = dot(lever_[b], nw) * nw;
-      }
-    }
+    adami_row(S, ker, b, !o_.wall_adami && solid < 0.5);
   }
   S.refresh_halos(wet_.data());
   // each wet wall's velocity in the fluid's divergence: the fluid's velocity at its mirror point (its
@@ -132,6 +92,55 @@ void ProjectionISPH<D>::wall_rows(System<D>& S, const K& ker) {
     ub_[b] = uf - (2.0 * dot(uf - uw, nw)) * nw;
   }
   S.refresh_halos(ub_.data(), 1);
+}
+
+template <int D>
+template <class K>
+void ProjectionISPH<D>::adami_row(const System<D>& S, const K& ker, std::size_t b, bool mirror_in_air) {
+  const auto& P = S.particles;
+  const auto& to = *P.find(field::wall_to_surface);
+  const auto* aw = P.find(field::wall_acc);
+  // Adami et al. (2012)'s extrapolation from the fluid around the wall particle itself,
+  // P_b = Σ_f W_bf (P_f + ρ0 (g − a_w)·(r_b − r_f)) / Σ_f W_bf (its weights into mls_[b], its mean lever
+  // Σ w (r_b − r_f)), where `wall_pressure: adami`, where the mirror point lies inside another solid (the walls'
+  // Shepard sum there ≥ 1/2, its value on a flat wall's face; 0.25 in the air dx/2 beside a wall, 0.6–0.8 inside
+  // a paddle standing on the bed: out of the sums such a wall left a hole that drew the water into the paddle's
+  // foot at 0.07 m/s), or where the wall lies under the fluid around it ((g − a_w)·lever > 0: the deep layers under
+  // a film or a thin layer, whose mirror points are in the air: out of the sums they left the layer's bottom row
+  // without support, a free surface by ∇·r, and a still shoreline on a 1:20 slope threw its layer up within
+  // 0.5 s, docs/numerics.md §13b). A wall in the air beside or above the water (the lever level or upwards) is
+  // Known, P = 0, and out of the fluid's sums: the fluid there sees a free surface (Adami's extrapolation there
+  // sucked the contact line up the wall)
+  auto& w = mls_[b];
+  w.clear();
+  double sw = 0.0;
+  Vec<D> sr{};
+  S.cells.for_neighbours(P.pos, P.pos[b], ker.support, [&](std::uint32_t j, const Vec<D>& r, double r2) {
+    if (P.kind[j] != Kind::Fluid) return;
+    const double wj = ker.W(std::sqrt(r2));
+    sw += wj;
+    sr += wj * r;
+    w.emplace_back(j, wj);
+  });
+  for (auto& [j, wj] : w) wj /= sw;
+  lever_[b] = (1.0 / sw) * sr;
+  const Vec<D> ge = aw ? S.gravity - (*aw)[b] : S.gravity;
+  if (mirror_in_air) {
+    if (!(dot(ge, lever_[b]) > 0.0)) {
+      cls_[b] = Known;
+      wet_[b] = 0.0;
+      w.clear();
+      lever_[b] = Vec<D>{};
+    } else {
+      // under a thin layer: the offset along the wall's normal only, ρ0 (g − a_w)·n (n·lever), the pressure of a
+      // layer lying along the wall. With the whole lever a wall ahead of a film's tip on a slope (higher, so
+      // nearer the tip's height) read less than one behind it: a pressure falling up the slope by ρ0 g sinθ that
+      // cancelled gravity's pull along it, and the swash's tip coasted up Flume B's frictionless 1:20 slope
+      // gaining height (+0.1 m of energy head in 1 s, the run-up +30 %, docs/numerics.md §13b)
+      const Vec<D> nw = (1.0 / norm(to[b])) * to[b];
+      lever_[b] = dot(lever_[b], nw) * nw;
+    }
+  }
 }
 
 template <int D>
@@ -502,6 +511,7 @@ void ProjectionISPH<D>::correct(System<D>& S, const K& ker, double dt) {
 
 #define SPH_PROJ_PASSES(D, K)                                                            \
   template void ProjectionISPH<D>::wall_rows<K<D>>(System<D>&, const K<D>&);             \
+  template void ProjectionISPH<D>::adami_row<K<D>>(const System<D>&, const K<D>&, std::size_t, bool); \
   template void ProjectionISPH<D>::moments<K<D>>(System<D>&, const K<D>&);               \
   template void ProjectionISPH<D>::assemble<K<D>>(System<D>&, const K<D>&, double);      \
   template double ProjectionISPH<D>::robin_entries<K<D>>(const System<D>&, const K<D>&, std::size_t, int, double, \
