@@ -127,10 +127,7 @@ def main():
         fig.tight_layout()
         save_figure(fig, HERE, NAME, a.mode, a.out)
 
-    if rep.failed:
-        print(f"\n{NAME} {a.mode}: FAILED: {', '.join(rep.failed)}")
-        return 1
-    print(f"\n{NAME} {a.mode}: all metrics pass")
+    rep.finish(NAME, a.mode)
     return 0
 
 
