@@ -52,7 +52,7 @@ void ProjectionISPH<D>::constants(const System<D>& S) {
   // h/dx 1.5, 1.63 at 2.0), so that a flat surface's second row keeps the interior's row (at 2.0 the band
   // [1.5, 1.7] took it, and its Robin part at dx/2 put the bed 1.1 % low; the Robin distance read from ∇·r
   // instead made the rows unstable, docs/numerics.md §13b); the rows' values are the detection kernel's (h_d =
-  // min(h, 1.5 dx), isph_projection.hpp)
+  // min(h, 1.5 dx) in water, isph_projection.hpp)
   detect_ = S.h > 1.5 * S.dx * (1.0 + 1e-12);
   detect_h_ = detect_ ? 1.5 * S.dx : S.h;
   const auto depth = S.with_kernel([&](const auto& K) {

@@ -7,11 +7,13 @@
 //     (viscosity, force terms; a porous drag point-implicit), r* = r_n + Δt u_n;
 //  2. at r*: the kernel-gradient correction L_i = [Σ_j V_j r_ji ⊗ ∇_iW_ij]⁻¹ (fluid and wet wall
 //     neighbours, eigenvalues held from below), ∇·r_i = tr of the same sum, ∇C_i; free surface where
-//     ∇·r < 1.5 (2D) / 2.4 (3D), ∇·r taken with h_d = min(h, 1.5 × the particle's spacing) (the lattice's rows stay apart at h = 2 dx);
-//     the neighbours, their kernel factors and the walls within dx kept for 4 and 5;
+//     ∇·r < 1.5 (2D) / 2.4 (3D), this ∇·r taken with h_d = min(h, 1.5 × the particle's spacing) (the lattice's
+//     first two rows stay apart at h = 2 dx); the neighbours, their kernel factors and the walls within dx kept
+//     for 4 and 5;
 //  3. walls: a wall near the fluid is an unknown, P_b = Σ_j w_j P_j + ρ0 (g − a_w)·(r_b − r_m), w_j the linear
 //     MLS weights of the fluid at the mirror point r_m across the wall surface (Adami's extrapolation around the
-//     wall particle where r_m lies inside another solid), or in the air (P = 0, out of the sums);
+//     wall particle where r_m lies inside another solid, or in the air with the wall under its fluid: then the
+//     offset's part along the wall's normal), or in the air (P = 0, out of the sums);
 //  4. the PPE: the first-order corrected Laplacian = (ρ0/Δt) Σ_j V_j (u*_j − u*_i)·L_i∇W_ij (a divergence-free
 //     source only) inside; P + (dx/2) n·∇P = 0 on surface particles (P = 0 at the surface), blended into the
 //     interior's row over ∇·r ∈ [1.5, 1.5 + blend] (the band ending below the lattice's second row); solved by a

@@ -261,7 +261,7 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
   const double eta2 = o_.eta2 * S.h * S.h;
   const Vec<D>* vel = P.vel.data();
   const Vec<D>* ub = ub_.data();
-  // the free surface's ∇·r with the detection kernel (h_d = min(h, 1.5 dx), constants()) where h is larger
+  // the free surface's ∇·r with the detection kernel (h_d = min(h, 1.5 × the particle's spacing), below) where h is larger
   const bool detect = detect_;
   enum { X0, X1, X2, VOL, WALL1, IDX, FL, PHI, KJ, U0, U1, U2, FK, IN, CIJ, NCOL };
   sweep_cells<double>(cells, NCOL, kIsphLanes, [&](std::size_t cell) { return owned_in(cells, cell, n, kind, true); },
