@@ -19,7 +19,7 @@ namespace sph {
 using projection_detail::apply;
 using projection_detail::guarded_inverse;
 using projection_detail::mls_weights;
-using projection_detail::moment_sums;
+using projection_detail::moment_sums_for;
 using projection_detail::MomentCols;
 using projection_detail::MomentSums;
 
@@ -305,14 +305,8 @@ void ProjectionISPH<D>::moments(System<D>& S, const K& ker) {
       const double phii = phi ? phi[i] : 1.0, ki = phii * (mob ? mob[i] : 1.0);
       // the detection kernel's h: 1.5 times the particle's own spacing (m/(φ ρ0))^(1/D), dx outside a porous medium;
       // inside one the spacing is dx/φ^(1/D) (1.43 dx at φ 0.49) and the case's h is kept
-      const double si = std::pow(mass[i] / (rho0 * phii), 1.0 / D);
-      const bool det = detect && 1.5 * si < ker.h * (1.0 - 1e-12);
-      const K kd(det ? 1.5 * si : ker.h);
-      const MomentSums sm =
-          det ? (phi ? moment_sums<D, true, true>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2)
-                        : moment_sums<D, false, true>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2))
-                 : (phi ? moment_sums<D, true, false>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2)
-                        : moment_sums<D, false, false>(kl, kd, cols, npad, xa, ui, phii, ki, eta2, dx2));
+      const double hd = detect ? 1.5 * std::pow(mass[i] / (rho0 * phii), 1.0 / D) : ker.h;
+      const MomentSums sm = moment_sums_for<D>(kl, hd, phi != nullptr, cols, npad, xa, ui, phii, ki, eta2, dx2);
       const std::size_t cnt = st.count;
       keep_neighbours(i, tid, cnt, cols, bi);
       if (sm.walls_near > 0.0) first_layer_walls(S, i, cnt, bw, bi);

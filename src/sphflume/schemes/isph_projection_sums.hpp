@@ -197,4 +197,18 @@ template <int D, bool Porous, bool Detect, class K>
           {{G00, G01, G02}, {G10, G11, G12}, {G20, G21, G22}}, dr};
 }
 
+/// moment_sums with the case's options chosen at run time: porous or not, and the detection kernel's ∇·r where its
+/// smoothing length hd is below the case's (the kernel kl's).
+template <int D, class K>
+inline MomentSums moment_sums_for(const K& kl, double hd, bool porous, const MomentCols& b, std::size_t npad,
+                                  const double* xa, const double* ui, double phii, double ki, double eta2, double dx2) {
+  const bool det = hd < kl.h * (1.0 - 1e-12);
+  const K kd(det ? hd : kl.h);
+  if (det)
+    return porous ? moment_sums<D, true, true>(kl, kd, b, npad, xa, ui, phii, ki, eta2, dx2)
+                  : moment_sums<D, false, true>(kl, kd, b, npad, xa, ui, phii, ki, eta2, dx2);
+  return porous ? moment_sums<D, true, false>(kl, kd, b, npad, xa, ui, phii, ki, eta2, dx2)
+                : moment_sums<D, false, false>(kl, kd, b, npad, xa, ui, phii, ki, eta2, dx2);
+}
+
 }  // namespace sph::projection_detail
