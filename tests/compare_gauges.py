@@ -28,8 +28,8 @@ sys.path.insert(0, os.path.join(HERE, "robustness"))
 from common import same_run  # noqa: E402
 
 VARIANTS = [
-    ("dambreak_2d", "isph_hybrid", ["scheme.type=isph"]),
-    ("dambreak_2d", "isph_split", ["scheme.type=isph", "scheme.source.type=split"]),
+    ("dambreak_2d", "isph_hybrid", ["scheme.type=isph", "scheme.formulation=tsurudome"]),
+    ("dambreak_2d", "isph_split", ["scheme.type=isph", "scheme.formulation=tsurudome", "scheme.source.type=split"]),
     ("dambreak_2d", "dual", ["scheme.integrator=dual", "fluid.viscosity=0"]),
     ("dambreak_3d", "dual", ["scheme.integrator=dual", "fluid.viscosity=0"]),
 ]

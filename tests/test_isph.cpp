@@ -21,7 +21,7 @@ struct IsphBlock {
     isph.initialise(s.S);
   }
   static std::vector<std::string> with_isph(std::vector<std::string> v) {
-    v.insert(v.begin(), "scheme={type: isph}");
+    v.insert(v.begin(), "scheme={type: isph, formulation: tsurudome}");  // this file tests Tsurudome's
     return v;
   }
   /// The owned particle nearest to x.
@@ -330,7 +330,7 @@ TEST(ISPH, SplitSourceMovesParticlesNotVelocities) {
 
 TEST(ISPH, OptionsAreReadAndWcsphKeysReported) {
   const Case c = parse_case(kLattice2D, "t.yaml",
-                            {"scheme={type: isph, delta: 0.1, cfl: 0.1, source: {type: hybrid, gamma: 0.9},"
+                            {"scheme={type: isph, formulation: tsurudome, delta: 0.1, cfl: 0.1, source: {type: hybrid, gamma: 0.9},"
                              " free_surface: {threshold: 0.98}, solver: {tolerance: 1e-8, max_iterations: 50},"
                              " gradient_normalisation: lattice}"});
   EXPECT_EQ(c.scheme.type, "isph");
@@ -343,14 +343,14 @@ TEST(ISPH, OptionsAreReadAndWcsphKeysReported) {
   // the artificial viscosity beside the laminar term: on by default (α = 0.02), off with alpha: 0
   EXPECT_DOUBLE_EQ(c.isph.alpha, 0.02);
   EXPECT_TRUE(c.isph.laminar);
-  EXPECT_DOUBLE_EQ(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, alpha: 0}"}).isph.alpha, 0.0);
-  EXPECT_FALSE(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, viscosity: artificial}"}).isph.laminar);
+  EXPECT_DOUBLE_EQ(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, formulation: tsurudome, alpha: 0}"}).isph.alpha, 0.0);
+  EXPECT_FALSE(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, formulation: tsurudome, viscosity: artificial}"}).isph.laminar);
   ASSERT_EQ(c.warnings.size(), 1u);
   EXPECT_NE(c.warnings[0].find("scheme.delta"), std::string::npos);
   EXPECT_NE(c.warnings[0].find("ignored under scheme.type: isph"), std::string::npos);
   // a key no scheme knows stays an error, and so does a value out of range
   EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, cfll: 0.1}"}), InputError);
-  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, source: {gamma: 1.5}}"}), InputError);
+  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, formulation: tsurudome, source: {gamma: 1.5}}"}), InputError);
   // an option of the projection scheme under type: wcsph names the scheme it belongs to; gamma only with the
   // hybrid source, relaxation only with the split one
   try {
@@ -359,8 +359,8 @@ TEST(ISPH, OptionsAreReadAndWcsphKeysReported) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("scheme.type: isph"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, source: {type: split, gamma: 0.9}}"}), InputError);
-  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, source: {type: hybrid, relaxation: 0.2}}"}), InputError);
+  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, formulation: tsurudome, source: {type: split, gamma: 0.9}}"}), InputError);
+  EXPECT_THROW(parse_case(kLattice2D, "t.yaml", {"scheme={type: isph, formulation: tsurudome, source: {type: hybrid, relaxation: 0.2}}"}), InputError);
 }
 
 TEST(ISPH, UnsupportedModelsAreRefused) {

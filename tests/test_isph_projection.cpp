@@ -293,15 +293,23 @@ time: {end: 1.0}
   EXPECT_TRUE(c.isph.fs_at_surface);
   // Monaghan's term: it damps the surface rows' slow mode and a thin layer's noise on a slope (§13b); PySPH SISPH's
   EXPECT_EQ(c.isph.alpha, 0.05);
-  EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.alpha, 0.02);  // tsurudome's, unchanged
+  EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: tsurudome}"}).isph.alpha, 0.02);  // unchanged
   EXPECT_EQ(c.isph.cfl, 0.4);     // lind's Courant number (the dam break's metrics those of 0.2, §13b)
   EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, source: {type: split}}"}), InputError);
-  EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, correction: {min_eigenvalue: 0.3}}"}), InputError);
-  EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.formulation, IsphFormulation::Tsurudome);
-  EXPECT_EQ(parse_case(base, "t.yaml", {"scheme={type: isph}"}).isph.cfl, 0.2);  // Tsurudome's eq 3.6.6
+  EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: tsurudome, correction: {min_eigenvalue: 0.3}}"}),
+               InputError);
+  // lind is the default (issue 57); Tsurudome's stays selectable with its own defaults
+  const Case d = parse_case(base, "t.yaml", {"scheme={type: isph}"});
+  EXPECT_EQ(d.isph.formulation, IsphFormulation::Lind);
+  EXPECT_TRUE(d.isph.alpha == c.isph.alpha && d.isph.cfl == c.isph.cfl && d.isph.fs_at_surface && !d.isph.wall_adami);
+  const Case t = parse_case(base, "t.yaml", {"scheme={type: isph, formulation: tsurudome}"});
+  EXPECT_EQ(t.isph.formulation, IsphFormulation::Tsurudome);
+  EXPECT_EQ(t.isph.cfl, 0.2);  // Tsurudome's eq 3.6.6
+  EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, source: {type: split}}"}), InputError);  // lind's
   EXPECT_FALSE(c.isph.clamp_negative);  // tension kept unless asked
   EXPECT_TRUE(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: lind, negative_pressure: clamp}"}).isph.clamp_negative);
-  EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, negative_pressure: clamp}"}), InputError);
+  EXPECT_THROW(parse_case(base, "t.yaml", {"scheme={type: isph, formulation: tsurudome, negative_pressure: clamp}"}),
+               InputError);
 }
 
 }  // namespace sph::test

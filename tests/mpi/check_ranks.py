@@ -237,13 +237,14 @@ cases = [
      [{"name": "energy", "type": "energy"}, {"name": "u_mid", "type": "velocity", "point": [0.1, 0.05]}], 0.005, 1.0),
     ("poiseuille", "poiseuille_2d.yaml", {"time.end": 0.1, "time.output_interval": 0.01},
      [{"name": "energy", "type": "energy"}, {"name": "u_mid", "type": "velocity", "point": [0.0002, 0.0005]}], 2.5e-5, 1.0),
-    # ISPH (its pressure equation solved by hypre over every rank's rows) with a tight solver tolerance: at the
-    # default 1e-6 the partitions' different iterates dominate (energy 8e-5, wall pressure up to 0.8 of its peak
-    # in the impact; docs/parallel.md); at 1e-11 what is left is round-off, which the split source amplifies
-    # (gated against a one-ulp run, below)
+    # ISPH under Tsurudome's formulation (its pressure equation solved by hypre over every rank's rows) with a tight
+    # solver tolerance: at the default 1e-6 the partitions' different iterates dominate (energy 8e-5, wall pressure
+    # up to 0.8 of its peak in the impact; docs/parallel.md); at 1e-11 what is left is round-off, which the split
+    # source amplifies (gated against a one-ulp run, below)
     ("isph_dambreak", "dambreak_2d.yaml",
      {"particles.dx": 0.0073, "time.end": 0.3, "time.output_interval": 0.02, "scheme.type": "isph",
-      "scheme.shifting": {"coefficient": 2.0}, "scheme.solver.type": "boomeramg", "scheme.solver.tolerance": 1e-11},
+      "scheme.formulation": "tsurudome", "scheme.shifting": {"coefficient": 2.0}, "scheme.solver.type": "boomeramg",
+      "scheme.solver.tolerance": 1e-11},
      GAUGES_DB + [{"name": "p_wall", "type": "pressure", "point": [0.584, 0.0146]}], 0.0073, 1000 * 9.81 * 0.292),
     # the mixing-length model on a sloped free surface: a column's top (for the mixing length) may be another rank's
     # particle; without the columns' reduction over the ranks the energy differs by 1.5e-2 at t = 0.2 (checked)
@@ -259,8 +260,8 @@ cases = [
     # field, the split source's second solve and the dummies' feet across the cut, hypre over both ranks' rows
     ("isph_porous_dambreak", "porous_dambreak_liu.yaml",
      {"particles.dx": 0.01, "time.end": 0.3, "time.output_interval": 0.02, "scheme.type": "isph",
-      "scheme.shifting": {"coefficient": 2.0}, "scheme.solver": {"type": "boomeramg", "tolerance": 1e-11},
-      "scheme.source": {"type": "split"}},
+      "scheme.formulation": "tsurudome", "scheme.shifting": {"coefficient": 2.0},
+      "scheme.solver": {"type": "boomeramg", "tolerance": 1e-11}, "scheme.source": {"type": "split"}},
      GAUGES_DB + [{"name": "volume", "type": "water_volume"},
                   {"name": "p_wall", "type": "pressure", "point": [0.0, 0.05], "diameter": 0.02, "normal": [1.0, 0.0]}],
      0.01, 1000 * 9.81 * 0.3534),

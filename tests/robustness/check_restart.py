@@ -43,9 +43,10 @@ def kill_after(args, out, k):
     p.wait()
     return snapshots(out), p.returncode
 # each WCSPH integrator, and the projection scheme (its pressures are the next solve's warm start)
-# (isph_lind: the projection of Lind, Skillen and Chow, issue 57)
+# (isph: Tsurudome's formulation; isph_lind: the projection of Lind, Skillen and Chow, issue 57, the default)
 for integ in ["verlet", "symplectic", "isph", "isph_lind"]:
-    scheme = ["--set", "scheme.type=isph", "--set", "scheme.shifting.coefficient=2"] if integ == "isph" else \
+    scheme = ["--set", "scheme.type=isph", "--set", "scheme.formulation=tsurudome",
+              "--set", "scheme.shifting.coefficient=2"] if integ == "isph" else \
         ["--set", "scheme.type=isph", "--set", "scheme.formulation=lind"] if integ == "isph_lind" else \
         ["--set", f"scheme.integrator={integ}"]
     sets = ["--set", "particles.dx=0.0073", "--set", "time.end=0.5", "--set", "time.output_interval=0.02"] + scheme
@@ -108,7 +109,8 @@ for pscheme in ["wcsph", "isph", "isph_lind"]:
     ok, why, _, _, left = killed_and_restarted(
         f"piston_{pscheme}", ["run", pcase, "-q", "--threads", "2"] + sets_of(
             "particles.dx=0.01", "time.end=0.4", "time.output_interval=0.01", "time.snapshot_interval=0.02",
-            *(["scheme.type=isph", "scheme.formulation=lind"] if pscheme == "isph_lind" else [f"scheme.type={pscheme}"])),
+            *(["scheme.type=isph", "scheme.formulation=lind"] if pscheme == "isph_lind" else
+              ["scheme.type=isph", "scheme.formulation=tsurudome"] if pscheme == "isph" else [f"scheme.type={pscheme}"])),
         rng.randint(3, 15))
     check(ok, f"piston ({pscheme}, moving walls): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
 

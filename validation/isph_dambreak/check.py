@@ -14,10 +14,10 @@ Metrics:
      the simulated front linear between outputs; ISPH's no larger than WCSPH's (issue 57, check 2).
 Information: impact time and peak at the wall, total energy (gauge `energy`) of both runs against the initial
 potential energy (the energy ISPH dissipates), wall time of each run and the pressure solver's share.
-Outputs every 2 ms (the gauges are written at the output interval). The check's own key `--set formulation=lind`
-runs ISPH with `scheme.formulation: lind` (docs/numerics.md §13b; its `shifting: {coefficient: 2}` is then Skillen's
-velocity-scaled form, the same as under Tsurudome's; its Courant number 0.4, the formulation's default, over the case's
-0.2, which is WCSPH's acoustic one).
+Outputs every 2 ms (the gauges are written at the output interval). ISPH runs `scheme.formulation: lind`, the
+default (docs/numerics.md §13b; its `shifting: {coefficient: 2}` is Skillen's velocity-scaled form; its Courant
+number 0.4, the formulation's default, over the case's 0.2, which is WCSPH's acoustic one); the check's own key
+`--set formulation=tsurudome` runs Tsurudome's formulation instead (at its Courant number 0.2).
 Usage: /usr/bin/python3 validation/isph_dambreak/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR]
 """
 import json
@@ -93,7 +93,7 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     base = {"particles.dx": m["dx"], "time.end": m["end"], "time.output_interval": 0.002, **parse_sets(a.set)}
     dx = base["particles.dx"] = float(base["particles.dx"])  # (the mode's, or a --set particles.dx=..., e.g. a/80)
-    formulation = base.pop("formulation", "tsurudome")
+    formulation = base.pop("formulation", "lind")
     runs = {}
     isph = {"scheme.type": "isph", "scheme.formulation": formulation, "scheme.shifting": "{coefficient: 2}"}
     if formulation == "lind":

@@ -82,7 +82,7 @@ enum class PpeSource { Hybrid, Standard, DivergenceFree, Split };
 enum class IsphFormulation { Lind, Tsurudome };
 
 struct IsphConfig {
-  IsphFormulation formulation = IsphFormulation::Tsurudome;
+  IsphFormulation formulation = IsphFormulation::Lind;  // the default since issue 57 (docs/numerics.md §13)
   double correction_min_eigenvalue = 0.25;  // lind: the kernel-gradient correction's eigenvalue floor
   double fs_blend = 0.2;             // lind: Skillen's blend of the PPE over ∇·r ∈ [threshold, threshold + blend]
   bool laplacian_corrected = true;   // lind: the PPE's Laplacian corrected to first order (`laplacian: corrected`)

@@ -70,7 +70,7 @@ void read_isph_options(Reader& r, IsphConfig& o) {
       o.ignored.push_back(fmt::format("{}: scheme.{}", n.key_line() > 0 ? fmt::format("line {}", n.key_line())
                                                                       : std::string("(given with --set)"), k));
     }
-  const std::string form = r.choice("formulation", "tsurudome", {"lind", "tsurudome"});
+  const std::string form = r.choice("formulation", "lind", {"lind", "tsurudome"});
   o.formulation = form == "lind" ? IsphFormulation::Lind : IsphFormulation::Tsurudome;
   const bool lind = o.formulation == IsphFormulation::Lind;
   read_formulation_keys(r, o, lind);
