@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Still water under the projection scheme (issue 21, validation 1; cases/hydrostatic_isph.yaml).
 
-A tank 0.5 m wide holds h = 0.21 m of water at rest (Tsurudome's flume depth), run with scheme.type: isph.
+A tank 0.5 m wide holds h = 0.21 m of water at rest (Tsurudome's flume depth), run with scheme.type: isph (the
+default formulation, lind; Tsurudome's with --set scheme.formulation=tsurudome, CTest's second still tank).
 Metrics (closed form p = rho g (h - z), u = 0):
   1. bottom pressure: the kernel-interpolated gauge p_bottom, mean of the output rows with t >= 2 s, against
      rho g h: within 1 % (issue 21: "bottom pressure within 1 % of rho g h after 2 s") at dx = 0.005 (fine);
