@@ -5,7 +5,8 @@ one run of this script, on two of PySPH's own cases:
 1. dambreak: PySPH's 2D dam break, `python3 -m pysph.examples.dam_break_2d` (a column 1 m x 2 m in a tank 4 m
    long, dx = 0.03, h = 1.3 dx, tf = 2.5 s) with `--scheme wcsph` (WendlandQuintic, PEC, adaptive dt) and
    `--scheme sisph` (Muta, Ramachandran & Negi 2020; QuinticSpline); SPHFlume runs cases/dambreak_pysph.yaml (the
-   same particles) as written (WCSPH) and with `--set scheme.type=isph`. Metrics: the surge front against Martin &
+   same particles) as written (WCSPH) and with `--set scheme.type=isph` (its default formulation, lind since
+   issue 57; Tsurudome's with `--isph-set scheme.formulation=tsurudome`). Metrics: the surge front against Martin &
    Moyce (1952, n^2 = 2; bench/data/martin_moyce_1952.csv), the bed pressure next to the downstream wall, energy.
 2. tank: PySPH's hydrostatic tank, `python3 -m pysph.examples.hydrostatic_tank` (WCSPH; H = 0.9 m, g = 1 m/s^2,
    dx = 0.02, h = 1.2 dx, QuinticSpline, tf = 2 s) and the same tank under SISPHScheme
