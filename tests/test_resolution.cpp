@@ -265,9 +265,9 @@ TEST(Resolution, WallsNearARegionTakeItsLevel) {
   EXPECT_EQ(P.count(Kind::Wall), one.S.particles.count(Kind::Wall) + 3 * fine / 4);
 }
 
-TEST(Resolution, DualIntegratorAndShiftingAreRefused) {
+TEST(Resolution, DualIntegratorAndShepardAreRefused) {
   const std::string base = pool(kBlock);
-  for (const char* o : {"scheme.integrator=dual", "scheme.shifting.coefficient=1", "scheme.shepard_every=30"}) {
+  for (const char* o : {"scheme.integrator=dual", "scheme.shepard_every=30"}) {
     SCOPED_TRACE(o);
     std::string msg;
     try {

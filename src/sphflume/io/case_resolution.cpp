@@ -32,7 +32,6 @@ void check_models(const Node& root, const std::string& file, const Case& c) {
   if (c.scheme.type != "wcsph") refuse(file, rl, line_of(root, "scheme", "type"), fmt::format("scheme.type: {}", c.scheme.type));
   if (c.scheme.integrator == Integrator::Dual) refuse(file, rl, line_of(root, "scheme", "integrator"), "scheme.integrator: dual");
   if (c.scheme.shepard_every > 0) refuse(file, rl, line_of(root, "scheme", "shepard_every"), "a Shepard filter (scheme.shepard_every)");
-  if (c.scheme.shifting.on()) refuse(file, rl, line_of(root, "scheme", "shifting"), "particle shifting (scheme.shifting)");
   if (c.walls.type != "dummy") refuse(file, rl, line_of(root, "walls", "type"), fmt::format("walls.type: {}", c.walls.type));
   if (c.walls.repulsive) refuse(file, rl, line_of(root, "walls", "repulsive"), "repulsive walls (walls.repulsive)");
   if (c.turbulence.model != "none") refuse(file, rl, line_of(root, "turbulence"), "a turbulence model");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sphflume/core/fields.hpp"
 #include "sphflume/core/system.hpp"
 
 namespace sph {
@@ -150,6 +151,8 @@ void Shifting<D>::compute(System<D>& S, double dt) {
   const double surface = cfg_.surface > 0.0 ? cfg_.surface : (D == 2 ? 1.5 : 2.75);
   const auto* pf = S.porous ? P.find(field::porosity) : nullptr;  // SPHAM volumes m/(φρ)
   const double* phi = pf ? pf->data() : nullptr;
+  // resolution levels (docs/numerics.md §14): the pair's h_ab = (h_a + h_b)/2, as the pair pass takes it
+  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;
   // pass 1: ∇C and ∇·r of every owned fluid particle; images take their sources' values
   gc_.assign(nall, Vec<D>{});
   at_surface_.assign(nall, 0);
@@ -162,7 +165,8 @@ void Shifting<D>::compute(System<D>& S, double dt) {
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>& r, double r2) {
         if (b == a || r2 <= 0.0) return;
         const double vb = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
-        const double f = K.F(std::sqrt(r2)) * vb;  // ∇_a W_ab V_b = f r_ab
+        const double rr = std::sqrt(r2);
+        const double f = (hs ? K.Fh(rr, 2.0 / (hs[a] + hs[b])) : K.F(rr)) * vb;  // ∇_a W_ab V_b = f r_ab
         gc += f * r;
         divr -= f * r2;
       });
@@ -199,6 +203,7 @@ void Shifting<D>::displace(System<D>& S, double dt) {
   auto& dr = P.vector(field::shift);  // a particle field: it follows the store's re-sorting
   std::fill(dr.begin(), dr.end(), Vec<D>{});
   const double ah = cfg_.coefficient * S.h * dt;
+  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;  // (levels: h_a, h_ab)
   S.refresh_halos(gc_.data());
   S.refresh_halos(at_surface_.data());
   S.with_kernel([&](const auto& K) {
@@ -209,19 +214,21 @@ void Shifting<D>::displace(System<D>& S, double dt) {
     for (std::size_t a = 0; a < n; ++a) {
       if (P.kind[a] != Kind::Fluid || at_surface_[a]) continue;
       const double u = std::sqrt(dot(P.vel[a], P.vel[a]));
+      const double aha = hs ? cfg_.coefficient * hs[a] * dt : ah;
       if (!near_cells_[S.cells.cell_of(a)]) {
-        dr[a] = (-ah * u) * gc_[a];
+        dr[a] = (-aha * u) * gc_[a];
         continue;
       }
       Vec<D> ns{};
       bool near = false;
-      S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double) {
+      S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
         if (!at_surface_[b]) return;
+        if (hs && r2 >= 0.25 * K.support_factor * K.support_factor * (hs[a] + hs[b]) * (hs[a] + hs[b])) return;
         const double g = std::sqrt(dot(gc_[b], gc_[b]));
         if (g > 0.0) ns += (-1.0 / g) * gc_[b];  // the surface particle's outward normal
         near = true;
       });
-      Vec<D> d = (-ah * u) * gc_[a];
+      Vec<D> d = (-aha * u) * gc_[a];
       if (near) {
         const double nn = std::sqrt(dot(ns, ns));
         if (nn > 0.0) {

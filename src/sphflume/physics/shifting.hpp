@@ -9,7 +9,8 @@
 // threshold: 1.5 in 2D, 2.75 in 3D, against D inside the fluid) keeps its place, and one with
 // such a particle within its support moves only along the surface (the component along the
 // surface particles' mean outward normal −∇C/|∇C| is removed, Lind et al. 2012): otherwise the
-// second row, whose ∇C points inwards, would be pushed into the first. Shared by the schemes:
+// second row, whose ∇C points inwards, would be pushed into the first. With resolution levels
+// (docs/numerics.md §14) the pairs take h_ab = (h_a + h_b)/2 and each particle its own h in D. Shared by the schemes:
 // they call compute() with the neighbour lists of the state being advanced and apply() after it.
 #pragma once
 #include <vector>
