@@ -234,7 +234,8 @@ TEST(Resolution, RefusesWhatTheLevelsCannotServeYet) {
   const std::string e1 = test::build_error<2>(isph);
   EXPECT_HAS(e1, "line 8: 'resolution'");
   EXPECT_HAS(e1, "scheme.type: isph (line 4)");
-  EXPECT_HAS(err(kBlock, "turbulence: {model: mixing_length}\n"), "a turbulence model");
+  EXPECT_HAS(err(kBlock, "transport: {scalars: [{name: c, diffusivity: 1.0e-3}]}\n"), "transported scalars (transport)");
+  EXPECT_EQ(err(kBlock, "turbulence: {model: mixing_length}\n"), "");  // served since issue 58
   EXPECT_HAS(err(kBlock, "walls: {type: dynamic}\n"), "walls.type: dynamic");
   EXPECT_EQ(test::build_error<2>(pool(kBlock)), "");
   EXPECT_HAS(err("{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 4}", ""), "resolution.regions.0.level");

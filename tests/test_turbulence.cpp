@@ -5,8 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <memory>
 #include <numbers>
+#include <string>
+#include <vector>
 
+#include "sphflume/core/fields.hpp"
 #include "sphflume/physics/turbulence.hpp"
 #include "test_helpers.hpp"
 
@@ -262,4 +267,90 @@ time: {end: 1.0}
   P.vel[index_of(id)] = Vec<2>{{0.0, 0.5}};  // leaving faster than beta1 c0 / beta2: no attraction
   f = force_on(id);
   EXPECT_EQ(f[1], 0.0);
+}
+
+// Resolution levels (docs/numerics.md §14): the SPS filter width is each particle's level spacing dx/2^l, the pair
+// terms take h_ab. A lattice refined everywhere (level 1) under the linear shear of SmagorinskyEddyViscosity...
+// gives the uniform lattice at dx/2: ν_t and τ equal to the float pair sums' round-off.
+TEST(Turbulence, OnOneLevelEverywhereItIsTheUniformFineModel) {
+  const std::string refined = std::string(kLattice) + "resolution: {regions: [{shape: box, min: [-1.0, -1.0], max: [1.0, 1.0], level: 1}]}\n";
+  test::Setup<2> lev(refined, kSmagorinsky);
+  auto fine_overrides = kSmagorinsky;
+  fine_overrides.push_back("particles.dx=0.005");
+  test::Setup<2> uni(kLattice, fine_overrides);
+  ASSERT_EQ(lev.S.levels, 1);
+  ASSERT_EQ(lev.S.particles.n_owned(), uni.S.particles.n_owned());
+  const double gamma = 4.0;
+  std::map<std::pair<long, long>, std::pair<double, double>> at;  // the uniform run's (ν_t, τ_xz) by site
+  auto site = [](const Vec<2>& x) { return std::make_pair(std::lround(x[0] / 0.0025), std::lround(x[1] / 0.0025)); };
+  double numax = 0.0;
+  int compared = 0;
+  for (auto* s : {&uni, &lev}) {
+    auto& P = s->S.particles;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) P.vel[i] = Vec<2>{{gamma * P.pos[i][1], 0.0}};
+    s->S.update_neighbours();
+    s->scheme->rates(s->S);
+    const auto& nut = P.scalar(field::nu_t);
+    const auto& txz = P.scalar("tau_xz");
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (!interior(P.pos[i])) continue;
+      if (s == &uni) {
+        at[site(P.pos[i])] = {nut[i], txz[i]};
+        numax = std::max(numax, nut[i]);
+        continue;
+      }
+      ASSERT_TRUE(at.count(site(P.pos[i])));
+      const auto [nu_u, t_u] = at[site(P.pos[i])];
+      EXPECT_NEAR(nut[i], nu_u, 1e-5 * nu_u);
+      EXPECT_NEAR(txz[i], t_u, 1e-5 * std::abs(t_u));
+      ++compared;
+    }
+  }
+  // (C_s dx/2)² γ m with m ≈ 1: the fine spacing's filter width, a quarter of the level-0 one's ν_t
+  EXPECT_NEAR(numax, std::pow(0.15 * 0.005, 2) * gamma, 0.03 * std::pow(0.15 * 0.005, 2) * gamma);
+  EXPECT_GT(compared, 300);  // (the interior square at the fine spacing: 20 x 20)
+}
+
+// A sheared block whose middle is refined, Smagorinsky's stresses on: the stress divergence pairs
+// Σ m_b (τ_a/ρ_a² + τ_b/ρ_b²)·∇W_ab with h_ab are antisymmetric, so Σ m a = 0 to the float sums' round-off
+// although the stresses move the particles (their part of Σ m |a| is not small).
+TEST(Turbulence, StressesConserveMomentumAcrossLevels) {
+  const std::string yaml = R"(dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 0.0, sound_speed: 10.0, hydrostatic_init: false}
+scheme: {viscosity: laminar}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.4]}
+resolution:
+  regions:
+    - {shape: box, min: [0.1, 0.1], max: [0.3, 0.3]}
+time: {end: 0.1}
+)";
+  auto run = [&](bool turbulent) {
+    auto s = std::make_unique<test::Setup<2>>(yaml, turbulent ? std::vector<std::string>{"turbulence.model=smagorinsky", "turbulence.cs=0.5"}
+                                                             : std::vector<std::string>{});
+    auto& P = s->S.particles;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) P.vel[i] = Vec<2>{{std::sin(17.0 * P.pos[i][1]), 0.5 * std::cos(11.0 * P.pos[i][0])}};
+    s->S.update_neighbours();
+    s->scheme->rates(s->S);  // the velocity gradient, then the stresses
+    s->scheme->rates(s->S);  // the stresses' divergence
+    return s;
+  };
+  const auto with = run(true), without = run(false);
+  ASSERT_EQ(with->S.levels, 1);
+  const auto& P = with->S.particles;
+  const auto& Q = without->S.particles;
+  ASSERT_EQ(P.n_owned(), Q.n_owned());
+  Vec<2> sum{};
+  double scale = 0.0, stress = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    ASSERT_EQ(P.id[i], Q.id[i]);
+    sum += P.mass[i] * P.acc[i];
+    scale += P.mass[i] * norm(P.acc[i]);
+    stress += P.mass[i] * norm(P.acc[i] - Q.acc[i]);
+  }
+  ASSERT_GT(scale, 0.0);
+  EXPECT_GT(stress, 0.1 * scale);       // the stresses are a large part of the rates
+  EXPECT_LT(norm(sum), 1e-5 * scale);  // the float pair sums' round-off
 }

@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 
 #include "sphflume/core/errors.hpp"
+#include "sphflume/core/fields.hpp"
+#include "sphflume/core/refinement.hpp"
 
 namespace sph {
 
@@ -112,9 +114,14 @@ std::vector<double> Turbulence<D>::column_surface(const System<D>& S, double wid
     const std::size_t j = D == 3 ? static_cast<std::size_t>(col(x[1]) - lo[1] + 1.0 + dj) : 0;
     return j * nx + i;
   };
+  // each column's top: the highest particle's z plus its half spacing (resolution levels: its level's, dx/2^l)
+  const double* lv = S.levels > 0 ? P.require(field::level).data() : nullptr;
   std::vector<double> top(nx * ny, -inf);
   for (std::size_t a = 0; a < n; ++a)
-    if (fluid_like(P.kind[a])) top[cell(P.pos[a], 0, 0)] = std::max(top[cell(P.pos[a], 0, 0)], P.pos[a][D - 1]);
+    if (fluid_like(P.kind[a])) {
+      const double half = 0.5 * (lv ? level_h(S.dx, static_cast<int>(lv[a])) : S.dx);
+      top[cell(P.pos[a], 0, 0)] = std::max(top[cell(P.pos[a], 0, 0)], P.pos[a][D - 1] + half);
+    }
   S.comm->max(top.data(), top.size());
   const int r3 = D == 3 ? 1 : 0;
   for (std::size_t a = 0; a < n; ++a) {
@@ -122,7 +129,7 @@ std::vector<double> Turbulence<D>::column_surface(const System<D>& S, double wid
     double z = -inf;
     for (int di = -1; di <= 1; ++di)
       for (int dj = -r3; dj <= r3; ++dj) z = std::max(z, top[cell(P.pos[a], di, dj)]);
-    zs[a] = z + 0.5 * S.dx;
+    zs[a] = z;
   }
   return zs;
 }
@@ -138,7 +145,9 @@ void Turbulence<D>::update(System<D>& S) {
   const bool ml = cfg_.model == "mixing_length";
   std::vector<double> zs;
   if (ml && cfg_.profile != "constant") zs = column_surface(S, cfg_.column_width > 0.0 ? cfg_.column_width : 2.0 * S.dx);
+  // the SPS filter width: the particle spacing (resolution levels: each particle's level's, dx/2^l)
   const double delta = cfg_.delta > 0.0 ? cfg_.delta : S.dx;
+  const double* lv = S.levels > 0 && !(cfg_.delta > 0.0) ? P.require(field::level).data() : nullptr;
   const double gx = S.gravity[0];
   double numax = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : numax)
@@ -152,7 +161,7 @@ void Turbulence<D>::update(System<D>& S) {
     const double* G = grad_.data() + a * D * D;
     const double s = strain_norm(G);
     const double lm = ml ? mixing_length(P.pos[a][D - 1], zs.empty() ? 0.0 : zs[a], gx, S.nu) : 0.0;
-    const double nu = eddy_viscosity(s, lm, delta);
+    const double nu = eddy_viscosity(s, lm, lv ? level_h(S.dx, static_cast<int>(lv[a])) : delta);
     nut[a] = nu;
     numax = std::max(numax, nu);
     double tr = 0.0;

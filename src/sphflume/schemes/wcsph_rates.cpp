@@ -31,10 +31,12 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     if (b) f(std::true_type{});
     else f(std::false_type{});
   };
-  if (S.levels > 0) {  // resolution levels: per-pair h (setup refuses them with ISPH, turbulence, phases)
+  if (S.levels > 0) {  // resolution levels: per-pair h (setup refuses them with ISPH and phases)
     with_bool(cfg_.xsph > 0.0, [&](auto xs) {
-      with_bool(static_cast<bool>(S.porous), [&](auto po) {
-        this->template sweep<K, decltype(xs)::value, false, decltype(po)::value, false, true, true>(S, ker);
+      with_bool(turb, [&](auto tu) {
+        with_bool(static_cast<bool>(S.porous), [&](auto po) {
+          this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value, false, true, true>(S, ker);
+        });
       });
     });
   } else if (!cfg_.pressure) {  // the forces alone (ISPH's prediction: no pressure, no XSPH, one phase)
