@@ -9,6 +9,8 @@
 #include <random>
 
 #include "sphflume/io/gauges.hpp"
+#include "sphflume/physics/resolution.hpp"
+#include "sphflume/physics/transport.hpp"
 #include "sphflume/sim/health.hpp"
 #include "test_helpers.hpp"
 
@@ -250,4 +252,61 @@ transport:
   const auto h = check_health(s.S, HealthLimits{});
   ASSERT_TRUE(h.has_value());
   EXPECT_NE(h->find("non-finite dye"), std::string::npos) << *h;
+}
+
+// Resolution levels (docs/numerics.md §14): a pool whose middle is refined, with a scalar and densities that vary
+// from particle to particle. The diffusion's pairs take h_ab, so Σ m (dC/ρ)/dt = 0 across the levels to round-off;
+// moving the region splits the particles it now covers and merges those it left, and the scalar mass Σ m C/ρ is
+// kept through both (a merge takes the mass-weighted mean of C/ρ at the merged density).
+TEST(Transport, ScalarMassIsKeptAcrossLevels) {
+  const std::string yaml = R"(dimension: 2
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+scheme: {viscosity: artificial, alpha: 0.02}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.4]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.6, 0.3]}
+resolution:
+  regions:
+    - {shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 1}
+transport:
+  scalars:
+    - {name: c, diffusivity: 1.0e-3, initial: [{type: expression, expression: "sin(20*x)*cos(13*z) + 2"}]}
+time: {end: 0.1}
+)";
+  test::Setup<2> s(yaml);
+  ASSERT_EQ(s.S.levels, 1);
+  ASSERT_TRUE(s.S.transport);
+  auto& P = s.S.particles;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid) {
+      const double r = 1.0 + 0.01 * std::sin(23.0 * P.pos[i][0] + 7.0 * P.pos[i][1]);
+      s.S.transport->field(s.S, 0)[i] *= r;  // (the same mass fraction C/ρ as before)
+      P.rho[i] *= r;
+    }
+  s.scheme->initialise(s.S);  // (the levels' h)
+  s.S.update_neighbours();
+  s.S.transport->rates(s.S);
+  const auto& rate = P.scalar("_rate_c");
+  double sum = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid) { sum += P.mass[i] * rate[i]; scale += P.mass[i] * std::abs(rate[i]); }
+  ASSERT_GT(scale, 0.0);
+  EXPECT_LT(std::abs(sum), 1e-12 * scale);
+  auto scalar_mass = [&] {
+    double m = 0.0;
+    const auto& C = s.S.transport->field(s.S, 0);
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.kind[i] == Kind::Fluid) m += P.mass[i] * C[i] / P.rho[i];
+    return m;
+  };
+  const double before = scalar_mass();
+  ResolutionConfig moved = s.c.resolution;
+  moved.regions[0].region.min[0] += 0.15;
+  moved.regions[0].region.max[0] += 0.15;
+  std::uint32_t next_id = 0;
+  const AdaptCounts k = adapt_levels(s.S, moved, next_id);
+  EXPECT_GT(k.split, 100u);
+  EXPECT_GT(k.merged, 100u);
+  EXPECT_NEAR(scalar_mass(), before, 1e-12 * before);
 }

@@ -34,7 +34,6 @@ void check_models(const Node& root, const std::string& file, const Case& c) {
   if (c.scheme.shepard_every > 0) refuse(file, rl, line_of(root, "scheme", "shepard_every"), "a Shepard filter (scheme.shepard_every)");
   if (c.walls.type != "dummy") refuse(file, rl, line_of(root, "walls", "type"), fmt::format("walls.type: {}", c.walls.type));
   if (c.walls.repulsive) refuse(file, rl, line_of(root, "walls", "repulsive"), "repulsive walls (walls.repulsive)");
-  if (c.transport.on()) refuse(file, rl, line_of(root, "transport"), "transported scalars (transport)");
   if (c.multiphase.on()) refuse(file, rl, line_of(root, "multiphase"), "several phases (multiphase)");
   if (!c.open_boundaries.empty()) refuse(file, rl, line_of(root, "geometry"), "open boundaries (inflow/outflow shapes)");
 }
@@ -125,6 +124,10 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
                 fmt::format("false with scheme.integrator: {} (line {}): the multirate step is symplectic; set "
                             "scheme.integrator: symplectic", c.scheme.integrator == Integrator::Verlet ? "verlet" : "predictor_corrector",
                             line_of(root, "scheme", "integrator")));
+    if (c.transport.on())
+      r.fail_at(r.get("multirate"), "resolution.multirate",
+                fmt::format("false with transport (line {}): the multirate step does not advance transported scalars "
+                            "yet; the fixed step does", line_of(root, "transport")));
   }
   r.finish();
   check_models(root, file, c);

@@ -11,6 +11,7 @@
 #include "sphflume/core/pair_pass.hpp"
 #include "sphflume/core/refinement.hpp"
 #include "sphflume/physics/relax_step.hpp"
+#include "sphflume/physics/transport.hpp"
 
 namespace sph {
 
@@ -304,6 +305,14 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
     }
     std::array<double, G> w;
     for (std::size_t k = 0; k < G; ++k) w[k] = P.mass[g[k]] / M;
+    // transported scalars: the merged particle carries the group's scalar mass Σ m C/ρ (the mass-weighted mean of
+    // the mass fraction C/ρ, at the merged density), not the mean of C (which is not kept when the densities differ)
+    const std::size_t ns = S.transport ? S.transport->count() : 0;
+    std::vector<double> yfrac(ns, 0.0);
+    for (std::size_t k = 0; k < ns; ++k) {
+      const auto& C = S.transport->field(S, k);
+      for (std::size_t j = 0; j < G; ++j) yfrac[k] += w[j] * C[g[j]] / P.rho[g[j]];
+    }
     P.mean_extra_fields(a, g.data(), w.data(), G);
     P.pos[a] = (1.0 / M) * mx;
     P.vel[a] = (1.0 / M) * mv;
@@ -311,6 +320,7 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
     P.drho[a] = mdrho / M;
     P.rho[a] = M / vol;
     P.mass[a] = M;
+    for (std::size_t k = 0; k < ns; ++k) S.transport->field(S, k)[a] = P.rho[a] * yfrac[k];
     P.scalar(field::level.name)[a] = l - 1;
     P.scalar(field::smoothing_length.name)[a] = level_h(S.h, l - 1);
     restart_history(P, a);

@@ -111,6 +111,9 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double eta2 = eta2_ * S.h * S.h;
+  // resolution levels (docs/numerics.md §14): the pair's h_ab = (h_a + h_b)/2 in F and η², so that every pair term
+  // stays antisymmetric and Σ m C/ρ is kept between particles of different sizes
+  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;
   const double* nut = P.has(field::nu_t) ? P.scalar(field::nu_t).data() : nullptr;
   const double advect = cfg_.advection == ScalarAdvection::Conservative ? 0.0
                         : cfg_.advection == ScalarAdvection::None ? 1.0 : 2.0;
@@ -135,7 +138,9 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
         const bool wall_src = kb == Kind::Wall && src[b] == 1.0;
         if (!(fluid_like(kb) || wall_src)) return;
         const double rhob = P.rho[b], mb = P.mass[b], Db = diff(b);
-        const double F = ker.F(std::sqrt(r2)) * r2 / (r2 + eta2);
+        const double hab = hs ? 0.5 * (hs[a] + hs[b]) : 0.0;
+        const double F = hs ? ker.Fh(std::sqrt(r2), 1.0 / hab) * r2 / (r2 + eta2_ * hab * hab)
+                            : ker.F(std::sqrt(r2)) * r2 / (r2 + eta2);
         double t = 0.0;
         switch (op) {
           case DiffusionOperator::Consistent: {
@@ -185,7 +190,7 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
         if (P.kind[a] != Kind::Fluid) continue;
         double w = 0.0;
         S.cells.for_neighbours(P.pos, P.pos[a], ker.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-          if (P.kind[b] == Kind::Wall && src[b] == tag) w += ker.W(std::sqrt(r2));
+          if (P.kind[b] == Kind::Wall && src[b] == tag) w += hs ? ker.Wh(std::sqrt(r2), 2.0 / (hs[a] + hs[b])) : ker.W(std::sqrt(r2));
         });
         omega[a] = w * P.mass[a] / P.rho[a];
         total += omega[a];
@@ -250,7 +255,7 @@ double ScalarTransport<D>::time_step(const System<D>& S, double coef) const {
     double Dmax = sc.diffusivity + (sc.schmidt_turbulent > 0.0 ? nut_max / sc.schmidt_turbulent : 0.0);
     // Federico's (4.7) diffuses at twice the rate: its stable step is half as long
     if (cfg_.op == DiffusionOperator::Federico) Dmax *= 2.0;
-    if (Dmax > 0.0) dt = std::min(dt, coef * S.h * S.h / Dmax);
+    if (Dmax > 0.0) dt = std::min(dt, coef * S.finest_h() * S.finest_h() / Dmax);  // (levels: the finest h)
     if (sc.reaction_rate > 0.0) dt = std::min(dt, 0.05 / sc.reaction_rate);
   }
   return dt;
