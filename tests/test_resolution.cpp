@@ -237,6 +237,8 @@ TEST(Resolution, RefusesWhatTheLevelsCannotServeYet) {
   EXPECT_HAS(err(kBlock, "multiphase: {phases: [{name: oil, density: 900.0, shape: circle, center: [0.1, 0.1], radius: 0.05}]}\n"),
              "several phases (multiphase)");
   EXPECT_EQ(err(kBlock, "transport: {scalars: [{name: c, diffusivity: 1.0e-3}]}\n"), "");  // served since issue 58
+  EXPECT_HAS(err(std::string(kBlock) + "\n  multirate: true", "transport: {scalars: [{name: c, diffusivity: 1.0e-3}]}\n"),
+             "the multirate step does not advance transported scalars");
   EXPECT_EQ(err(kBlock, "turbulence: {model: mixing_length}\n"), "");  // served since issue 58
   EXPECT_HAS(err(kBlock, "walls: {type: dynamic}\n"), "walls.type: dynamic");
   EXPECT_EQ(test::build_error<2>(pool(kBlock)), "");
