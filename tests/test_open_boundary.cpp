@@ -4,8 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 #include "sphflume/boundaries/open_boundary.hpp"
+#include "sphflume/sim/simulation.hpp"
 #include "test_helpers.hpp"
 
 using namespace sph;
@@ -208,4 +213,29 @@ TEST(OpenBoundary, AveragedInflowRowsStackAtTheSettledHeights) {
   const double expected = 0.1 * (1.0 - 1000.0 * 9.81 * 0.1 / (2.0 * 1000.0 * 25.0));
   EXPECT_NEAR(col.back().first + 0.5 * col.back().second, bottom + height, 1e-12);  // rows touch
   EXPECT_NEAR(height, expected, 0.05 * (0.1 - expected));
+}
+
+// Resolution levels (docs/numerics.md §14, issue 58): the channel with a refined bed layer over its whole length,
+// run whole (run_case: the crossings, the splits and the merges of the run loop). New inflow particles are level 0
+// and split where they enter the layer; particles leave through the outflow at whatever level they have. Every
+// mass is counted: initial + inflow − outflow (+ backflow) = final to round-off, with splits and merges on the way.
+TEST(OpenBoundary, MassBalanceClosesWithALevelLayer) {
+  const std::string yaml = std::string(kChannel).substr(0, std::string(kChannel).find("time:")) +
+      "resolution: {regions: [{shape: box, min: [-0.1, -0.1], max: [0.5, 0.03], level: 1}]}\n"
+      "time: {end: 0.3, output_interval: 0.3}\n";
+  const Case c = parse_case(yaml, "channel.yaml");
+  ASSERT_TRUE(c.resolution.on());
+  RunOptions o;
+  o.output = (std::filesystem::temp_directory_path() / "sphflume_test_open_levels").string();
+  o.progress = false;
+  o.threads = 1;
+  const RunResult r = run_case(c, o);
+  ASSERT_EQ(r.exit_code, 0);
+  EXPECT_LT(std::abs(r.mass_error), 1e-12);
+  std::ifstream f(o.output + "/summary.json");
+  const auto j = nlohmann::json::parse(f);
+  EXPECT_GT(j["resolution"]["splits"].get<long>(), 0);     // inflow particles entering the layer
+  EXPECT_GT(j["mass"]["inflow"].get<double>(), 0.0);
+  EXPECT_GT(j["mass"]["outflow"].get<double>(), 0.0);
+  std::filesystem::remove_all(o.output);
 }
