@@ -310,3 +310,66 @@ time: {end: 0.1}
   EXPECT_GT(k.merged, 100u);
   EXPECT_NEAR(scalar_mass(), before, 1e-12 * before);
 }
+
+// Two phases on resolution levels (issue 58): a pool whose middle is refined holds a lighter phase across the
+// refined block's left face, its edges cutting through the refined particles' parents (so that the merges' groups
+// would mix the phases if they could). Moving the region splits and merges particles: each phase keeps its mass and its area
+// Σ m/ρ to round-off, a merge never mixes phases (every particle's phase stays a whole index), and the rates pass
+// over both levels and both phases conserves momentum (no gravity, no walls within reach).
+TEST(Transport, PhasesKeepTheirMassAndAreaAcrossLevels) {
+  const std::string yaml = R"(dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-3, sound_speed: 10.0, hydrostatic_init: false}
+scheme: {viscosity: laminar}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.6, 0.4]}
+multiphase:
+  phases:
+    - {name: oil, density: 800.0, shape: box, min: [0.1, 0.1], max: [0.295, 0.295]}  # (through the refined parents)
+resolution:
+  regions:
+    - {shape: box, min: [0.2, 0.1], max: [0.4, 0.3], level: 1}
+time: {end: 0.1}
+)";
+  test::Setup<2> s(yaml);
+  ASSERT_EQ(s.S.levels, 1);
+  ASSERT_EQ(s.S.phase_eos.size(), 2u);
+  auto& P = s.S.particles;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    P.vel[i] = Vec<2>{{std::sin(17.0 * P.pos[i][1]), 0.5 * std::cos(11.0 * P.pos[i][0])}};
+  s.scheme->initialise(s.S);
+  Vec<2> sum{};
+  double scale = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    sum += P.mass[i] * P.acc[i];
+    scale += P.mass[i] * norm(P.acc[i]);
+  }
+  ASSERT_GT(scale, 0.0);
+  EXPECT_LT(norm(sum), 1e-5 * scale);  // the float pair sums' round-off
+  auto totals = [&](int phase, double& m, double& area) {
+    m = 0.0; area = 0.0;
+    const auto& ph = P.scalar(field::phase);
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.kind[i] == Kind::Fluid && static_cast<int>(ph[i]) == phase) { m += P.mass[i]; area += P.mass[i] / P.rho[i]; }
+  };
+  double m0[2], a0[2];
+  for (int k = 0; k < 2; ++k) totals(k, m0[k], a0[k]);
+  ASSERT_GT(a0[1], 0.03);
+  ResolutionConfig moved = s.c.resolution;
+  moved.regions[0].region.min[0] -= 0.15;  // the block now covers the oil's left part, and leaves x > 0.25
+  moved.regions[0].region.max[0] -= 0.15;
+  s.S.update_neighbours();
+  std::uint32_t next_id = 0;
+  const AdaptCounts k = adapt_levels(s.S, moved, next_id);
+  EXPECT_GT(k.split, 100u);
+  EXPECT_GT(k.merged, 50u);
+  for (int p = 0; p < 2; ++p) {
+    double m1, a1;
+    totals(p, m1, a1);
+    EXPECT_NEAR(m1, m0[p], 1e-12 * m0[p]) << "phase " << p;
+    EXPECT_NEAR(a1, a0[p], 1e-12 * a0[p]) << "phase " << p;
+  }
+  const auto& ph = P.scalar(field::phase);
+  for (std::size_t i = 0; i < P.n_owned(); ++i) ASSERT_EQ(ph[i], std::round(ph[i]));
+}

@@ -34,7 +34,6 @@ void check_models(const Node& root, const std::string& file, const Case& c) {
   if (c.scheme.shepard_every > 0) refuse(file, rl, line_of(root, "scheme", "shepard_every"), "a Shepard filter (scheme.shepard_every)");
   if (c.walls.type != "dummy") refuse(file, rl, line_of(root, "walls", "type"), fmt::format("walls.type: {}", c.walls.type));
   if (c.walls.repulsive) refuse(file, rl, line_of(root, "walls", "repulsive"), "repulsive walls (walls.repulsive)");
-  if (c.multiphase.on()) refuse(file, rl, line_of(root, "multiphase"), "several phases (multiphase)");
 }
 
 /// `shape: band` (2D): a band along a slope of the geometry (`slope: N`, the index of a `type: slope`

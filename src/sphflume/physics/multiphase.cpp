@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/core/fields.hpp"
+
 namespace sph {
 
 template <int D>
@@ -47,13 +49,15 @@ void grenier_gamma(System<D>& S) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   auto& gam = P.scalar(field::gamma_grenier);
+  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;  // (levels: h_ab)
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::size_t a = 0; a < n; ++a) {
       if (P.kind[a] != Kind::Fluid) { gam[a] = 1.0; continue; }
       double g = 0.0;
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-        g += P.mass[b] / P.rho[b] * K.W(std::sqrt(r2));
+        const double r = std::sqrt(r2);
+        g += P.mass[b] / P.rho[b] * (hs ? K.Wh(r, 2.0 / (hs[a] + hs[b])) : K.W(r));
       });
       gam[a] = g;
     }

@@ -276,6 +276,8 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
   }
   if (!any) return 0;
   constexpr std::size_t G = kChildren<D>;
+  // several phases: a group merges within one phase (a particle is one fluid or the other)
+  const double* ph = S.phase_eos.empty() ? nullptr : P.require(field::phase).data();
   std::vector<char> gone(n, 0);
   std::vector<std::pair<double, std::uint32_t>> near;
   std::size_t groups = 0;
@@ -285,7 +287,7 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
     const double reach = level_h(S.dx, l - 1);  // a level-(l − 1) spacing
     near.clear();
     S.cells.for_neighbours(P.pos, P.pos[a], reach, [&](std::uint32_t b, const Vec<D>&, double r2) {
-      if (b != a && b < n && cand[b] && static_cast<int>(lv[b]) == l) near.emplace_back(r2, b);
+      if (b != a && b < n && cand[b] && static_cast<int>(lv[b]) == l && (!ph || ph[b] == ph[a])) near.emplace_back(r2, b);
     });
     if (near.size() < G - 1) continue;
     std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(G - 1), near.end());

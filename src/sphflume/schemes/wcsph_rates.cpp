@@ -31,7 +31,9 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     if (b) f(std::true_type{});
     else f(std::false_type{});
   };
-  if (S.levels > 0) {  // resolution levels: per-pair h (setup refuses them with ISPH and phases)
+  if (S.levels > 0 && !S.phase_eos.empty()) {  // resolution levels with several phases (no turbulence, porosity)
+    with_bool(cfg_.xsph > 0.0, [&](auto xs) { this->template sweep<K, decltype(xs)::value, false, false, true, true, true>(S, ker); });
+  } else if (S.levels > 0) {  // resolution levels: per-pair h (setup refuses them with ISPH)
     with_bool(cfg_.xsph > 0.0, [&](auto xs) {
       with_bool(turb, [&](auto tu) {
         with_bool(static_cast<bool>(S.porous), [&](auto po) {
