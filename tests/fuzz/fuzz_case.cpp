@@ -34,6 +34,7 @@ void build(const sph::Case& c) {
   sph::System<D> S;
   sph::BuildLimits limits;
   limits.max_particles = 1e5;  // keeps every input within -rss_limit_mb and -timeout
+  limits.max_setup_pairs = 2e7;  // so does this for resolution levels (4^l more candidates a point at level l)
   const sph::BuildReport rep = sph::build_system<D>(c, S, limits);
   // what build_system promises when it returns
   if (rep.fluid == 0 || S.particles.n_owned() != rep.fluid + rep.wall) __builtin_trap();

@@ -23,19 +23,19 @@ class DummyWalls final : public WallModel<D> {
     return WallModel<D>::bytes() + corr_.capacity() * sizeof(float);
   }
 
-  void prepare(System<D>& S) override {
+  void prepare(System<D>& S, const double* near_only) override {
     auto& P = S.particles;
     // the ghost velocity is only needed for no-slip walls (free-slip walls skip the viscous term)
     if (this->cfg.no_slip) corr_.resize(P.size() * D);
     // walls with no fluid within the kernel support keep the background state: skip their
     // neighbour search (most of a tank's walls, most of the time)
-    S.cells.mark_near(this->near_, [&, fast = S.fast_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); });
+    S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); });
     const auto& cells = S.cells;
     const Pass p{cells.sorted().data(), P.pos.data(), P.vel.data(), P.rho.data(), P.p.data(), P.kind.data(),
                  P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr,  // moving walls
                  this->cfg.no_slip ? corr_.data() : nullptr, P.n_owned(), this->cfg.clamp_negative_pressure,
                  S.eos.density(S.eos.background),
-                 S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr};
+                 S.level_h()};
     S.with_kernel([&](const auto& K) {
       // cells with wall particles; those with no fluid within reach keep the background state
       auto needs = [&](std::size_t cell) {
@@ -44,7 +44,7 @@ class DummyWalls final : public WallModel<D> {
           const std::uint32_t i = p.sorted[k];
           if (i >= p.n || p.kind[i] != Kind::Wall) continue;
           if (!this->near_[cell]) {  // no fluid within reach: the background state
-            if (S.fast_only) continue;  // (a multirate fast pass: no fast fluid near; the state of the last full pass stays)
+            if (near_only) continue;  // (a multirate fast pass: no fast fluid near; the state of the last full pass stays)
             P.p[i] = S.eos.background;
             P.rho[i] = p.rho_bg;
             if (p.gv)
@@ -251,7 +251,7 @@ class FixedGhostWalls final : public WallModel<D> {
     for (std::size_t k = 0; k < surface.size(); ++k) mir[first_wall + k] = 2.0 * surface[k] - P.pos[first_wall + k];
   }
 
-  void prepare(System<D>& S) override {
+  void prepare(System<D>& S, const double*) override {
     auto& P = S.particles;
     if (!P.has(field::ghost_mirror))
       throw std::logic_error("fixed_ghost walls: the geometry made no mirror points (ghost_mirror)");
@@ -308,7 +308,7 @@ class RepulsiveWalls final : public WallModel<D> {
   const char* name() const override { return "repulsive"; }
   bool evolves_density() const override { return false; }
   bool in_pair_sums() const override { return false; }
-  void prepare(System<D>&) override {}
+  void prepare(System<D>&, const double*) override {}
 };
 
 template <int D>
@@ -317,7 +317,7 @@ class DynamicWalls final : public WallModel<D> {
   using WallModel<D>::WallModel;
   const char* name() const override { return "dynamic"; }
   bool evolves_density() const override { return true; }
-  void prepare(System<D>&) override {}  // pressure follows the density in the integrator
+  void prepare(System<D>&, const double*) override {}  // pressure follows the density in the integrator
 };
 
 }  // namespace
@@ -340,8 +340,8 @@ void WallModel<D>::init_fields(System<D>& S, std::size_t first_wall, const std::
 }
 
 template <int D>
-void WallModel<D>::add_forces(System<D>& S) const {
-  if (cfg.backup) add_backup(S);
+void WallModel<D>::add_forces(System<D>& S, const double* near_only) const {
+  if (cfg.backup) add_backup(S, near_only);
   if (!cfg.repulsive) return;
   auto& P = S.particles;
   if (!P.has(field::wall_normal))
@@ -406,7 +406,7 @@ void backup_candidates(ScratchColumns<float>& B, const float* xk, const float* n
 }  // namespace
 
 template <int D>
-void WallModel<D>::add_backup(System<D>& S) const {
+void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   auto& P = S.particles;
   if (!P.has(field::wall_to_surface))
     throw std::logic_error("wall backup: the geometry made no wall surface vectors (wall_to_surface)");
@@ -423,7 +423,7 @@ void WallModel<D>::add_backup(System<D>& S) const {
   // candidates it passes are tested again in double, as the force uses them. The rare pairs
   // found are applied serially, sorted, so the sums do not depend on the threads.
   const int R = S.cells.reach_for(reach);  // (levels: cells may be narrower than the reach)
-  S.cells.mark_near(this->near_, [&, fast = S.fast_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); }, R);
+  S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); }, R);
   hits_.clear();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();

@@ -42,8 +42,10 @@ class WallModel {
   virtual const char* name() const = 0;
   /// Walls whose density is integrated by the continuity equation.
   virtual bool evolves_density() const = 0;
-  /// Set wall particles' p, rho and the velocity the viscous term sees.
-  virtual void prepare(System<D>& S) = 0;
+  /// Set wall particles' p, rho and the velocity the viscous term sees. near_only (a multirate pass of the fast
+  /// particles, schemes/wcsph_multirate.cpp: their flags, the store field "_fast"): only the walls near a flagged
+  /// fluid particle; null: near any fluid.
+  virtual void prepare(System<D>& S, const double* near_only) = 0;
   /// The no-slip ghost correction of the viscous term: D floats per particle, v_j − v_ghost,j
   /// of wall particle j (what the viscous term subtracts from the wall's velocity); entries of
   /// other particles are not read. nullptr: no correction (free-slip dummy walls, and the other
@@ -57,7 +59,7 @@ class WallModel {
   virtual bool in_pair_sums() const { return true; }
   /// After the pair loop: forces the walls add to fluid particles (the Monaghan–Kos repulsion
   /// when cfg.repulsive).
-  void add_forces(System<D>& S) const;
+  void add_forces(System<D>& S, const double* near_only = nullptr) const;
   /// Set-up (setup/setup.cpp): create the per-wall-particle fields this model reads, from each
   /// wall particle's nearest point of its shape's surface (surface[k] for particle first_wall + k):
   /// "wall_normal" (repulsion), "wall_to_surface" (backup); fixed ghosts add "ghost_mirror".
@@ -74,7 +76,7 @@ class WallModel {
   /// normal n_k) gets  f = A5 (1 − s/s0)² P(r∥) n_k,  s = (x_a − x_k)·n_k − d_k, with the
   /// Monaghan–Kos strength A5 and tangential weight P. The fluid's normal distance from the
   /// surface is dx/2, so a flow the wall model holds never feels it.
-  void add_backup(System<D>& S) const;
+  void add_backup(System<D>& S, const double* near_only) const;
   void apply_backup(System<D>& S) const;  // the force of each (fluid, wall) pair in hits_, in their sorted order
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
 };

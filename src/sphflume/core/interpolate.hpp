@@ -24,7 +24,7 @@ const double* porosity_field(const System<D>& S) {
 /// resolution: fetched once per interpolation, for point_kernel.
 template <int D>
 const double* level_h_field(const System<D>& S) {
-  return S.levels == 0 ? nullptr : S.particles.require(field::smoothing_length).data();
+  return S.level_h();
 }
 
 /// The kernel of particle b at distance r from the point: W(r, h) with one resolution (hs null);

@@ -54,11 +54,11 @@ struct System {
     const double* hv = hs->data();
     cells.set_reach([hv](std::uint32_t j) { return hv[j]; }, support / h);
   }
-  /// A multirate pass of the fast particles only (schemes/wcsph_multirate.cpp): their flags (the
-  /// store field "_fast"), so that the walls set the states only near them; null otherwise.
-  const double* fast_only = nullptr;
   /// The smallest smoothing length (the time step's).
   double finest_h() const { return levels > 0 ? h / double(1 << levels) : h; }
+  /// Each particle's smoothing length with resolution levels (store field "h", docs/numerics.md §14); null with
+  /// one resolution, where every pair takes h.
+  const double* level_h() const { return levels > 0 ? particles.require(field::smoothing_length).data() : nullptr; }
   Eos eos;
   double nu = 0.0;  // kinematic viscosity
   V gravity{};

@@ -49,7 +49,7 @@ void grenier_gamma(System<D>& S) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   auto& gam = P.scalar(field::gamma_grenier);
-  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;  // (levels: h_ab)
+  const double* hs = S.level_h();  // (levels: h_ab)
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::size_t a = 0; a < n; ++a) {

@@ -152,7 +152,7 @@ void Shifting<D>::compute(System<D>& S, double dt) {
   const auto* pf = S.porous ? P.find(field::porosity) : nullptr;  // SPHAM volumes m/(φρ)
   const double* phi = pf ? pf->data() : nullptr;
   // resolution levels (docs/numerics.md §14): the pair's h_ab = (h_a + h_b)/2, as the pair pass takes it
-  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;
+  const double* hs = S.level_h();
   // pass 1: ∇C and ∇·r of every owned fluid particle; images take their sources' values
   gc_.assign(nall, Vec<D>{});
   at_surface_.assign(nall, 0);
@@ -203,7 +203,7 @@ void Shifting<D>::displace(System<D>& S, double dt) {
   auto& dr = P.vector(field::shift);  // a particle field: it follows the store's re-sorting
   std::fill(dr.begin(), dr.end(), Vec<D>{});
   const double ah = cfg_.coefficient * S.h * dt;
-  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;  // (levels: h_a, h_ab)
+  const double* hs = S.level_h();  // (levels: h_a, h_ab)
   S.refresh_halos(gc_.data());
   S.refresh_halos(at_surface_.data());
   S.with_kernel([&](const auto& K) {

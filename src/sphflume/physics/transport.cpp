@@ -113,7 +113,7 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
   const double eta2 = eta2_ * S.h * S.h;
   // resolution levels (docs/numerics.md §14): the pair's h_ab = (h_a + h_b)/2 in F and η², so that every pair term
   // stays antisymmetric and Σ m C/ρ is kept between particles of different sizes
-  const double* hs = S.levels > 0 ? P.require(field::smoothing_length).data() : nullptr;
+  const double* hs = S.level_h();
   const double* nut = P.has(field::nu_t) ? P.scalar(field::nu_t).data() : nullptr;
   const double advect = cfg_.advection == ScalarAdvection::Conservative ? 0.0
                         : cfg_.advection == ScalarAdvection::None ? 1.0 : 2.0;

@@ -59,7 +59,7 @@ void DualWCSPH<D>::step(System<D>& S, double dt) {
   }
   // pass A: pressure force and acoustic density dissipation; the kick
   S.update_neighbours();
-  S.walls->prepare(S);
+  S.walls->prepare(S, nullptr);
   riemann_pass(S, 0);
   S.walls->add_forces(S);
   for (auto& f : S.forces) f->add(S);

@@ -442,11 +442,10 @@ void WCSPH<D>::rates(System<D>& S) {
   // resolution levels: h at the particles' places (a multirate fast pass keeps the h of the last
   // full pass, a quarter step old: h is a smooth field, and both sides of a pair read the same)
   if (S.levels > 0 && !fast_only_) smooth_level_h(S);
-  S.fast_only = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;  // (the walls near the fast ones)
-  S.walls->prepare(S);
+  const double* near_fast = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;  // (the walls near the fast ones)
+  S.walls->prepare(S, near_fast);
   S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
-  S.walls->add_forces(S);
-  S.fast_only = nullptr;
+  S.walls->add_forces(S, near_fast);
   for (auto& f : S.forces) f->add(S);
   if (S.porous) S.porous->drag(S);  // the drag rate the integrator applies point-implicitly
   if (S.transport) S.transport->rates(S);  // after the pair loop: the advection variants use drho

@@ -42,6 +42,14 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
   S.levels = c.resolution.max_level();
   S.finest_cells = S.levels > 0 && c.resolution.finest_cells;
   if (S.levels > 0) {
+    // (every point scans the level-0 support: 4^l (2D) or 8^l (3D) times a level-0 point's candidates at level l)
+    const double reach = S.support / (dx / double(1 << S.levels));
+    const double work = double(f.fluid_x.size()) * (D == 2 ? 3.14159 * reach * reach : 4.18879 * reach * reach * reach) *
+                        double(c.resolution.relax_iterations + 2);
+    if (!(work <= limits.max_setup_pairs))
+      throw InputError(fmt::format("{}: line {}: 'resolution': the level interface's set-up relaxation would evaluate "
+                                   "about {:.2g} kernel pairs, over this build's limit of {:.2g}: fewer levels or a "
+                                   "smaller resolution.relax", c.file, c.resolution.line, work, limits.max_setup_pairs));
     const auto rr = relax_level_band<D>(c.kernel, S.h, dx, f.fluid_x, f.fluid_level, f.wall_x, c.resolution.relax_iterations);
     rep.levels = S.levels;
     for (const int l : f.fluid_level) rep.refined += l > 0 ? 1 : 0;

@@ -36,6 +36,10 @@ struct BuildReport {
 struct BuildLimits {
   double max_particles = 5e8;
   double max_cells = 268435456.0;  // 2^28: 1 GiB of cell starts
+  // the level interface's set-up relaxation (resolution levels): points x candidates within the level-0 support
+  // at the finest spacing x iterations, an estimate of its kernel evaluations (no limit for a run; the fuzzing
+  // target bounds it, as it bounds the particles, to keep every input within its time limit)
+  double max_setup_pairs = 1e300;
 };
 
 /// Fill S.particles from the case geometry and set kernel, h, EOS, gravity, periodicity.
