@@ -588,3 +588,21 @@ TEST(Resolution, TheStepFollowsTheFinestLevelPresent) {
   EXPECT_EQ(dt_dry, 2.0 * wet.named->time_step(wet.S));
   EXPECT_EQ(mr.named->time_step(mr.S), dt_dry);
 }
+
+TEST(Resolution, SetupRelaxationWorkLimitIsNamed) {
+  // BuildLimits::max_setup_pairs (no limit for a run; the fuzzing target's 2e7): refused with the fix
+  const Case c = parse_case(pool(kBlock), "case.yaml");
+  System<2> S;
+  BuildLimits limits;
+  limits.max_setup_pairs = 1e3;
+  std::string msg;
+  try {
+    build_system<2>(c, S, limits);
+  } catch (const InputError& e) {
+    msg = e.what();
+  }
+  EXPECT_HAS(msg, "line 8: 'resolution'");
+  EXPECT_HAS(msg, "resolution.relax");
+  System<2> T;
+  EXPECT_NO_THROW(build_system<2>(c, T));  // (the default: no limit)
+}
