@@ -75,4 +75,33 @@ inline std::pair<double, double> lattice_moments(const System<2>& S, std::size_t
   return {m, mL};
 }
 
+/// A 0.4 m x 0.4 m block of fluid, no gravity, no walls, its middle (0.1 … 0.3 m) refined to level 1 (dx 0.01,
+/// h/dx 2.0); `nu` the viscosity, `extra` more top-level keys: the pair terms of a model across levels.
+inline std::string refined_block_2d(const std::string& nu = "1.0e-3", const std::string& extra = "") {
+  return R"(dimension: 2
+gravity: [0.0, 0.0]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: )" + nu + R"(, sound_speed: 10.0, hydrostatic_init: false}
+scheme: {viscosity: laminar}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.4]}
+resolution:
+  regions:
+    - {shape: box, min: [0.1, 0.1], max: [0.3, 0.3]}
+time: {end: 0.1}
+)" + extra;
+}
+
+/// |Σ m a| and Σ m |a| over the owned particles: a rates pass's momentum balance and its scale.
+template <int D>
+std::pair<double, double> momentum_balance(const ParticleStore<D>& P) {
+  Vec<D> sum{};
+  double scale = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    sum += P.mass[i] * P.acc[i];
+    scale += P.mass[i] * norm(P.acc[i]);
+  }
+  return {norm(sum), scale};
+}
+
 }  // namespace sph::test

@@ -42,6 +42,16 @@ double disorder(const System<2>& S) {
   }
   return std::sqrt(s / double(P.n_owned()));
 }
+
+/// n shifts of the periodic block s by sh, each from freshly built neighbour lists.
+void shift_times(test::Setup<2>& s, Shifting<2>& sh, double dt, int n) {
+  for (int k = 0; k < n; ++k) {
+    s.S.update_neighbours();
+    sh.compute(s.S, dt);
+    sh.apply(s.S);
+    s.S.periodic.wrap(s.S.particles);
+  }
+}
 }  // namespace
 
 // A lattice disturbed by up to ±0.2 dx (fixed pseudo-random numbers): shifting is a diffusion of
@@ -64,12 +74,7 @@ TEST(Shifting, RelaxesADisturbedLatticeTowardsUniform) {
   EXPECT_GT(d0, 0.05);
   double prev = d0;
   for (int block = 0; block < 5; ++block) {
-    for (int k = 0; k < 100; ++k) {
-      s.S.update_neighbours();
-      sh.compute(s.S, dt);
-      sh.apply(s.S);
-      s.S.periodic.wrap(P);
-    }
+    shift_times(s, sh, dt, 100);
     s.S.update_neighbours();
     const double d = disorder(s.S);
     EXPECT_LT(d, prev) << "block " << block;
@@ -207,12 +212,7 @@ TEST(Shifting, RelaxesDisorderAcrossALevelInterface) {
   const double dt = 0.02 * s.S.h / 1.0;
   s.S.update_neighbours();
   const double d0 = disorder_levels(s.S);
-  for (int k = 0; k < 500; ++k) {
-    s.S.update_neighbours();
-    sh.compute(s.S, dt);
-    sh.apply(s.S);
-    s.S.periodic.wrap(P);
-  }
+  shift_times(s, sh, dt, 500);
   s.S.update_neighbours();
   const double d = disorder_levels(s.S);
   EXPECT_GT(d0, 0.05);
