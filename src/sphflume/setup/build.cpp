@@ -1,5 +1,6 @@
 // The particles of a case (setup/setup.hpp): build_system.
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -44,7 +45,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
   if (S.levels > 0) {
     // (every point scans the level-0 support: 4^l (2D) or 8^l (3D) times a level-0 point's candidates at level l)
     const double reach = S.support / (dx / double(1 << S.levels));
-    const double work = double(f.fluid_x.size()) * (D == 2 ? 3.14159 * reach * reach : 4.18879 * reach * reach * reach) *
+    const double work = double(f.fluid_x.size()) * (D == 2 ? std::numbers::pi * reach * reach : 4.0 / 3.0 * std::numbers::pi * reach * reach * reach) *
                         double(c.resolution.relax_iterations + 2);
     if (!(work <= limits.max_setup_pairs))
       throw InputError(fmt::format("{}: line {}: 'resolution': the level interface's set-up relaxation would evaluate "
