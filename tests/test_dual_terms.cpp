@@ -31,7 +31,7 @@ struct OneCandidate {
   }
   Block block() const {
     return {c[X0].data(), c[X1].data(), c[X1].data(), c[U0].data(), c[U1].data(), c[U1].data(),
-            c[N0].data(), c[N1].data(), c[N1].data(), c[PRS].data(), c[VOL].data()};
+            c[N0].data(), c[N1].data(), c[N1].data(), c[PRS].data(), c[VOL].data(), nullptr};  // (h: levels only)
   }
 };
 
@@ -45,7 +45,7 @@ std::array<F32, N> sums(Terms&& terms) {
 // a at x_a, b at x_b with their states; the pressure pass's sums of a over b
 std::array<F32, 4> pressure(F32 xa, F32 ya, F32 pa, F32 xb, F32 yb, F32 pb, F32 vb) {
   const OneCandidate b(xb, yb, 0, 0, pb, vb);
-  const Row a{xa, ya, ya, 0, 0, 0, pa};
+  const Row a{xa, ya, ya, 0, 0, 0, pa, 0};
   const Block bl = b.block();
   return sums<4>([&](std::size_t l, auto&& acc) { pressure_terms<2>(kKer, F32(kKer.support2), a, bl, l, acc); });
 }
@@ -53,7 +53,7 @@ std::array<F32, 4> pressure(F32 xa, F32 ya, F32 pa, F32 xb, F32 yb, F32 pb, F32 
 std::array<F32, 3> continuity(F32 ua0, F32 ua1, F32 ub0, F32 ub1, F32 rx, F32 ry, bool wall, F32 n0 = 0, F32 n1 = 0,
                               F32 fk = F32(3.0 / 20.0)) {
   const OneCandidate b(0, 0, ub0, ub1, 0, F32(kDx * kDx), n0, n1);
-  const Row a{rx, ry, ry, ua0, ua1, ua1, 0};
+  const Row a{rx, ry, ry, ua0, ua1, ua1, 0, 0};
   const Block bl = b.block();
   if (wall) return sums<3>([&](std::size_t l, auto&& acc) { continuity_terms<2, true>(kKer, fk, a, bl, l, acc); });
   return sums<3>([&](std::size_t l, auto&& acc) { continuity_terms<2, false>(kKer, fk, a, bl, l, acc); });
@@ -144,7 +144,7 @@ TEST(DualTerms, DensitySumOverALatticeIsTheLatticeKernelSum) {
     }
   for (; n < 64; ++n) B[X0][n] = B[X1][n] = F32(kPaddingDistance);
   const Block cols = columns_of<2>(B);
-  const Row a{0, 0, 0, 0, 0, 0, 0};
+  const Row a{0, 0, 0, 0, 0, 0, 0, 0};
   LaneSums<16, 2> v;
   for (std::size_t k0 = 0; k0 < 64; k0 += 16) {
     const Block b = block_at(cols, k0);

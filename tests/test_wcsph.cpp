@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "sphflume/core/eos.hpp"
+#include "sphflume/io/gauges.hpp"
 #include "test_helpers.hpp"
 
 using namespace sph;
@@ -151,6 +152,44 @@ time: {end: 1.0}
     EXPECT_NEAR(P.p[i], expected, 0.005 * 1000.0 * 9.81 * 0.5) << "wall particle at z = " << P.pos[i][1];
   }
   EXPECT_GT(n, 20);
+}
+
+// The wall_force gauge integrates the dummy walls' pressure over their faces (io/gauge_line.cpp). On a hydrostatic
+// column each face-layer particle holds ρ g (H − z) within 0.5 % of ρ g H (the test above) and the midpoint sum of
+// the linear profile over faces of dx is exact (clamped at 0 above the surface), so the side wall's force is ½ ρ g H²
+// within 0.005 ρ g H × H = 1 %; the bed's is ρ g (H + dx/2) L (its face layer's centres lie dx/2 below the bed)
+// within 0.5 %. With the wall's right part split to level 1 at set-up (faces of dx/2) the sums are the same.
+TEST(Walls, WallForceGaugeIntegratesAHydrostaticColumn) {
+  const std::string base = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01}
+fluid: {density: 1000.0, sound_speed: 30.0}
+walls: {type: dummy}
+geometry:
+  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.6]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.5]}
+time: {end: 1.0}
+)";
+  const double rg = 1000.0 * 9.81, H = 0.5, L = 0.4, dx = 0.01;
+  for (const std::string extra : {"", "resolution: {regions: [{shape: box, min: [0.25, 0.0], max: [0.4, 0.6], level: 1}]}\n"}) {
+    test::Setup<2> s(base + extra);
+    s.scheme->initialise(s.S);
+    auto force = [&](std::vector<double> a, std::vector<double> b) {
+      GaugeConfig g;
+      g.type = "wall_force";
+      g.start = a;
+      g.end = b;
+      return GaugeSet<2>::evaluate(g, s.S, 1.0)[0];
+    };
+    const std::string tag = extra.empty() ? "one level" : "right part at level 1";
+    EXPECT_NEAR(force({0.4, 0.0}, {0.4, 0.6}), 0.5 * rg * H * H, 0.01 * 0.5 * rg * H * H) << tag;  // right wall, +x
+    EXPECT_NEAR(force({0.0, 0.6}, {0.0, 0.0}), 0.5 * rg * H * H, 0.01 * 0.5 * rg * H * H) << tag;  // left wall, −x
+    EXPECT_NEAR(force({0.0, 0.0}, {0.4, 0.0}), rg * (H + 0.5 * dx) * L, 0.005 * rg * H * L) << tag;  // the bed, −z
+    // a stretch: the lower half of the right wall carries ¾ of the force; the face going the other way sees none
+    EXPECT_NEAR(force({0.4, 0.0}, {0.4, 0.25}), 0.375 * rg * H * H, 0.01 * 0.5 * rg * H * H) << tag;
+    EXPECT_EQ(force({0.4, 0.6}, {0.4, 0.0}), 0.0) << tag;
+  }
 }
 
 TEST(Walls, FixedGhostsMirrorAHydrostaticColumn) {

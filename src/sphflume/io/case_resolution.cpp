@@ -30,7 +30,6 @@ int line_of(const Node& root, const char* a, const char* b = "") {
 void check_models(const Node& root, const std::string& file, const Case& c) {
   const int rl = c.resolution.line;
   if (c.scheme.type != "wcsph") refuse(file, rl, line_of(root, "scheme", "type"), fmt::format("scheme.type: {}", c.scheme.type));
-  if (c.scheme.integrator == Integrator::Dual) refuse(file, rl, line_of(root, "scheme", "integrator"), "scheme.integrator: dual");
   if (c.scheme.shepard_every > 0) refuse(file, rl, line_of(root, "scheme", "shepard_every"), "a Shepard filter (scheme.shepard_every)");
   if (c.walls.type != "dummy") refuse(file, rl, line_of(root, "walls", "type"), fmt::format("walls.type: {}", c.walls.type));
   if (c.walls.repulsive) refuse(file, rl, line_of(root, "walls", "repulsive"), "repulsive walls (walls.repulsive)");
@@ -120,7 +119,8 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
     if (c.scheme.integrator != Integrator::Symplectic)
       r.fail_at(r.get("multirate"), "resolution.multirate",
                 fmt::format("false with scheme.integrator: {} (line {}): the multirate step is symplectic; set "
-                            "scheme.integrator: symplectic", c.scheme.integrator == Integrator::Verlet ? "verlet" : "predictor_corrector",
+                            "scheme.integrator: symplectic", c.scheme.integrator == Integrator::Verlet ? "verlet"
+                            : c.scheme.integrator == Integrator::Dual ? "dual" : "predictor_corrector",
                             line_of(root, "scheme", "integrator")));
     if (c.transport.on())
       r.fail_at(r.get("multirate"), "resolution.multirate",

@@ -1,6 +1,6 @@
 // Line gauges (io/gauge_type.hpp): profiles of velocity, turbulent stress and a scalar at points
-// along a line (their coordinates in NAME.points.csv), and the volume and scalar fluxes through a
-// line's wet part.
+// along a line (their coordinates in NAME.points.csv), the volume and scalar fluxes through a
+// line's wet part, and the pressure force on a stretch of wall face.
 #include <cmath>
 #include <limits>
 
@@ -167,6 +167,52 @@ class ScalarFluxGauge final : public GaugeType<D> {
   }
 };
 
+/// wall_force: the pressure force per metre of width [N/m] on the stretch of a wall face from
+/// start to end (2D): the wall particles' pressure integrated over their faces, F = Σ_w p_w s_w,
+/// over the face layer (the wall particles whose centres lie behind the line, along its normal n,
+/// within their own spacing s_w = √(m_w/ρ0), and whose projections fall within the stretch). For a
+/// line going up n = +x: the push of the water on a wall to its right. The dummy walls' pressure
+/// is the fluid's extrapolated to each wall particle (boundaries/walls.cpp), as the momentum
+/// equation reads it, less the background pressure (a dry wall particle's: 0). Resolution levels:
+/// each particle its own s_w.
+template <int D>
+class WallForceGauge final : public GaugeType<D> {
+ public:
+  void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override {
+    if (D != 2) r.fail_at(n, path, "a 2D case (wall_force gauges are 2D in this version)");
+    g.start = r.vec("start", D);
+    g.end = r.vec("end", D);
+    for (const char* k : {"start", "end"})
+      if (!r.has(k)) r.misspelt(k);
+    if (g.start.empty() || g.end.empty())
+      r.fail_at(n, path, "'start' and 'end' points of the wall face (for a face going up, the wall lies to +x)");
+    double len2 = 0.0;
+    for (int d = 0; d < D; ++d) len2 += (g.end[d] - g.start[d]) * (g.end[d] - g.start[d]);
+    if (!(len2 > 0.0)) r.fail_at(r.get("end"), r.key_path("end"), "an end point different from 'start'");
+  }
+  std::string columns(const GaugeConfig&) const override { return ",force"; }
+  std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
+    const auto& P = S.particles;
+    const Vec<D> a = point_of<D>(g.start);
+    Vec<D> t = point_of<D>(g.end) - a;
+    const double len = std::sqrt(dot(t, t));
+    t *= 1.0 / len;
+    Vec<D> nrm{};
+    nrm[0] = t[D - 1];
+    nrm[D - 1] = -t[0];
+    const double rho0 = S.eos.rho0;
+    double F = 0.0;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Wall) continue;
+      const Vec<D> r = P.pos[i] - a;
+      const double along = dot(r, t), depth = dot(r, nrm), s = std::sqrt(P.mass[i] / rho0);
+      if (depth > 0.0 && depth < s && along >= 0.0 && along < len) F += (P.p[i] - S.eos.background) * s;
+    }
+    S.comm->sum(&F, 1);
+    return {F};
+  }
+};
+
 }  // namespace
 
 template <int D>
@@ -176,6 +222,7 @@ void add_line_gauges(Registry<GaugeType<D>>& reg) {
   add_gauge<ScalarProfileGauge>(reg, "scalar_profile");
   add_gauge<FluxGauge>(reg, "flux");
   add_gauge<ScalarFluxGauge>(reg, "scalar_flux");
+  add_gauge<WallForceGauge>(reg, "wall_force");
 }
 SPHFLUME_GAUGE_FAMILY(add_line_gauges)
 

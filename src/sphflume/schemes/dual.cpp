@@ -10,6 +10,7 @@
 
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/force_terms.hpp"
+#include "sphflume/physics/resolution.hpp"
 #include "sphflume/schemes/wcsph_common.hpp"
 
 namespace sph {
@@ -17,6 +18,7 @@ namespace sph {
 template <int D>
 void DualWCSPH<D>::initialise(System<D>& S) {
   S.update_neighbours();
+  if (S.levels > 0) smooth_level_h(S);  // (resolution levels: h at the particles' places)
   if (cfg_.density_reinit) reinit_density(S);
   eos_pressure(S);
   // the continuity pass at t = 0: Dρ and the dissipation the first kick adds
@@ -45,8 +47,9 @@ void DualWCSPH<D>::step(System<D>& S, double dt) {
     for (std::size_t i = 0; i < n; ++i)
       if (P.kind[i] == Kind::Fluid) umax2 = std::max(umax2, dot(P.vel[i], P.vel[i]));
     umax2 = S.comm->max(umax2);  // (every rank opens the same advection steps)
-    const double speed = std::sqrt(std::max({umax2, 4.0 * S.h * S.comm->max(max_acc_), 0.01 * S.eos.c0 * S.eos.c0}));
-    adv_left_ += cfg_.advection_cfl * S.h / speed;
+    const double h = step_h(S);  // (levels: the finest level present's h, as the acoustic step's)
+    const double speed = std::sqrt(std::max({umax2, 4.0 * h * S.comm->max(max_acc_), 0.01 * S.eos.c0 * S.eos.c0}));
+    adv_left_ += cfg_.advection_cfl * h / speed;
   }
   // half step of density and position, the pressure of the new density (the walls' comes
   // from walls->prepare: the case reader allows only dummy walls with this integrator)
@@ -59,6 +62,7 @@ void DualWCSPH<D>::step(System<D>& S, double dt) {
   }
   // pass A: pressure force and acoustic density dissipation; the kick
   S.update_neighbours();
+  if (S.levels > 0) smooth_level_h(S);  // (levels: h at the new places; pass B and the next summation keep it)
   S.walls->prepare(S, nullptr);
   riemann_pass(S, 0);
   S.walls->add_forces(S);

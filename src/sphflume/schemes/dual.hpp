@@ -3,7 +3,8 @@
 // time stepping of Zhang, Zhang & Hu (2020, J. Comput. Phys. 404), the scheme of SPHinXsys's
 // fluid dynamics. Every advection step the density is re-initialised by summation; inside it,
 // acoustic steps of position Verlet with two light pair passes (dual_passes.cpp). It carries
-// dummy walls, one inviscid phase and no other model yet (dual_check, schemes/wcsph_options.cpp).
+// dummy walls, one inviscid phase and no other model yet (dual_check, schemes/wcsph_options.cpp);
+// resolution levels with each pair's kernel at h_ab (docs/numerics.md §14).
 // It shares the equation of state, the time-step rule and the finite check with WCSPH
 // (schemes/wcsph_common.hpp).
 #pragma once
@@ -36,7 +37,7 @@ class DualWCSPH final : public Scheme<D> {
  private:
   /// One pair pass: 0 pressure (A), 1 continuity (B), 2 density summation (dual_passes.cpp).
   void riemann_pass(System<D>& S, int pass);
-  template <class K, int Pass>
+  template <class K, int Pass, bool VarH>
   void riemann_sweep(System<D>& S, const K& kernel);
   void reinit_density(System<D>& S);
 

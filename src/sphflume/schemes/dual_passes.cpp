@@ -18,6 +18,7 @@
 // No artificial viscosity or δ-SPH term: the Riemann solver's dissipation replaces both.
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "sphflume/core/pair_pass.hpp"
 #include "sphflume/boundaries/motion.hpp"
@@ -78,37 +79,48 @@ struct RiemannPass {
   Vec<D>* acc;
   double* drho;
   double* rho_out;  // pass 2 writes the summation density in place (no other pass)
+  const double* hs;  // resolution levels: each particle's h (null with one resolution)
+  const double* mass;
   double g[3];
   double rho0, c0, sigma_inv, w_self;
+  double vol_inv;  // levels: 1 / Σ V W of a full lattice (the summation density's reference, the same at every level)
   bool sym;
   F32 support2, fk;
 };
 
 /// Particle a of pass `Pass` over the cell's candidates [0, npad) (Walls: pass B with the fluid
 /// candidates in [0, fluid_end) and the walls in [fluid_end, npad)); returns its pair count.
-template <int D, int Pass, bool Walls, class K>
+/// VarH (resolution levels): every pair's kernel at h_ab = (h_a + h_b)/2, and the summation density
+/// ρ_a = ρ0 (V_a W(0, h_a) + Σ V_b W(r_ab, h_ab)) / Σ V W of a full lattice, V = m/ρ0 the rest volumes (on one
+/// level it is the one-resolution ρ0 Σ W / σ0: the lattice sum is the same at every level, h/dx being one).
+template <int D, int Pass, bool Walls, bool VarH, class K>
 std::uint64_t riemann_particle(const RiemannPass<D>& q, const K& ker, const Block& cols, const Vec<D>& origin,
                                std::uint32_t a, std::size_t fluid_end, std::size_t npad) {
   const Vec<D>& x = q.pos[a];
   const Vec<D>& u = q.vel[a];
   const double rhoa = Pass == 2 ? q.rho0 : q.rho[a];  // (pass 2 writes rho: it must not read it)
   const Row row{F32(x[0] - origin[0]), F32(x[1] - origin[1]), F32(x[D - 1] - origin[D - 1]), F32(u[0]), F32(u[1]),
-                F32(u[D - 1]), F32(q.sym ? q.prs[a] / (rhoa * rhoa) : q.prs[a])};
+                F32(u[D - 1]), F32(q.sym ? q.prs[a] / (rhoa * rhoa) : q.prs[a]), VarH ? F32(q.hs[a]) : F32(0)};
   const F32 sup2 = q.support2, fk = q.fk;
   if constexpr (Pass == 2) {
     LaneSums<kLanes, 2> v;
     for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) {
       const Block b = block_at(cols, k0);
-      v.add([&](std::size_t l, auto&& acc) { density_terms<D>(ker, sup2, row, b, l, acc); });
+      v.add([&](std::size_t l, auto&& acc) { density_terms<D, K, VarH>(ker, sup2, row, b, l, acc); });
     }
     const auto s = v.sums();
-    q.rho_out[a] = std::max(q.sigma_inv * (q.w_self + double(s[0])), q.rho0);  // (the pass reads positions only)
+    if constexpr (VarH) {
+      const double self = q.mass[a] / q.rho0 * ker.Wh(0.0, 1.0 / q.hs[a]);
+      q.rho_out[a] = std::max(q.rho0 * q.vol_inv * (self + double(s[0])), q.rho0);
+    } else {
+      q.rho_out[a] = std::max(q.sigma_inv * (q.w_self + double(s[0])), q.rho0);  // (the pass reads positions only)
+    }
     return static_cast<std::uint64_t>(s[1] + F32(0.5));
   } else if constexpr (Pass == 0) {
     LaneSums<kLanes, D + 2> v;
     for (std::size_t k0 = 0; k0 < npad; k0 += kLanes) {
       const Block b = block_at(cols, k0);
-      v.add([&](std::size_t l, auto&& acc) { pressure_terms<D>(ker, sup2, row, b, l, acc); });
+      v.add([&](std::size_t l, auto&& acc) { pressure_terms<D, K, VarH>(ker, sup2, row, b, l, acc); });
     }
     const auto s = v.sums();
     // pressure: −(1/ρa) Σ (pa + pb) ∇W Vb (sum form) or −Σ mb (pa/ρa² + pb/ρb²) ∇W
@@ -123,11 +135,11 @@ std::uint64_t riemann_particle(const RiemannPass<D>& q, const K& ker, const Bloc
     const std::size_t fluid = Walls ? fluid_end : npad;
     for (std::size_t k0 = 0; k0 < fluid; k0 += kLanes) {
       const Block b = block_at(cols, k0);
-      v.add([&](std::size_t l, auto&& acc) { continuity_terms<D, false>(ker, fk, row, b, l, acc); });
+      v.add([&](std::size_t l, auto&& acc) { continuity_terms<D, false, K, VarH>(ker, fk, row, b, l, acc); });
     }
     for (std::size_t k0 = fluid; k0 < npad; k0 += kLanes) {  // (Walls only)
       const Block b = block_at(cols, k0);
-      v.add([&](std::size_t l, auto&& acc) { continuity_terms<D, true>(ker, fk, row, b, l, acc); });
+      v.add([&](std::size_t l, auto&& acc) { continuity_terms<D, true, K, VarH>(ker, fk, row, b, l, acc); });
     }
     const auto s = v.sums();
     q.drho[a] += rhoa * double(s[D]);
@@ -142,16 +154,18 @@ std::uint64_t riemann_particle(const RiemannPass<D>& q, const K& ker, const Bloc
 }  // namespace
 
 template <int D>
-template <class K, int Pass>
+template <class K, int Pass, bool VarH>
 void DualWCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   // Pass 0: pressure (A), 1: continuity (B), 2: density summation
   auto& P = S.particles;
   const double rho0 = S.eos.rho0, c0 = S.eos.c0;
   if (sigma0_ <= 0.0) sigma0_ = lattice_kernel_sum<D>(ker, S.dx);  // (after a restart too)
   const bool sym = cfg_.pressure_gradient == PressureGradient::Symmetric;
+  const double* hs = VarH ? P.require(field::smoothing_length).data() : nullptr;
   RiemannPass<D> q{P.pos.data(), P.vel.data(), P.rho.data(), P.p.data(), P.acc.data(), P.drho.data(), P.rho.data(),
-                   {0.0, 0.0, 0.0}, rho0, c0, rho0 / sigma0_, ker.W(0.0), sym, F32(ker.support2),
-                   F32(cfg_.riemann_limiter / c0)};
+                   hs, P.mass.data(), {0.0, 0.0, 0.0}, rho0, c0, rho0 / sigma0_, ker.W(0.0),
+                   1.0 / (ipow<D>(S.dx) * sigma0_), sym, F32(ker.support2), F32(cfg_.riemann_limiter / c0)};
+  if constexpr (VarH) q.support2 = F32(K::support_factor * K::support_factor);  // (compared with r²/h_ab²)
   for (int d = 0; d < D; ++d) q.g[d] = S.gravity[d];
   // walls: the dissipation acts along the wall normal (towards the fluid), on twice the
   // wall-relative normal speed (the mirror state), so that sliding along a wall is free
@@ -168,6 +182,10 @@ void DualWCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
   auto normal = [pk, np](int index, std::size_t offset) {
     return second_part(index, F32(0), [pk, off = offset * np](std::size_t j) { return pk[off + j]; });
   };
+  // levels: each candidate's h, and the density pass's rest volumes m/ρ0
+  const auto h_col = only_if<VarH>(column(HS, F32(1), [hs](std::size_t j) { return F32(hs[j]); }));
+  const double* __restrict mass = P.mass.data();
+  const auto v0_col = only_if<VarH>(column(VOL, F32(0), [mass, rho0](std::size_t j) { return F32(mass[j] / rho0); }));
   const F32* __restrict flag = pk + (2 * D + 1) * np;  // (pass B)
   auto needs = [&](std::size_t cell) {  // the cell's owned fluid particles (the pass runs those)
     std::size_t m = 0;
@@ -195,28 +213,28 @@ void DualWCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
     }
     std::size_t fluid_end = st.padded, end = st.padded;
     if constexpr (Pass == 0) {
-      gather_columns(st, B, q.pos, origin, packed(PRS, 0), packed(VOL, 1));
+      gather_columns(st, B, q.pos, origin, packed(PRS, 0), packed(VOL, 1), h_col);
     } else if constexpr (Pass == 1) {
       if (nwall == 0) {
-        gather_columns(st, B, q.pos, origin, packed(U0, 0), packed(U1, 1), only_if<D == 3>(packed(U2, 2)), packed(VOL, D));
+        gather_columns(st, B, q.pos, origin, packed(U0, 0), packed(U1, 1), only_if<D == 3>(packed(U2, 2)), packed(VOL, D), h_col);
       } else {  // the fluid candidates first, then the walls: only the wall blocks pay for the normals
         B.reserve(st.padded + kLanes);
         const auto e = gather_split(st, B, q.pos, origin, kLanes, nwall, [flag](std::uint32_t j) { return flag[j] == F32(1); },
-                                    packed(U0, 0), packed(U1, 1), only_if<D == 3>(packed(U2, 2)), packed(VOL, D),
+                                    packed(U0, 0), packed(U1, 1), only_if<D == 3>(packed(U2, 2)), packed(VOL, D), h_col,
                                     normal(N0, D + 1), normal(N1, D + 2), only_if<D == 3>(normal(N2, D + 3)));
         fluid_end = e.first_end;
         end = e.end;
       }
     } else {
-      gather_columns(st, B, q.pos, origin);
+      gather_columns(st, B, q.pos, origin, v0_col, h_col);
     }
     const Block cols = columns_of<D>(B);
     std::uint64_t pairs = 0;
     for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
       const std::uint32_t a = sorted[kk];
       if (a >= n_owned || kind[a] != Kind::Fluid) continue;
-      if (Pass == 1 && nwall > 0) pairs += riemann_particle<D, Pass, true>(q, ker, cols, origin, a, fluid_end, end);
-      else pairs += riemann_particle<D, Pass, false>(q, ker, cols, origin, a, fluid_end, end);
+      if (Pass == 1 && nwall > 0) pairs += riemann_particle<D, Pass, true, VarH>(q, ker, cols, origin, a, fluid_end, end);
+      else pairs += riemann_particle<D, Pass, false, VarH>(q, ker, cols, origin, a, fluid_end, end);
     }
     return pairs;
   });
@@ -224,12 +242,17 @@ void DualWCSPH<D>::riemann_sweep(System<D>& S, const K& ker) {
 
 template <int D>
 void DualWCSPH<D>::riemann_pass(System<D>& S, int pass) {
-  S.with_kernel([&](const auto& K) {
-    using Ker = std::decay_t<decltype(K)>;
-    if (pass == 0) this->template riemann_sweep<Ker, 0>(S, K);
-    else if (pass == 1) this->template riemann_sweep<Ker, 1>(S, K);
-    else this->template riemann_sweep<Ker, 2>(S, K);
-  });
+  auto run = [&](auto varh) {
+    constexpr bool VarH = decltype(varh)::value;
+    S.with_kernel([&](const auto& K) {
+      using Ker = std::decay_t<decltype(K)>;
+      if (pass == 0) this->template riemann_sweep<Ker, 0, VarH>(S, K);
+      else if (pass == 1) this->template riemann_sweep<Ker, 1, VarH>(S, K);
+      else this->template riemann_sweep<Ker, 2, VarH>(S, K);
+    });
+  };
+  if (S.levels > 0) run(std::true_type{});  // (resolution levels: each pair at h_ab)
+  else run(std::false_type{});
 }
 
 template void DualWCSPH<2>::riemann_pass(System<2>&, int);

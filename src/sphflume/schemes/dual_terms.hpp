@@ -13,8 +13,9 @@ namespace sph::dual {
 
 using F32 = float;
 /// The scratch columns of the passes: positions, velocities (pass B), wall normals (pass B's
-/// wall part), p (sym: p/ρ²) (pass A) and V = m/ρ (sym: m).
-enum { X0, X1, X2, U0, U1, U2, N0, N1, N2, PRS, VOL, NCOL };
+/// wall part), p (sym: p/ρ²) (pass A), V = m/ρ (sym: m; the density pass on levels: m/ρ0) and,
+/// with resolution levels, the smoothing length h.
+enum { X0, X1, X2, U0, U1, U2, N0, N1, N2, PRS, VOL, HS, NCOL };
 
 /// The columns of one block of kLanes candidates from k0 (pointers offset to the block: an index
 /// k0 + l was a "complicated access pattern" to GCC's AVX2 vectoriser; x2 = x1 etc. in 2D).
@@ -22,21 +23,49 @@ struct Block {
   const F32* __restrict x0; const F32* __restrict x1; const F32* __restrict x2;
   const F32* __restrict u0; const F32* __restrict u1; const F32* __restrict u2;
   const F32* __restrict n0; const F32* __restrict n1; const F32* __restrict n2;
-  const F32* __restrict p; const F32* __restrict v;
+  const F32* __restrict p; const F32* __restrict v; const F32* __restrict h;
 };
 template <int D>
 Block columns_of(ScratchColumns<F32>& B) {
-  return {B[X0], B[X1], B[X0 + D - 1], B[U0], B[U1], B[U0 + D - 1], B[N0], B[N1], B[N0 + D - 1], B[PRS], B[VOL]};
+  return {B[X0], B[X1], B[X0 + D - 1], B[U0], B[U1], B[U0 + D - 1], B[N0], B[N1], B[N0 + D - 1], B[PRS], B[VOL], B[HS]};
 }
 inline Block block_at(const Block& c, std::size_t k0) {
   return {c.x0 + k0, c.x1 + k0, c.x2 + k0, c.u0 + k0, c.u1 + k0, c.u2 + k0,
-          c.n0 + k0, c.n1 + k0, c.n2 + k0, c.p + k0, c.v + k0};
+          c.n0 + k0, c.n1 + k0, c.n2 + k0, c.p + k0, c.v + k0, c.h + k0};
 }
 
-/// Particle a of a Riemann pass: its position relative to the cell's origin, velocity and
-/// pressure term (sym: p/ρ²).
+/// Particle a of a Riemann pass: its position relative to the cell's origin, velocity,
+/// pressure term (sym: p/ρ²) and (levels) its smoothing length.
 struct Row {
-  F32 xa0, xa1, xa2, va0, va1, va2, pa;
+  F32 xa0, xa1, xa2, va0, va1, va2, pa, ha;
+};
+
+/// The kernel of one pair: W'(r)/r (F) and W (Wk) at the common h (one resolution) or at the pair's h_ab = (h_a +
+/// h_b)/2 (VarH, resolution levels, docs/numerics.md §14; symmetric, so the pair sums conserve momentum across
+/// levels), and whether b lies within the support (support2: the support² at the common h; VarH: the support
+/// factor², compared with r²/h_ab²).
+template <bool VarH>
+struct PairKernel {
+  F32 ih;  // 1/h_ab (VarH)
+  template <class K>
+  [[gnu::always_inline]] PairKernel(const Row& a, const Block& b, std::size_t l, const K&) {
+    if constexpr (VarH) ih = F32(2) / (a.ha + b.h[l]);
+    else ih = F32(1);
+  }
+  [[gnu::always_inline]] bool inside(F32 r2, F32 support2) const {
+    if constexpr (VarH) return (r2 * ih * ih < support2) & (r2 > F32(0));
+    else return (r2 < support2) & (r2 > F32(0));
+  }
+  template <class K>
+  [[gnu::always_inline]] F32 F(const K& ker, F32 r) const {
+    if constexpr (VarH) return ker.Fh(r, ih);
+    else return ker.F(r);
+  }
+  template <class K>
+  [[gnu::always_inline]] F32 W(const K& ker, F32 r) const {
+    if constexpr (VarH) return ker.Wh(r, ih);
+    else return ker.W(r);
+  }
 };
 
 /// r = x_a − x_b of particle a and lane l of block b, |r|² and |r| (2D: r2c = 0, not in the sums).
@@ -58,22 +87,25 @@ template <int D>
 /// acc[D] the acoustic dissipation, acc[D+1] the count; continuity acc[0..D) the dissipation,
 /// acc[D] (ua − ub)·∇W V_b. (The 2D terms spell out no third component: x * 0 and x + 0 are not folded away
 /// under IEEE semantics, they would cost an operation each.)
-/// Pass 2, the density summation: W(r) and the neighbour count (the self term apart).
-template <int D, class K, class Acc>
+/// Pass 2, the density summation: W(r) (VarH: W(r, h_ab) m_b/ρ0) and the neighbour count (the self term apart).
+template <int D, class K, bool VarH = false, class Acc>
 [[gnu::always_inline]] inline void density_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
   const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
-  const F32 in = ((r2 < support2) & (r2 > F32(0))) ? F32(1) : F32(0);
-  acc[0][l] += ker.W(r) * in;
+  const PairKernel<VarH> pk(a, b, l, ker);
+  const F32 in = pk.inside(r2, support2) ? F32(1) : F32(0);
+  if constexpr (VarH) acc[0][l] += pk.W(ker, r) * b.v[l] * in;
+  else acc[0][l] += ker.W(r) * in;
   acc[1][l] += in;
 }
 /// Pass A, pressure: (pa + pb) F r V_b (sym: m_b), the acoustic dissipation's W'(r) V_b (pa − pb)
 /// and the neighbour count. No mask: F is 0 from the support on (the padding sits far away) and
 /// the self pair's terms carry r = 0.
-template <int D, class K, class Acc>
+template <int D, class K, bool VarH = false, class Acc>
 [[gnu::always_inline]] inline void pressure_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
   const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
-  acc[D + 1][l] += ((r2 < support2) & (r2 > F32(0))) ? F32(1) : F32(0);  // the count
-  const F32 Fv = ker.F(r) * b.v[l];  // W'(r)/r V_b (sym: m_b)
+  const PairKernel<VarH> pk(a, b, l, ker);
+  acc[D + 1][l] += pk.inside(r2, support2) ? F32(1) : F32(0);  // the count
+  const F32 Fv = pk.F(ker, r) * b.v[l];  // W'(r)/r V_b (sym: m_b)
   const F32 pp = (a.pa + b.p[l]) * Fv;
   acc[0][l] += pp * r0;
   acc[1][l] += pp * r1;
@@ -84,10 +116,10 @@ template <int D, class K, class Acc>
 /// approach speed and d the dissipation's direction times r: r itself for fluid b; against a wall
 /// (WallBlock) twice the speed along n', its normal turned towards a, and d = r n' (the
 /// padding's n = 0 adds nothing).
-template <int D, bool WallBlock, class K, class Acc>
+template <int D, bool WallBlock, class K, bool VarH = false, class Acc>
 [[gnu::always_inline]] inline void continuity_terms(const K& ker, F32 fk, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
   const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
-  const F32 Fv = ker.F(r) * b.v[l];
+  const F32 Fv = PairKernel<VarH>(a, b, l, ker).F(ker, r) * b.v[l];
   const F32 u0 = a.va0 - b.u0[l], u1 = a.va1 - b.u1[l];
   const F32 u2 = D == 3 ? a.va2 - b.u2[l] : F32(0);
   const F32 ur = D == 3 ? u0 * r0 + u1 * r1 + u2 * r2c : u0 * r0 + u1 * r1;  // (ua − ub)·r
