@@ -221,3 +221,71 @@ TEST(Mesh, PorousMeshRegionGivesTheTypedBoxsFill) {
   EXPECT_GT(deep, 10u);
   EXPECT_GT(far, 1000u);
 }
+
+// Resolution regions in 3D (issue 58): `shape: mesh` (inside a closed surface or within `margin` of it, read from
+// the solid's distance on a grid of the case's spacing) and `shape: cylinder` (a vertical axis). The grid's reading
+// is within √3/2 of its spacing (0.02 m here) of the exact distance, so points 0.02 m nearer than the margin (off a
+// face and off an edge) are in and points 0.02 m farther are out; set-up then refines exactly the fluid the region
+// holds (each fill point's level is the region's where it contains the point, a refined point's children lying
+// within √3 dx/4 of it; the interface relaxation is off here).
+TEST(Mesh, MeshAndCylinderRegionsRefine3D) {
+  const std::string stl = write_stl("region_box.stl", box({0.4, 0.2, 0.0}, {0.6, 0.4, 0.16}));
+  const double margin = 0.05, tol = 0.02;
+  const std::string text = tank_case("{type: mesh, fill: wall, file: " + stl + "}") +
+                           "resolution:\n  relax: 0\n  regions:\n    - {shape: mesh, file: " + stl + ", margin: 0.05, level: 1}\n"
+                           "    - {shape: cylinder, center: [0.85, 0.3], radius: 0.08, z_max: 0.2, level: 1}\n";
+  const Case c = parse_case(text, "case.yaml");
+  ASSERT_EQ(c.resolution.regions.size(), 2u);
+  const auto& mesh = c.resolution.regions[0].region;
+  const auto& cyl = c.resolution.regions[1].region;
+  auto in = [](const RegionConfig& r, double x, double y, double z) {
+    const double p[3] = {x, y, z};
+    return r.contains(p, 3);
+  };
+  EXPECT_TRUE(in(mesh, 0.5, 0.3, 0.08));                                 // inside
+  EXPECT_TRUE(in(mesh, 0.6 + margin - tol, 0.3, 0.08));                   // off the +x face
+  EXPECT_FALSE(in(mesh, 0.6 + margin + tol, 0.3, 0.08));
+  EXPECT_TRUE(in(mesh, 0.5, 0.3, 0.16 + margin - tol));                   // above the top
+  EXPECT_FALSE(in(mesh, 0.5, 0.3, 0.16 + margin + tol));
+  const double e = (margin - tol) / std::sqrt(2.0), f = (margin + tol) / std::sqrt(2.0);
+  EXPECT_TRUE(in(mesh, 0.6 + e, 0.4 + e, 0.08));                          // off the vertical edge
+  EXPECT_FALSE(in(mesh, 0.6 + f, 0.4 + f, 0.08));
+  EXPECT_FALSE(in(mesh, 0.9, 0.5, 0.5));                                  // beyond the grid
+  EXPECT_TRUE(in(cyl, 0.85, 0.37, 0.1));
+  EXPECT_FALSE(in(cyl, 0.85, 0.39, 0.1));
+  EXPECT_FALSE(in(cyl, 0.85, 0.3, 0.21));
+  // the fill: the fluid 0.1 m deep about the block (a wall), refined around it and in the cylinder only
+  System<3> S;
+  build_system<3>(c, S);
+  ASSERT_EQ(S.levels, 1);
+  const auto& P = S.particles;
+  const auto& lv = P.require(field::level);
+  auto dist = [](const Vec<3>& x) {  // to the box [0.4, 0.6] x [0.2, 0.4] x [0, 0.16] (0 inside)
+    const double lo[3] = {0.4, 0.2, 0.0}, hi[3] = {0.6, 0.4, 0.16};
+    double s = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      const double o = std::max({lo[d] - x[d], 0.0, x[d] - hi[d]});
+      s += o * o;
+    }
+    return std::sqrt(s);
+  };
+  std::size_t fine = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const auto& x = P.pos[i];
+    const double rc = std::hypot(x[0] - 0.85, x[1] - 0.3);
+    // a level-0 point the region contains is split into children ±dx/4 about it (√3 dx/4 away at most)
+    const double child = 0.25 * std::sqrt(3.0) * kDx;
+    if (lv[i] > 0.0) {
+      ++fine;
+      EXPECT_TRUE(dist(x) <= margin + tol + child || rc <= 0.08 + child) << x[0] << ", " << x[1] << ", " << x[2];
+    } else {
+      EXPECT_TRUE(dist(x) >= margin - tol && rc >= 0.08) << x[0] << ", " << x[1] << ", " << x[2];
+    }
+  }
+  EXPECT_GT(fine, 1000u);
+  // shapes a 2D case cannot have
+  EXPECT_HAS(error_of(tank_case("{type: box, fill: fluid, min: [0.0, 0.0], max: [0.1, 0.1]}", 2) +
+                      "resolution: {regions: [{shape: cylinder, center: [0.5, 0.3], radius: 0.1}]}\n", 2),
+             "cylinders and meshes are 3D regions");
+}

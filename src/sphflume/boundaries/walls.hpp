@@ -43,7 +43,7 @@ class WallModel {
   /// Walls whose density is integrated by the continuity equation.
   virtual bool evolves_density() const = 0;
   /// Set wall particles' p, rho and the velocity the viscous term sees. near_only (a multirate pass of the fast
-  /// particles, schemes/wcsph_multirate.cpp: their flags, the store field "_fast"): only the walls near a flagged
+  /// particles, schemes/multirate.cpp: their flags, the store field "_fast"): only the walls near a flagged
   /// fluid particle; null: near any fluid.
   virtual void prepare(System<D>& S, const double* near_only) = 0;
   /// The no-slip ghost correction of the viscous term: D floats per particle, v_j − v_ghost,j

@@ -1,4 +1,5 @@
 #include "sphflume/core/config.hpp"
+#include "sphflume/core/solid_mesh.hpp"
 
 #include <cmath>
 
@@ -21,6 +22,11 @@ bool RegionConfig::contains(const double* x, int dim) const {
     for (int d = 0; d < dim; ++d) r2 += (x[d] - center[static_cast<std::size_t>(d)]) * (x[d] - center[static_cast<std::size_t>(d)]);
     return r2 <= radius * radius;
   }
+  if (type == "cylinder") {  // (3D) a vertical axis through center
+    const double rx = x[0] - center[0], ry = x[1] - center[1];
+    return rx * rx + ry * ry <= radius * radius && x[dim - 1] >= z_min && x[dim - 1] <= z_max;
+  }
+  if (type == "mesh") return grid->at(x) <= margin;  // (3D) inside the solid or within margin of it
   if (type == "polygon") {
     bool in = false;
     const auto& v = vertices;

@@ -305,13 +305,19 @@ struct PorousConfig {
 };
 
 /// A region of space: box (min, max), circle / sphere (center, radius) or polygon (2D).
+class DistanceGrid;  // core/solid_mesh.hpp
+
 struct RegionConfig {
-  std::string type = "box";
+  std::string type = "box";  // box | circle (3D: sphere) | polygon (2D) | cylinder (3D) | mesh (3D) | band (2D)
   std::vector<double> min, max, center;
   double radius = 0.0;
+  // mesh: the solid's signed distance (negative inside); inside the solid or within `margin` of its surface.
+  // cylinder: a vertical axis through center (x, y), the radius, between z_min and z_max (below)
+  std::shared_ptr<const DistanceGrid> grid;
+  double margin = 0.0;
   std::vector<std::array<double, 2>> vertices;  // polygon; band: the slope's surface line from its toe
   double above = 0.0, below = 0.0;              // band: its extent normal to the line, above and below it
-  double z_min = 0.0, z_max = 0.0;              // band: its elevations
+  double z_min = 0.0, z_max = 0.0;              // band, cylinder: its elevations
   // band, `follow: waterline`: the elevations [z_w - waterline_below, z_w + waterline_above] about the
   // waterline z_w on the line, within [z_min, z_max]; the run sets the window (win_lo, win_hi) each
   // step (physics/resolution.hpp, set_waterline_windows); unset, the band is the fixed one
@@ -405,7 +411,7 @@ struct ResolutionConfig {
   std::vector<ResolutionRegionConfig> regions;
   int relax_iterations = 300;  // the level interface's relaxation at set-up (physics/resolution.hpp)
   int settle_iterations = 10;  // the shifts of each split's children (physics/resolution.hpp adapt_levels)
-  bool multirate = false;      // the finest level sub-cycled at half the others' step (schemes/wcsph_multirate.cpp)
+  bool multirate = false;      // the finest level sub-cycled at half the others' step (schemes/multirate.hpp)
   bool finest_cells = false;   // `cells: finest`: the cell list at the finest pairs' support (core/system.hpp cell_side)
   int multirate_line = 0;
   int line = 0;

@@ -1,7 +1,9 @@
 // A closed triangle mesh as a solid body (core/solid_mesh.hpp), on CGAL 5 (Debian libcgal-dev).
 #include "sphflume/core/solid_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -96,5 +98,47 @@ SolidMesh::P3 SolidMesh::closest(const P3& x) const {
 std::size_t SolidMesh::triangles() const { return impl_->mesh.number_of_faces(); }
 
 double SolidMesh::volume() const { return std::abs(PMP::volume(impl_->mesh)); }
+
+std::shared_ptr<const DistanceGrid> DistanceGrid::build(const SolidMesh& mesh, double reach, int cells) {
+  auto g = std::shared_ptr<DistanceGrid>(new DistanceGrid());
+  double longest = 0.0;
+  for (int d = 0; d < 3; ++d) longest = std::max(longest, mesh.hi()[d] - mesh.lo()[d] + 2.0 * reach);
+  g->h_ = longest / cells;
+  std::size_t total = 1;
+  for (int d = 0; d < 3; ++d) {
+    g->lo_[d] = mesh.lo()[d] - reach;
+    g->n_[d] = std::max(2, static_cast<int>(std::ceil((mesh.hi()[d] + reach - g->lo_[d]) / g->h_)) + 1);
+    total *= static_cast<std::size_t>(g->n_[d]);
+  }
+  g->d_.resize(total);
+  for (int k = 0; k < g->n_[2]; ++k)  // (serially: CGAL's queries are not promised thread-safe)
+    for (int j = 0; j < g->n_[1]; ++j)
+      for (int i = 0; i < g->n_[0]; ++i) {
+        const SolidMesh::P3 x{g->lo_[0] + i * g->h_, g->lo_[1] + j * g->h_, g->lo_[2] + k * g->h_};
+        const auto c = mesh.closest(x);
+        const double dist = std::sqrt((x[0] - c[0]) * (x[0] - c[0]) + (x[1] - c[1]) * (x[1] - c[1]) + (x[2] - c[2]) * (x[2] - c[2]));
+        g->d_[(static_cast<std::size_t>(k) * g->n_[1] + j) * g->n_[0] + i] = static_cast<float>(mesh.inside(x) ? -dist : dist);
+      }
+  return g;
+}
+
+double DistanceGrid::at(const double* x) const {
+  int c[3];
+  double f[3];
+  for (int d = 0; d < 3; ++d) {
+    const double u = (x[d] - lo_[d]) / h_;
+    if (!(u >= 0.0) || u > n_[d] - 1) return std::numeric_limits<double>::infinity();
+    c[d] = std::min(static_cast<int>(u), n_[d] - 2);
+    f[d] = u - c[d];
+  }
+  double v = 0.0;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const double w = (i ? f[0] : 1.0 - f[0]) * (j ? f[1] : 1.0 - f[1]) * (k ? f[2] : 1.0 - f[2]);
+        v += w * d_[(static_cast<std::size_t>(c[2] + k) * n_[1] + (c[1] + j)) * n_[0] + (c[0] + i)];
+      }
+  return v;
+}
 
 }  // namespace sph

@@ -22,6 +22,7 @@ template <int D> class ForceTerm;
 template <int D> class PorousMedia;
 template <int D> class ScalarTransport;
 template <int D> class WallMotion;
+template <int D> class Resolution;
 
 template <int D>
 struct System {
@@ -39,6 +40,9 @@ struct System {
   /// particles, ±2 near coarse ones).
   int levels = 0;
   bool finest_cells = false;
+  /// The levels' owner (physics/resolution.hpp; null with one resolution): regions, h, split, merge, settling, the
+  /// step's h; it sets levels and finest_cells above (Resolution::attach).
+  std::shared_ptr<Resolution<D>> resolution;
   /// The cell list's side: level 0's support; with finest_cells the finest level's support, at
   /// least half the largest (CellList::kMaxReach), with a margin of 1e-6 (a fine pair's support
   /// is then within one cell however h rounds).

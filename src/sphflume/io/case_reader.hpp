@@ -52,9 +52,11 @@ inline std::vector<std::array<double, 2>> read_vertices(Reader& r, const Node& n
 /// self-intersecting surface is an InputError at `file` naming the file and what is wrong.
 std::shared_ptr<const SolidMesh> read_mesh(Reader& r, const Node& n, int dim);
 
-/// A region (RegionConfig) from the keys shape (box | circle | polygon), min/max, center/radius
-/// or vertices of the mapping `r` reads.
-RegionConfig read_region(Reader& r, const Node& n, int dim);
+/// A region (RegionConfig) from the keys shape (box | circle | polygon | cylinder | mesh), min/max,
+/// center/radius (a cylinder's: x, y and z_min, z_max), vertices, or a mesh's keys (read_mesh) and
+/// margin, of the mapping `r` reads; a mesh's distance grid has cells of grid_spacing (0: 64 along
+/// its longest side).
+RegionConfig read_region(Reader& r, const Node& n, int dim, double grid_spacing = 0.0);
 /// The model sections (io/case_models.cpp): `scheme:` (WCSPH keys, or the scheme's own reader),
 /// `walls:`, `turbulence:`, `porous:`.
 void read_scheme(const Node& n, const std::string& file, Case& c);

@@ -97,7 +97,7 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
     if (q.scalar<std::string>("shape", "box") == "band")
       g.region = read_band(q, regs[i], c);
     else
-      g.region = read_region(q, regs[i], c.dimension);
+      g.region = read_region(q, regs[i], c.dimension, c.dx);  // (a mesh region's distance grid at the case's spacing)
     const double level = q.in_range("level", 1.0, 1.0, 3.0);
     if (level != static_cast<int>(level)) q.fail_at(q.get("level"), q.key_path("level"), "a whole number of halvings: 1, 2 or 3");
     g.level = static_cast<int>(level);

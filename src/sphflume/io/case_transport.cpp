@@ -1,5 +1,6 @@
 // The case file's `transport:` section (transported scalars: concentration, temperature, ...)
 // and its `multiphase:` section (a second fluid phase). See docs/case-file.md.
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -11,10 +12,12 @@ namespace sph {
 
 namespace caseio {
 
-RegionConfig read_region(Reader& r, const Node& n, int dim) {
+RegionConfig read_region(Reader& r, const Node& n, int dim, double grid_spacing) {
   RegionConfig g;
   const std::size_t d = static_cast<std::size_t>(dim);
-  g.type = r.choice("shape", "box", {"box", "circle", "polygon"});
+  g.type = r.choice("shape", "box", {"box", "circle", "polygon", "cylinder", "mesh"});
+  if (dim != 3 && (g.type == "cylinder" || g.type == "mesh"))
+    r.fail_at(r.get("shape"), r.key_path("shape"), "box, circle or polygon (cylinders and meshes are 3D regions)");
   if (g.type == "box") {
     g.min = r.vec("min", d);
     g.max = r.vec("max", d);
@@ -28,8 +31,25 @@ RegionConfig read_region(Reader& r, const Node& n, int dim) {
     if (g.center.empty()) r.misspelt("center");
     if (g.center.empty()) r.fail_at(n, r.key_path("center"), "the circle's (sphere's) center");
     g.radius = r.positive("radius", 0.0, true);
+  } else if (g.type == "cylinder") {  // a vertical axis through center (x, y), from z_min to z_max
+    g.center = r.vec("center", 2);
+    if (g.center.empty()) r.misspelt("center");
+    if (g.center.empty()) r.fail_at(n, r.key_path("center"), "the axis's (x, y), e.g. center: [0.5, 0.5]");
+    g.radius = r.positive("radius", 0.0, true);
+    g.z_min = r.scalar<double>("z_min", -1e300);
+    g.z_max = r.scalar<double>("z_max", 1e300);
+    if (!(g.z_max > g.z_min)) r.fail_at(r.get("z_max"), r.key_path("z_max"), "z_max > z_min");
+  } else if (g.type == "mesh") {  // inside a closed surface or within `margin` of it
+    const auto mesh = read_mesh(r, n, dim);
+    g.margin = r.scalar<double>("margin", 0.0);
+    if (!(g.margin >= 0.0)) r.fail_at(r.get("margin"), r.key_path("margin"), "a distance >= 0 in m from the surface");
+    // the distance on a grid of the case's spacing (its reading within 0.87 of a spacing of the exact one)
+    double longest = 0.0;
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, mesh->hi()[k] - mesh->lo()[k] + 2.0 * (g.margin + grid_spacing));
+    const int cells = grid_spacing > 0.0 ? std::clamp(static_cast<int>(std::ceil(longest / grid_spacing)), 16, 256) : 64;
+    g.grid = DistanceGrid::build(*mesh, g.margin + std::max(grid_spacing, longest / cells), cells);
   } else {
-    if (dim != 2) r.fail_at(n, r.key_path("shape"), "box or circle (polygons are 2D)");
+    if (dim != 2) r.fail_at(n, r.key_path("shape"), "box, circle, cylinder or mesh (polygons are 2D)");
     g.vertices = read_vertices(r, n);
   }
   return g;

@@ -437,6 +437,29 @@ AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_
   return c;
 }
 
+template <int D>
+double finest_present_h(const System<D>& S) {
+  if (S.levels == 0) return S.h;
+  const auto& P = S.particles;
+  const double* lv = P.require(field::level).data();
+  int fluid = 0, wall = 0;  // the finest level present among the fluid and the wall particles
+  const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static) reduction(max : fluid, wall)
+  for (std::size_t i = 0; i < n; ++i) {
+    const int l = static_cast<int>(lv[i]);
+    if (P.kind[i] == Kind::Fluid) fluid = std::max(fluid, l);
+    else wall = std::max(wall, l);
+  }
+  double lv2[2] = {double(fluid), double(wall)};  // (every rank the same h: the step does not depend on the cut)
+  S.comm->max(lv2, 2);
+  fluid = static_cast<int>(lv2[0]);
+  wall = static_cast<int>(lv2[1]);
+  const double hf = level_h(S.h, fluid);
+  return wall > fluid ? 0.5 * (hf + level_h(S.h, wall)) : hf;  // (the pairs of the fluid with finer walls)
+}
+
+template double finest_present_h<2>(const System<2>&);
+template double finest_present_h<3>(const System<3>&);
 template void smooth_level_h<2>(System<2>&);
 template void smooth_level_h<3>(System<3>&);
 template void set_waterline_windows<2>(ResolutionConfig&, const Vec<2>*, const Kind*, std::size_t, double, const Communicator&);

@@ -1,8 +1,13 @@
-// Resolution levels (docs/numerics.md §14): the smoothing length each particle carries.
+// Resolution levels (docs/numerics.md §14): the one owner of the levels (Resolution<D>: the
+// regions and their moving windows, each particle's h, splitting and merging with the children's
+// settling, the interface's set-up relaxation, the step's h, the cell layout), and the operators
+// it is made of.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "sphflume/core/config.hpp"
+#include "sphflume/core/refinement.hpp"
 #include "sphflume/core/system.hpp"
 
 namespace sph {
@@ -89,5 +94,51 @@ struct AdaptCounts {
 /// independent of the thread count. The caller re-sorts when anything changed.
 template <int D>
 AdaptCounts adapt_levels(System<D>& S, const ResolutionConfig& res, std::uint32_t& next_id);
+
+/// The smoothing length the time step follows (the finest level present among the fluid and the wall particles,
+/// the same on every rank): level_h of the finest fluid level, or the mean with a finer wall's (the pairs of the
+/// fluid with finer walls); S.h with one resolution.
+template <int D>
+double finest_present_h(const System<D>& S);
+
+/// Resolution levels' one owner (issue 58; docs/numerics.md §14, docs/architecture.md): the case's `resolution`
+/// section (regions, bands that follow the waterline, relaxation, settling, cell layout, multirate) and everything
+/// done with it. set-up (setup/build.cpp) makes it when a region refines and attaches it to the System
+/// (System::resolution; null with one resolution); the schemes smooth h through it before their passes, the run
+/// loop splits and merges through it after each step, the integrators take the step's h from it. The System keeps
+/// the level count and the cell layout it hands the core's cell list (attach).
+template <int D>
+class Resolution {
+ public:
+  Resolution(const ResolutionConfig& cfg, KernelType kernel, double h0, double dx0)
+      : cfg_(cfg), kernel_(kernel), h0_(h0), dx0_(dx0) {}
+  const ResolutionConfig& config() const { return cfg_; }
+  /// The finest level of the regions (0: one resolution).
+  int levels() const { return cfg_.max_level(); }
+  /// `resolution.multirate`: the coarse levels step twice the finest one's step (schemes/multirate.hpp).
+  bool multirate() const { return cfg_.multirate; }
+  /// The System's level count and cell layout (`cells: level0 | finest`), which its cell list reads.
+  void attach(System<D>& S) const {
+    S.levels = levels();
+    S.finest_cells = S.levels > 0 && cfg_.finest_cells;
+  }
+  /// Each particle's h at its place (smooth_level_h); after every neighbour update a pass reads h from.
+  void smooth_h(System<D>& S) const { smooth_level_h(S); }
+  /// Split and merge where the particles' places want another level, the children settled (adapt_levels).
+  AdaptCounts adapt(System<D>& S, std::uint32_t& next_id) const { return adapt_levels(S, cfg_, next_id); }
+  /// The set-up relaxation of the fill points' interface band (relax_level_band with the case's iterations).
+  LevelRelaxReport relax_setup(std::vector<Vec<D>>& fluid, const std::vector<int>& level, const std::vector<Vec<D>>& walls) const {
+    return relax_level_band<D>(kernel_, h0_, dx0_, fluid, level, walls, cfg_.relax_iterations);
+  }
+  /// The step's h: the finest level present (finest_present_h).
+  double step_h(const System<D>& S) const { return finest_present_h(S); }
+  /// The h of the next-coarser level than the finest (a multirate step's slow particles).
+  double slow_h(const System<D>& S) const { return level_h(S.h, S.levels - 1); }
+
+ private:
+  ResolutionConfig cfg_;
+  KernelType kernel_;
+  double h0_, dx0_;
+};
 
 }  // namespace sph

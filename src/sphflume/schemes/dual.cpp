@@ -18,7 +18,7 @@ namespace sph {
 template <int D>
 void DualWCSPH<D>::initialise(System<D>& S) {
   S.update_neighbours();
-  if (S.levels > 0) smooth_level_h(S);  // (resolution levels: h at the particles' places)
+  if (S.resolution) S.resolution->smooth_h(S);  // (resolution levels: h at the particles' places)
   if (cfg_.density_reinit) reinit_density(S);
   eos_pressure(S);
   // the continuity pass at t = 0: Dρ and the dissipation the first kick adds
@@ -62,7 +62,7 @@ void DualWCSPH<D>::step(System<D>& S, double dt) {
   }
   // pass A: pressure force and acoustic density dissipation; the kick
   S.update_neighbours();
-  if (S.levels > 0) smooth_level_h(S);  // (levels: h at the new places; pass B and the next summation keep it)
+  if (S.resolution) S.resolution->smooth_h(S);  // (levels: h at the new places; pass B and the next summation keep it)
   S.walls->prepare(S, nullptr);
   riemann_pass(S, 0);
   S.walls->add_forces(S);

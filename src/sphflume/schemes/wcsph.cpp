@@ -13,6 +13,7 @@
 #include "sphflume/physics/force_terms.hpp"
 #include "sphflume/physics/multiphase.hpp"
 #include "sphflume/physics/porous.hpp"
+#include "sphflume/physics/resolution.hpp"
 #include "sphflume/physics/transport.hpp"
 #include "sphflume/physics/turbulence.hpp"
 
@@ -63,29 +64,16 @@ double WCSPH<D>::time_step(const System<D>& S) const {
     const double dts = S.transport ? S.transport->time_step(S, cfg_.viscous_coefficient) : 1.0;
     return std::min(dts, 1.0);
   }
-  if (multirate_ && S.levels > 0) return multirate_time_step(S);
+  if (multirate_ && S.levels > 0) {
+    const double nut = turb_.on() ? turb_.nu_t_max() : 0.0;
+    return multirate_->time_step(S, [&](double h) { return explicit_time_step(S, cfg_, nut, max_acc_, h); });
+  }
   return explicit_time_step(S, cfg_, turb_.on() ? turb_.nu_t_max() : 0.0, max_acc_);
 }
 
 template <int D>
 double step_h(const System<D>& S) {
-  if (S.levels == 0) return S.h;
-  const auto& P = S.particles;
-  const double* lv = P.require(field::level).data();
-  int fluid = 0, wall = 0;  // the finest level present among the fluid and the wall particles
-  const std::size_t n = P.n_owned();
-#pragma omp parallel for schedule(static) reduction(max : fluid, wall)
-  for (std::size_t i = 0; i < n; ++i) {
-    const int l = static_cast<int>(lv[i]);
-    if (P.kind[i] == Kind::Fluid) fluid = std::max(fluid, l);
-    else wall = std::max(wall, l);
-  }
-  double lv2[2] = {double(fluid), double(wall)};  // (every rank the same h: the step does not depend on the cut)
-  S.comm->max(lv2, 2);
-  fluid = static_cast<int>(lv2[0]);
-  wall = static_cast<int>(lv2[1]);
-  const double hf = level_h(S.h, fluid);
-  return wall > fluid ? 0.5 * (hf + level_h(S.h, wall)) : hf;  // (the pairs of the fluid with finer walls)
+  return S.resolution ? S.resolution->step_h(S) : S.h;  // (the finest level present, physics/resolution.hpp)
 }
 
 template <int D>
@@ -137,7 +125,7 @@ void WCSPH<D>::step(System<D>& S, double dt) {
     if (cfg_.integrator != Integrator::Verlet) S.update_neighbours();
     shift_.compute(S, dt);
   }
-  if (multirate_ && S.levels > 0) multirate_step(S, dt);
+  if (multirate_ && S.levels > 0) multirate_->step(S, dt, [this](System<D>& s, bool fast_only) { rates_pass(s, fast_only); });
   else if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
   else two_stage_step(S, dt);
   if (shift_.on()) shift_.apply(S);

@@ -20,10 +20,12 @@
 //  factors) so that the compiler vectorises them; the store is re-sorted by cell before every
 //  pass, so without images the ranges index the particle arrays directly.
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "sphflume/physics/shifting.hpp"
 #include "sphflume/physics/turbulence.hpp"
+#include "sphflume/schemes/multirate.hpp"
 #include "sphflume/schemes/scheme.hpp"
 
 namespace sph {
@@ -31,7 +33,10 @@ namespace sph {
 template <int D>
 class WCSPH final : public Scheme<D> {
  public:
-  explicit WCSPH(const Case& c) : WCSPH(c.scheme, c.turbulence) { multirate_ = c.resolution.on() && c.resolution.multirate; }
+  /// With `resolution.multirate` it composes the multirate integrator (schemes/multirate.hpp).
+  explicit WCSPH(const Case& c) : WCSPH(c.scheme, c.turbulence) {
+    if (c.resolution.on() && c.resolution.multirate) multirate_ = std::make_unique<MultirateIntegrator<D>>(cfg_.xsph > 0.0);
+  }
   /// From the plain configurations; `cfg.pressure = false` makes rates() the force pass of a
   /// projection scheme (gravity, viscosity, turbulence, walls, force terms, porous drag rate).
   WCSPH(const SchemeConfig& cfg, const TurbulenceConfig& turb) : cfg_(cfg), turb_(turb), shift_(cfg.shifting) {}
@@ -60,31 +65,27 @@ class WCSPH final : public Scheme<D> {
   }
 
   /// One rates pass: fills acc and drho of owned particles (exposed for tests).
-  void rates(System<D>& S);
+  void rates(System<D>& S) { rates_pass(S, false); }
 
  private:
+  /// A rates pass; fast_only: the multirate integrator's pass of its fast particles (store field "_fast" != 0),
+  /// the others keeping their rates.
+  void rates_pass(System<D>& S, bool fast_only);
+  /// fast: the fast particles' flags of a fast-only pass (null: every particle).
   template <class K>
-  void pair_loop(System<D>& S, const K& kernel);
+  void pair_loop(System<D>& S, const K& kernel, const double* fast);
   template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press = true, bool VarH = false>
-  void sweep(System<D>& S, const K& kernel);
+  void sweep(System<D>& S, const K& kernel, const double* fast);
   void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);
-  /// Resolution levels with `resolution.multirate` (schemes/wcsph_multirate.cpp): one symplectic
-  /// step dt for the slow particles, two of dt/2 for the fast ones (the finest level and the
-  /// particles whose h the level interface lowered).
-  void multirate_step(System<D>& S, double dt);
-  /// The step of a multirate run: the slow particles' limits (CFL and force with the next-coarser
-  /// level's h) and twice the fast particles' (the viscous limit, which goes with h²).
-  double multirate_time_step(const System<D>& S) const;
   void shepard_filter(System<D>& S) const;
 
   SchemeConfig cfg_;
   Turbulence<D> turb_;
   Shifting<D> shift_;
   bool verlet_started_ = false;
-  bool multirate_ = false;
-  bool fast_only_ = false;  // a multirate pass: the rates of the fast particles only (the others' kept)
+  std::unique_ptr<MultirateIntegrator<D>> multirate_;  // resolution.multirate (null: the integrator above)
   double max_acc_ = 0.0;
   std::vector<float> pack_;  // the per-particle columns of the rates pass (wcsph_rates.cpp)
 };

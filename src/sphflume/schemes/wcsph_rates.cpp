@@ -22,7 +22,7 @@ namespace sph {
 
 template <int D>
 template <class K>
-void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
+void WCSPH<D>::pair_loop(System<D>& S, const K& ker, const double* fast) {
   // XSPH's smoothed velocity needs W(r) in every pair, turbulence the velocity gradient and
   // the stress divergence: each is compiled in only when it is on
   // porosity the SPHAM terms (volumes m/(φρ), porosity-weighted velocities)
@@ -32,28 +32,28 @@ void WCSPH<D>::pair_loop(System<D>& S, const K& ker) {
     else f(std::false_type{});
   };
   if (S.levels > 0 && !S.phase_eos.empty()) {  // resolution levels with several phases (no turbulence, porosity)
-    with_bool(cfg_.xsph > 0.0, [&](auto xs) { this->template sweep<K, decltype(xs)::value, false, false, true, true, true>(S, ker); });
+    with_bool(cfg_.xsph > 0.0, [&](auto xs) { this->template sweep<K, decltype(xs)::value, false, false, true, true, true>(S, ker, fast); });
   } else if (S.levels > 0) {  // resolution levels: per-pair h (setup refuses them with ISPH)
     with_bool(cfg_.xsph > 0.0, [&](auto xs) {
       with_bool(turb, [&](auto tu) {
         with_bool(static_cast<bool>(S.porous), [&](auto po) {
-          this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value, false, true, true>(S, ker);
+          this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value, false, true, true>(S, ker, fast);
         });
       });
     });
   } else if (!cfg_.pressure) {  // the forces alone (ISPH's prediction: no pressure, no XSPH, one phase)
     with_bool(turb, [&](auto tu) {
       with_bool(static_cast<bool>(S.porous), [&](auto po) {
-        this->template sweep<K, false, decltype(tu)::value, decltype(po)::value, false, false>(S, ker);
+        this->template sweep<K, false, decltype(tu)::value, decltype(po)::value, false, false>(S, ker, fast);
       });
     });
   } else if (!S.phase_eos.empty()) {  // several phases (setup refuses them with turbulence or porosity)
-    with_bool(cfg_.xsph > 0.0, [&](auto xs) { this->template sweep<K, decltype(xs)::value, false, false, true>(S, ker); });
+    with_bool(cfg_.xsph > 0.0, [&](auto xs) { this->template sweep<K, decltype(xs)::value, false, false, true>(S, ker, fast); });
   } else {
     with_bool(cfg_.xsph > 0.0, [&](auto xs) {
       with_bool(turb, [&](auto tu) {
         with_bool(static_cast<bool>(S.porous), [&](auto po) {
-          this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value, false>(S, ker);
+          this->template sweep<K, decltype(xs)::value, decltype(tu)::value, decltype(po)::value, false>(S, ker, fast);
         });
       });
     });
@@ -340,7 +340,7 @@ template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Pr
 
 template <int D>
 template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press, bool VarH>
-void WCSPH<D>::sweep(System<D>& S, const K& ker) {
+void WCSPH<D>::sweep(System<D>& S, const K& ker, const double* fast) {
   auto& P = S.particles;
   const double h = S.h;
   const double tiny = 1e-12 * h * h;  // keeps the masked self pair finite when eta2 = 0
@@ -385,9 +385,8 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
   const std::uint32_t* __restrict sorted = cells.sorted().data();
   // a cell needs the loop when it holds owned particles that need rates (fluid; walls only when
   // dynamic); the others get zero rates here
-  // (a multirate fast pass: only the fast particles run, schemes/wcsph_multirate.cpp; the others'
+  // (a multirate fast pass, fast: only the fast particles run, schemes/multirate.cpp; the others'
   // rates are restored after the pass)
-  const double* fast = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;
   auto needs = [&](std::size_t cell) {
     std::size_t m = 0;  // the particles the pass runs
     for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) {
@@ -417,7 +416,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker) {
 }
 
 template <int D>
-void WCSPH<D>::rates(System<D>& S) {
+void WCSPH<D>::rates_pass(System<D>& S, bool fast_only) {
   if (cfg_.frozen) {  // only the scalars move
     if (S.transport) S.transport->rates(S);
     return;
@@ -428,7 +427,7 @@ void WCSPH<D>::rates(System<D>& S) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   struct Kept { std::vector<Vec<D>> acc, xs; std::vector<double> drho, kr, im; } kept;
-  if (fast_only_) {
+  if (fast_only) {
     kept.acc.assign(P.acc.begin(), P.acc.begin() + static_cast<std::ptrdiff_t>(n));
     kept.drho.assign(P.drho.begin(), P.drho.begin() + static_cast<std::ptrdiff_t>(n));
     if (cfg_.xsph > 0.0) kept.xs.assign(P.vector(field::xsph).begin(), P.vector(field::xsph).begin() + static_cast<std::ptrdiff_t>(n));
@@ -441,15 +440,15 @@ void WCSPH<D>::rates(System<D>& S) {
   if (S.grenier) grenier_gamma(S);  // Γ of Grenier's pressure gradient
   // resolution levels: h at the particles' places (a multirate fast pass keeps the h of the last
   // full pass, a quarter step old: h is a smooth field, and both sides of a pair read the same)
-  if (S.levels > 0 && !fast_only_) smooth_level_h(S);
-  const double* near_fast = fast_only_ ? P.scalar(field::fast.name).data() : nullptr;  // (the walls near the fast ones)
+  if (S.resolution && !fast_only) S.resolution->smooth_h(S);
+  const double* near_fast = fast_only ? P.scalar(field::fast.name).data() : nullptr;  // (the walls near the fast ones)
   S.walls->prepare(S, near_fast);
-  S.with_kernel([&](const auto& K) { this->pair_loop(S, K); });
+  S.with_kernel([&](const auto& K) { this->pair_loop(S, K, near_fast); });
   S.walls->add_forces(S, near_fast);
   for (auto& f : S.forces) f->add(S);
   if (S.porous) S.porous->drag(S);  // the drag rate the integrator applies point-implicitly
   if (S.transport) S.transport->rates(S);  // after the pair loop: the advection variants use drho
-  if (fast_only_) {
+  if (fast_only) {
     const double* fast = P.scalar(field::fast.name).data();
     Vec<D>* xs = kept.xs.empty() ? nullptr : P.vector(field::xsph).data();
     double* kr = kept.kr.empty() ? nullptr : P.scalar(field::drag_rate).data();
@@ -470,7 +469,7 @@ void WCSPH<D>::rates(System<D>& S) {
   if (!std::isfinite(max_acc_)) check_finite(S);
 }
 
-template void WCSPH<2>::rates(System<2>&);
-template void WCSPH<3>::rates(System<3>&);
+template void WCSPH<2>::rates_pass(System<2>&, bool);
+template void WCSPH<3>::rates_pass(System<3>&, bool);
 
 }  // namespace sph

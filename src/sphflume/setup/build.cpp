@@ -40,8 +40,10 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
   drop_inside_walls<D>(c, f);
   relax_porous_interface<D>(c, S, f, rep);
   refine_fill<D>(c, S.support, f);  // resolution levels (docs/numerics.md §14)
-  S.levels = c.resolution.max_level();
-  S.finest_cells = S.levels > 0 && c.resolution.finest_cells;
+  if (c.resolution.max_level() > 0) {  // the levels' owner (physics/resolution.hpp)
+    S.resolution = std::make_shared<Resolution<D>>(c.resolution, c.kernel, S.h, dx);
+    S.resolution->attach(S);
+  }
   if (S.levels > 0) {
     // (every point scans the level-0 support: 4^l (2D) or 8^l (3D) times a level-0 point's candidates at level l)
     const double reach = S.support / (dx / double(1 << S.levels));
@@ -51,7 +53,7 @@ BuildReport build_system(const Case& c, System<D>& S, const BuildLimits& limits,
       throw InputError(fmt::format("{}: line {}: 'resolution': the level interface's set-up relaxation would evaluate "
                                    "about {:.2g} kernel pairs, over this build's limit of {:.2g}: fewer levels or a "
                                    "smaller resolution.relax", c.file, c.resolution.line, work, limits.max_setup_pairs));
-    const auto rr = relax_level_band<D>(c.kernel, S.h, dx, f.fluid_x, f.fluid_level, f.wall_x, c.resolution.relax_iterations);
+    const auto rr = S.resolution->relax_setup(f.fluid_x, f.fluid_level, f.wall_x);
     rep.levels = S.levels;
     for (const int l : f.fluid_level) rep.refined += l > 0 ? 1 : 0;
     rep.level_relax_band = rr.band;

@@ -146,7 +146,7 @@ struct Run {
     // open boundaries; then re-sort if particles were created or deleted (see remove_escaped)
     if (open.any() && S.comm->any(open.update(S, rs.open))) S.update_neighbours();
     remove_escaped();
-    if (S.levels > 0) adapt_levels_now();
+    if (S.resolution) adapt_levels_now();
     health();
     const bool last = S.time >= c.t_end * (1.0 - 1e-12);
     if (!(S.time >= rs.next_output * (1.0 - 1e-9) || last)) return false;
@@ -164,7 +164,7 @@ struct Run {
   /// Resolution levels: split and merge where the particles' places want another level
   /// (physics/resolution.hpp), then re-sort as remove_escaped does.
   void adapt_levels_now() {
-    const AdaptCounts k = adapt_levels(S, c.resolution, rs.open.next_id);
+    const AdaptCounts k = S.resolution->adapt(S, rs.open.next_id);
     std::uint64_t n[2] = {k.split, k.merged};
     S.comm->sum(n, 2);  // (every rank counts the run's splits and merges, and re-sorts if any rank changed)
     if (n[0] == 0 && n[1] == 0) return;

@@ -1,5 +1,5 @@
-// Multirate time stepping for resolution levels (`resolution.multirate: true`; docs/numerics.md
-// §14, issue 42). The time step of a run with levels is the finest level's everywhere, so the
+// Multirate time stepping for resolution levels (`resolution.multirate: true`; schemes/multirate.hpp,
+// docs/numerics.md §14, issue 42). The time step of a run with levels is the finest level's everywhere, so the
 // coarse particles, most of a coastal run, take twice the steps their h needs: a band run of Flume A
 // cost 0.44 of the uniform fine run for 0.35 of its particles. Here the slow particles (every level
 // but the finest, away from the level interface) take one symplectic step Δ, and the fast ones (the
@@ -18,16 +18,16 @@
 #include "sphflume/boundaries/walls.hpp"
 #include "sphflume/physics/porous.hpp"
 #include "sphflume/core/refinement.hpp"
-#include "sphflume/schemes/wcsph.hpp"
+#include "sphflume/physics/resolution.hpp"
+#include "sphflume/schemes/multirate.hpp"
 #include "sphflume/schemes/wcsph_common.hpp"
 
 namespace sph {
 
 template <int D>
-double WCSPH<D>::multirate_time_step(const System<D>& S) const {
-  const double nut = turb_.on() ? turb_.nu_t_max() : 0.0;
-  const double slow = explicit_time_step(S, cfg_, nut, max_acc_, level_h(S.h, S.levels - 1));
-  const double fast = explicit_time_step(S, cfg_, nut, max_acc_, step_h(S));  // (the finest level present)
+double MultirateIntegrator<D>::time_step(const System<D>& S, const StepLimit& limit) const {
+  const double slow = limit(S.resolution->slow_h(S));
+  const double fast = limit(S.resolution->step_h(S));  // (the finest level present)
   return std::min(slow, 2.0 * fast);
 }
 
@@ -120,25 +120,22 @@ bool mark_fast(System<D>& S) {
 }  // namespace
 
 template <int D>
-void WCSPH<D>::multirate_step(System<D>& S, double dt) {
+void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rates) const {
   auto& P = S.particles;
   const double t0 = S.time, half = 0.5 * dt, quarter = 0.25 * dt;
   S.update_neighbours();  // rates at t for every particle
-  fast_only_ = false;
-  rates(S);
+  rates(S, false);
   // (no fast particle on any rank, e.g. a refined zone the flow has not reached: the fast-only
   // passes would only cost their fixed work, about 1 ms each on Flume B; the step is then the
   // symplectic step of the slow particles)
   const bool any_fast = mark_fast(S);
-  Stages<D> g(S, cfg_.xsph > 0.0, S.walls->evolves_density());
+  Stages<D> g(S, xsph_, S.walls->evolves_density());
   auto pass = [&](double t, bool fast_only) {
     if (fast_only && !any_fast) return;
     move_walls(S, t);
     eos_pressure(S);
     S.update_neighbours();
-    fast_only_ = fast_only;
-    rates(S);
-    fast_only_ = false;
+    rates(S, fast_only);
     g.look_up();
   };
   g.start(false);
@@ -170,9 +167,7 @@ void WCSPH<D>::multirate_step(System<D>& S, double dt) {
   move_walls(S, t0 + dt);
 }
 
-template void WCSPH<2>::multirate_step(System<2>&, double);
-template void WCSPH<3>::multirate_step(System<3>&, double);
-template double WCSPH<2>::multirate_time_step(const System<2>&) const;
-template double WCSPH<3>::multirate_time_step(const System<3>&) const;
+template class MultirateIntegrator<2>;
+template class MultirateIntegrator<3>;
 
 }  // namespace sph
