@@ -128,9 +128,8 @@ TEST(WCSPH, EosRoundTrip) {
   EXPECT_NEAR(std::pow(t.sound_speed(r), 2), (t.pressure(r + d) - t.pressure(r - d)) / (2 * d), 1e-5 * 400);
 }
 
-TEST(Walls, DummyWallPressureOnHydrostaticColumn) {
-  // Adami et al. 2012: p_w = (Σ p_f W + g·Σ ρ_f r_wf W)/Σ W is exact for a hydrostatic field.
-  test::Setup<2> s(R"(
+// A tank of water 0.5 m deep (0.4 m wide, walls 0.6 m high), dummy walls, hydrostatic at set-up.
+const char* const kHydrostaticColumn = R"(
 dimension: 2
 gravity: [0.0, -9.81]
 particles: {dx: 0.01}
@@ -140,7 +139,11 @@ geometry:
   - {type: tank, min: [0.0, 0.0], max: [0.4, 0.6]}
   - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.5]}
 time: {end: 1.0}
-)");
+)";
+
+TEST(Walls, DummyWallPressureOnHydrostaticColumn) {
+  // Adami et al. 2012: p_w = (Σ p_f W + g·Σ ρ_f r_wf W)/Σ W is exact for a hydrostatic field.
+  test::Setup<2> s(kHydrostaticColumn);
   s.scheme->initialise(s.S);
   const auto& P = s.S.particles;
   int n = 0;
@@ -160,17 +163,7 @@ time: {end: 1.0}
 // within 0.005 ρ g H × H = 1 %; the bed's is ρ g (H + dx/2) L (its face layer's centres lie dx/2 below the bed)
 // within 0.5 %. With the wall's right part split to level 1 at set-up (faces of dx/2) the sums are the same.
 TEST(Walls, WallForceGaugeIntegratesAHydrostaticColumn) {
-  const std::string base = R"(
-dimension: 2
-gravity: [0.0, -9.81]
-particles: {dx: 0.01}
-fluid: {density: 1000.0, sound_speed: 30.0}
-walls: {type: dummy}
-geometry:
-  - {type: tank, min: [0.0, 0.0], max: [0.4, 0.6]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.5]}
-time: {end: 1.0}
-)";
+  const std::string base = kHydrostaticColumn;
   const double rg = 1000.0 * 9.81, H = 0.5, L = 0.4, dx = 0.01;
   for (const std::string extra : {"", "resolution: {regions: [{shape: box, min: [0.25, 0.0], max: [0.4, 0.6], level: 1}]}\n"}) {
     test::Setup<2> s(base + extra);

@@ -35,6 +35,17 @@ time: {end: 1.0}
 )";
 
 bool interior(const Vec<2>& x) { return x[0] > 0.1 && x[0] < 0.2 && x[1] > 0.1 && x[1] < 0.2; }
+
+/// Σ m u over the owned particles, and Σ m |u| (its scale).
+std::pair<Vec<2>, double> momentum(const ParticleStore<2>& P) {
+  Vec<2> m{};
+  double scale = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    m += P.mass[i] * P.vel[i];
+    scale += P.mass[i] * std::sqrt(dot(P.vel[i], P.vel[i]));
+  }
+  return {m, scale};
+}
 }  // namespace
 
 TEST(WCSPHDual, SummationDensityIsRho0OnTheLatticeAndNeverBelow) {
@@ -88,18 +99,9 @@ TEST(WCSPHDual, IsolatedBlockConservesMomentum) {
     P.vel[i] = Vec<2>{{U(rng), U(rng)}};  // a rough field: every Riemann term is active
     P.rho[i] *= 1.0 + 0.01 * U(rng);
   }
-  auto momentum = [&] {
-    Vec<2> m{};
-    double scale = 0.0;
-    for (std::size_t i = 0; i < P.n_owned(); ++i) {
-      m += P.mass[i] * P.vel[i];
-      scale += P.mass[i] * std::sqrt(dot(P.vel[i], P.vel[i]));
-    }
-    return std::make_pair(m, scale);
-  };
-  const auto [m0, scale] = momentum();
+  const auto [m0, scale] = momentum(P);
   for (int k = 0; k < 5; ++k) s.named->step(s.S, s.named->time_step(s.S));
-  const auto [m1, unused] = momentum();
+  const auto [m1, unused] = momentum(P);
   // pair terms cancel between a and b; what is left is float round-off of the per-particle sums
   // (each ~1e-7 relative of its own terms): 1e-5 of Σ m|u| is far below a single missing pair
   for (int d = 0; d < 2; ++d) EXPECT_NEAR(m1[d], m0[d], 1e-5 * scale) << d;
@@ -215,17 +217,8 @@ TEST(WCSPHDual, ConservesMomentumAcrossLevels) {
     P.vel[i] = Vec<2>{{U(rng), U(rng)}};
     P.rho[i] *= 1.0 + 0.01 * U(rng);
   }
-  auto momentum = [&] {
-    Vec<2> m{};
-    double scale = 0.0;
-    for (std::size_t i = 0; i < P.n_owned(); ++i) {
-      m += P.mass[i] * P.vel[i];
-      scale += P.mass[i] * std::sqrt(dot(P.vel[i], P.vel[i]));
-    }
-    return std::make_pair(m, scale);
-  };
-  const auto [m0, scale] = momentum();
+  const auto [m0, scale] = momentum(P);
   for (int k = 0; k < 5; ++k) s.named->step(s.S, s.named->time_step(s.S));
-  const auto [m1, unused] = momentum();
+  const auto [m1, unused] = momentum(P);
   for (int d = 0; d < 2; ++d) EXPECT_NEAR(m1[d], m0[d], 1e-5 * scale) << d;
 }
