@@ -97,14 +97,32 @@ LevelRelaxReport relax_level_band(KernelType kernel, double h0, double dx0, std:
   std::vector<double> vol(pos.size()), hs(pos.size(), h0);
   for (std::size_t b = 0; b < pos.size(); ++b) vol[b] = std::pow(level_h(dx0, lev(b)), D);
   std::vector<char> band(nf, 0);
+  std::vector<std::uint32_t> active;  // after the first iteration: the points whose h a band point's shift can change
   std::vector<Vec<D>> shift(nf);
   with_kernel<D>(kernel, h0, [&](const auto& K) {
     CellList<D> cells;
+    // the active points: within a level-0 support of a band point's start plus its whole travel (dx_l/4 <= dx0/4;
+    // margin dx0/2), marked once on a cell list of that reach; the others' supports never hold a point that moves
+    auto mark_active = [&]() {
+      std::vector<char> act(nf, 0);
+      const double reach = K.support + 0.5 * dx0;
+      CellList<D> wide;
+      wide.build(pos, nf, reach);
+      for (std::size_t a = 0; a < nf; ++a) {
+        if (!band[a]) continue;
+        wide.for_neighbours(pos, pos[a], reach, [&](std::uint32_t b, const Vec<D>&, double) { act[b] = 1; });
+      }
+      for (std::size_t a = 0; a < nf; ++a)
+        if (act[a]) active.push_back(static_cast<std::uint32_t>(a));
+    };
     for (int it = 0; it <= iterations; ++it) {
       cells.build(pos, pos.size(), K.support);
-      // h as the run takes it (smooth_level_h)
+      // h as the run takes it (smooth_level_h): every point's at first, then only the active points' (the others'
+      // supports hold no point that has moved: the same sums, in the same order)
+      const std::size_t nh = it == 0 ? nf : active.size();
 #pragma omp parallel for schedule(static)
-      for (std::size_t a = 0; a < nf; ++a) {
+      for (std::size_t k = 0; k < nh; ++k) {
+        const std::size_t a = it == 0 ? k : active[k];
         double sw = 0.0, sh = 0.0;
         cells.for_neighbours(pos, pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
           const double w = K.W(std::sqrt(r2)) * vol[b];
@@ -141,7 +159,11 @@ LevelRelaxReport relax_level_band(KernelType kernel, double h0, double dx0, std:
         res = std::max(res, hs[a] * norm(g));
         shift[a] = relax_step<D>(g, hs[a], level_h(dx0, lev(a)), pos[a], start[a]);
       }
-      if (it == 0) { rep.residual0 = res; rep.band = nband; }
+      if (it == 0) {
+        rep.residual0 = res;
+        rep.band = nband;
+        mark_active();  // (at the lattice positions)
+      }
       rep.residual = res;
       if (it == iterations) break;
       for (std::size_t a = 0; a < nf; ++a) pos[a] += shift[a];
