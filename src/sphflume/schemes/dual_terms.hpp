@@ -47,8 +47,7 @@ struct Row {
 template <bool VarH>
 struct PairKernel {
   F32 ih;  // 1/h_ab (VarH)
-  template <class K>
-  [[gnu::always_inline]] PairKernel(const Row& a, const Block& b, std::size_t l, const K&) {
+  [[gnu::always_inline]] PairKernel(const Row& a, const Block& b, std::size_t l) {
     if constexpr (VarH) ih = F32(2) / (a.ha + b.h[l]);
     else ih = F32(1);
   }
@@ -91,7 +90,7 @@ template <int D>
 template <int D, class K, bool VarH = false, class Acc>
 [[gnu::always_inline]] inline void density_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
   const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
-  const PairKernel<VarH> pk(a, b, l, ker);
+  const PairKernel<VarH> pk(a, b, l);
   const F32 in = pk.inside(r2, support2) ? F32(1) : F32(0);
   if constexpr (VarH) acc[0][l] += pk.W(ker, r) * b.v[l] * in;
   else acc[0][l] += ker.W(r) * in;
@@ -103,7 +102,7 @@ template <int D, class K, bool VarH = false, class Acc>
 template <int D, class K, bool VarH = false, class Acc>
 [[gnu::always_inline]] inline void pressure_terms(const K& ker, F32 support2, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
   const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
-  const PairKernel<VarH> pk(a, b, l, ker);
+  const PairKernel<VarH> pk(a, b, l);
   acc[D + 1][l] += pk.inside(r2, support2) ? F32(1) : F32(0);  // the count
   const F32 Fv = pk.F(ker, r) * b.v[l];  // W'(r)/r V_b (sym: m_b)
   const F32 pp = (a.pa + b.p[l]) * Fv;
@@ -119,7 +118,7 @@ template <int D, class K, bool VarH = false, class Acc>
 template <int D, bool WallBlock, class K, bool VarH = false, class Acc>
 [[gnu::always_inline]] inline void continuity_terms(const K& ker, F32 fk, const Row& a, const Block& b, std::size_t l, Acc&& acc) {
   const auto [r0, r1, r2c, r2, r] = separation<D>(a, b, l);
-  const F32 Fv = PairKernel<VarH>(a, b, l, ker).F(ker, r) * b.v[l];
+  const F32 Fv = PairKernel<VarH>(a, b, l).F(ker, r) * b.v[l];
   const F32 u0 = a.va0 - b.u0[l], u1 = a.va1 - b.u1[l];
   const F32 u2 = D == 3 ? a.va2 - b.u2[l] : F32(0);
   const F32 ur = D == 3 ? u0 * r0 + u1 * r1 + u2 * r2c : u0 * r0 + u1 * r1;  // (ua − ub)·r
