@@ -88,17 +88,17 @@ def main():
                     help="which of fine, band, follow, band_mr, follow_mr, coarse to run (comma-separated)")
     ap.add_argument("--dx", type=float, default=0.01)
     ap.add_argument("--reuse", action="store_true", help="re-read finished runs in --out (validation/common.py run_case)")
-    ap.add_argument("--cells", choices=("level0", "finest"), default="level0",
-                    help="the refined runs' cell list (`resolution.cells`, docs/numerics.md §14); finest: runs go to "
-                         "OUT/cells_finest")
+    ap.add_argument("--cells", choices=("levels", "level0", "finest"), default="levels",
+                    help="the refined runs' cell list (`resolution.cells`, docs/numerics.md §14); level0 or finest: "
+                         "runs go to OUT/cells_level0 or OUT/cells_finest")
     a = ap.parse_args()
     F = FLUMES[a.flume]
     if a.ratio is None:
         a.ratio = 0.163 if a.flume == "a" else 0.28
     if a.flume == "b":  # (Flume A's runs keep their folder names of session 20)
         a.out = os.path.join(a.out, f"flume_b_{a.ratio:g}")
-    if a.cells == "finest":
-        a.out = os.path.join(a.out, "cells_finest")
+    if a.cells != "levels":
+        a.out = os.path.join(a.out, f"cells_{a.cells}")
     base = {"time.end": F["end"](a.ratio), "motions.0.height": a.ratio * H0}
     sets = {"fine": {**base, "particles.dx": a.dx / 2},
             "band": {**base, "particles.dx": a.dx, "resolution": BAND.format(top=F["top"])},
@@ -106,9 +106,9 @@ def main():
             "band_mr": {**base, "particles.dx": a.dx, "resolution": multirate(BAND.format(top=F["top"]))},
             "follow_mr": {**base, "particles.dx": a.dx, "resolution": multirate(FOLLOW.format(top=F["top"]))},
             "coarse": {**base, "particles.dx": a.dx}}
-    if a.cells == "finest":  # (the refined runs only: the uniform ones have one level)
+    if a.cells != "levels":  # (the refined runs only: the uniform ones have one level)
         for tag in ("band", "follow", "band_mr", "follow_mr"):
-            sets[tag]["resolution"] = sets[tag]["resolution"][:-1] + ", cells: finest}"
+            sets[tag]["resolution"] = sets[tag]["resolution"][:-1] + f", cells: {a.cells}}}"
     res = {tag: run(a, tag, sets[tag]) for tag in ("fine", "band", "follow", "band_mr", "follow_mr", "coarse") if tag in a.runs.split(",")}
     ref = F["ref"](a.ratio)
     print(f"Flume {a.flume.upper()}, H/h0 = {a.ratio:g}, to t = {base['time.end']} s, {a.threads} thread(s); "

@@ -296,3 +296,115 @@ void variable_reach_holds_every_pair(int n, double h_fine, unsigned seed) {
 }
 TEST(CellList, VariableReachHoldsEveryPair2D) { variable_reach_holds_every_pair<2>(3000, 0.012, 6); }
 TEST(CellList, VariableReachHoldsEveryPair3D) { variable_reach_holds_every_pair<3>(6000, 0.03, 7); }
+
+// One grid per level (`resolution.cells: levels`, core/cell_grids.hpp): level 1 (h fine) for x < 1,
+// level 0 beyond, h ramping from fine to coarse over x in [0.8, 1.0] (the levels' smoothed h).
+// Every cell's stencil holds every pair within kappa (h_i + h_j)/2, before set_reach (the
+// widest) and after it; each level's particles lie together in the store's order; a fine cell
+// deep in the fine zone scans fewer candidates than the single grid's 3^D level-0 cells; a point
+// query of any radius up to level 0's support finds exactly the brute-force set; and an
+// in-place update after small moves gives the full build's cells.
+template <int D>
+void level_grids_hold_every_pair(int n, double h_fine, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<Vec<D>> pos = random_positions<D>(n, rng);
+  // (anchors at the corners of each level's zone: the moves below keep the grids' layout)
+  for (const double x : {0.0, 0.99, 1.01, 2.0}) {
+    Vec<D> lo{}, hi{};
+    lo[0] = x;
+    hi[0] = x;
+    for (int d = 1; d < D; ++d) hi[d] = 1.0;
+    pos.push_back(lo);
+    pos.push_back(hi);
+  }
+  const std::size_t n_moving = static_cast<std::size_t>(n);
+  const double kappa = 2.0, h_coarse = 2.0 * h_fine;
+  std::vector<double> h(pos.size()), level(pos.size());
+  auto set_levels = [&] {
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      level[i] = pos[i][0] < 1.0 ? 1.0 : 0.0;
+      h[i] = level[i] == 0.0 ? h_coarse : h_fine + (h_coarse - h_fine) * std::clamp((pos[i][0] - 0.8) / 0.2, 0.0, 1.0);
+    }
+  };
+  set_levels();
+  const double R = kappa * h_coarse;
+  CellList<D> cl;
+  cl.build(pos, pos.size(), R, false, 0.0, level.data(), 2);
+  ASSERT_TRUE(cl.level_grids());
+  // the store's order: level 0's cells, then level 1's
+  for (std::size_t k = 1; k < pos.size(); ++k) ASSERT_GE(level[cl.sorted()[k]], level[cl.sorted()[k - 1]]);
+  auto check_pairs = [&](const char* when) {
+    std::uint32_t rg[CellList<D>::kMaxRanges][2];
+    for (const std::uint32_t c : cl.occupied()) {
+      std::set<std::uint32_t> stencil;
+      const int nr = cl.cell_ranges(c, rg);
+      for (int r = 0; r < nr; ++r)
+        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) stencil.insert(cl.sorted()[k]);
+      for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) {
+        const std::uint32_t i = cl.sorted()[k];
+        for (std::size_t j = 0; j < pos.size(); ++j) {
+          const Vec<D> r = pos[i] - pos[j];
+          const double s = 0.5 * kappa * (h[i] + h[j]);
+          if (dot(r, r) < s * s) {
+            ASSERT_TRUE(stencil.count(static_cast<std::uint32_t>(j))) << when << ": " << i << " misses " << j;
+          }
+        }
+      }
+    }
+  };
+  check_pairs("before set_reach");
+  cl.set_reach([&](std::uint32_t j) { return h[j]; }, kappa);
+  check_pairs("after set_reach");
+  // a fine particle deep in the fine zone scans fewer candidates than with level 0's cells
+  CellList<D> single;
+  single.build(pos, pos.size(), R);
+  std::size_t deep = 0, sum_a = 0, sum_b = 0;
+  std::uint32_t rg[CellList<D>::kMaxRanges][2];
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    if (!(pos[i][0] > 0.2 && pos[i][0] < 0.6)) continue;
+    std::size_t a = 0, b = 0;
+    const int na = cl.cell_ranges(cl.cell_of(i), rg);
+    for (int r = 0; r < na; ++r) a += rg[r][1] - rg[r][0];
+    const int nb = single.cell_ranges(single.cell_of(i), rg);
+    for (int r = 0; r < nb; ++r) b += rg[r][1] - rg[r][0];
+    ++deep;
+    sum_a += a;
+    sum_b += b;
+  }
+  // (a fine cell's 3^D fine cells hold (1/2)^D of the level-0 stencil's candidates, the coarse cells around it none)
+  EXPECT_GT(deep, 100u);
+  EXPECT_LT(double(sum_a), 0.4 * double(sum_b));
+  // point queries of several radii
+  for (const double radius : {R, 0.5 * R, kappa * h_fine}) {
+    for (std::size_t i = 0; i < pos.size(); i += 5) {
+      std::set<std::uint32_t> found;
+      cl.for_neighbours(pos, pos[i], radius, [&](std::uint32_t j, const Vec<D>&, double) { found.insert(j); });
+      std::size_t brute = 0;
+      for (std::size_t j = 0; j < pos.size(); ++j) brute += dot(pos[i] - pos[j], pos[i] - pos[j]) < radius * radius ? 1 : 0;
+      ASSERT_EQ(found.size(), brute) << "radius " << radius;
+    }
+  }
+  // the in-place update (the store permuted to cell order, small moves) against a full build
+  std::vector<Vec<D>> p2(pos.size());
+  std::vector<double> l2(pos.size());
+  std::vector<char> moving(pos.size());
+  for (std::size_t k = 0; k < pos.size(); ++k) {
+    p2[k] = pos[cl.sorted()[k]];
+    l2[k] = level[cl.sorted()[k]];
+    moving[k] = cl.sorted()[k] < n_moving;
+  }
+  cl.adopt_permutation();
+  std::uniform_real_distribution<double> u(-0.3 * h_fine, 0.3 * h_fine);
+  for (std::size_t k = 0; k < p2.size(); ++k)
+    if (moving[k])  // (the anchors stay)
+      for (int d = 0; d < D; ++d) p2[k][d] = std::clamp(p2[k][d] + u(rng), 0.0, d == 0 ? (l2[k] > 0.0 ? 0.99 : 2.0) : 1.0);
+  cl.build(p2, p2.size(), R, true, 0.0, l2.data(), 2);
+  EXPECT_TRUE(cl.updated());
+  CellList<D> full;
+  full.build(p2, p2.size(), R, false, 0.0, l2.data(), 2);
+  ASSERT_EQ(cl.cell_count(), full.cell_count());
+  for (std::size_t k = 0; k < p2.size(); ++k) ASSERT_EQ(cl.sorted()[k], full.sorted()[k]) << k;
+  for (std::size_t c = 0; c < cl.cell_count(); ++c) ASSERT_EQ(cl.cell_begin(c), full.cell_begin(c)) << c;
+}
+TEST(CellList, LevelGridsHoldEveryPair2D) { level_grids_hold_every_pair<2>(4000, 0.006, 8); }
+TEST(CellList, LevelGridsHoldEveryPair3D) { level_grids_hold_every_pair<3>(8000, 0.02, 9); }

@@ -177,10 +177,11 @@ TEST(Resolution, FinestCellsGiveTheLevel0CellsRates) {
   // `resolution.cells: finest`: cells as wide as the fine pairs' support, each cell's stencil
   // narrowed to its own pairs (CellList::set_reach). The same pairs as the level-0 cells' 3^D
   // stencil: the rates agree to the float pair sums' round-off (another summation order)
-  test::Setup<2> a(pool(kBlock)), b(pool(std::string(kBlock) + "\n  cells: finest"));
+  test::Setup<2> a(pool(std::string(kBlock) + "\n  cells: level0")), b(pool(std::string(kBlock) + "\n  cells: finest"));
   ASSERT_EQ(a.S.particles.size(), b.S.particles.size());
   a.scheme->initialise(a.S);
   b.scheme->initialise(b.S);
+  ASSERT_FALSE(a.S.cells.level_grids());
   EXPECT_LT(b.S.cells.cell_size(), 0.51 * a.S.cells.cell_size());  // (the test exercises the narrow cells)
   int narrow = 0;
   for (const auto c : b.S.cells.occupied()) narrow += b.S.cells.reach(c) == 1 ? 1 : 0;
@@ -191,6 +192,31 @@ TEST(Resolution, FinestCellsGiveTheLevel0CellsRates) {
   // pressure terms (~30x the net acceleration each) round at ~1e-7 over ~50-200 neighbours,
   // ~2e-5 of amax; a pair missed within the support would move a rate by ~1e-2 of amax (the
   // completeness itself: CellList.VariableReachHoldsEveryPair2D)
+  EXPECT_LT(da, 1e-4 * amax);
+  EXPECT_LT(dd, 1e-4 * dmax + 1e-9);
+}
+
+TEST(Resolution, LevelGridsGiveTheLevel0CellsRates) {
+  // `resolution.cells: levels` (the default): one grid of cells per level (core/cell_grids.hpp).
+  // The same pairs as the level-0 cells' 3^D stencil, so the same rates to the float sums'
+  // round-off (tolerances as above; the completeness itself: CellList.LevelGridsHoldEveryPair2D),
+  // and the same mass and particles; the level-1 cells are half as wide and hold only level 1
+  test::Setup<2> a(pool(std::string(kBlock) + "\n  cells: level0")), b(pool(kBlock));
+  ASSERT_EQ(a.S.particles.size(), b.S.particles.size());
+  a.scheme->initialise(a.S);
+  b.scheme->initialise(b.S);
+  ASSERT_TRUE(b.S.cells.level_grids());
+  const auto& lv = b.S.particles.scalar(field::level);
+  std::size_t fine = 0;
+  for (const auto c : b.S.cells.occupied()) {
+    const std::uint32_t k0 = b.S.cells.cell_begin(c);
+    const double l = lv[b.S.cells.sorted()[k0]];
+    for (std::uint32_t k = k0; k < b.S.cells.cell_end(c); ++k) ASSERT_EQ(lv[b.S.cells.sorted()[k]], l) << "a cell holds two levels";
+    fine += l == 1.0 ? 1 : 0;
+  }
+  EXPECT_GT(fine, 10u);
+  const auto [amax, dmax, da, dd] = rate_differences(a.S.particles, b.S.particles);
+  ASSERT_GT(amax, 1.0);
   EXPECT_LT(da, 1e-4 * amax);
   EXPECT_LT(dd, 1e-4 * dmax + 1e-9);
 }

@@ -422,8 +422,8 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   // the cell's first particle (gather_if) and pre-tested in float (backup_candidates); the few
   // candidates it passes are tested again in double, as the force uses them. The rare pairs
   // found are applied serially, sorted, so the sums do not depend on the threads.
-  const int R = S.cells.reach_for(reach);  // (levels: cells may be narrower than the reach)
-  S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); }, R);
+  // (levels: cells may be narrower than the reach)
+  S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); }, reach);
   hits_.clear();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
@@ -473,7 +473,7 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
         }
         return std::uint64_t(0);
       },
-      R);
+      reach);
   if (hits_.empty()) return;
   std::sort(hits_.begin(), hits_.end());
   apply_backup(S);

@@ -3,6 +3,7 @@
 // store for memory locality. Same template for 2D and 3D.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -12,6 +13,7 @@
 #include <omp.h>
 #endif
 
+#include "sphflume/core/cell_grids.hpp"
 #include "sphflume/core/vec.hpp"
 
 namespace sph {
@@ -40,7 +42,18 @@ class CellList {
   ///
   /// `cell` > 0 (resolution levels): cells of that side instead (at least radius / kMaxReach);
   /// every cell's stencil then spans reach_for(radius) cells until set_reach() narrows it.
-  void build(const std::vector<V>& pos, std::size_t n, double radius, bool in_order = false, double cell = 0.0) {
+  ///
+  /// `level` (resolution levels, `resolution.cells: levels`; docs/numerics.md §14): particle i's level for
+  /// i < n, `grids` > 1 the number of levels: one grid of cells per level (core/cell_grids.hpp), level g's cells
+  /// radius / 2^g wide (with a margin of 1e-6), numbered grid by grid; `cell` is then not used.
+  void build(const std::vector<V>& pos, std::size_t n, double radius, bool in_order = false, double cell = 0.0,
+             const double* level = nullptr, int grids = 1) {
+    const bool multi_before = multi_;
+    const auto grids_before = grids_.current();
+    multi_ = level != nullptr && grids > 1;
+    level_ = multi_ ? level : nullptr;
+    build_radius_ = radius;
+    if (multi_) cell = radius * (1.0 + 1.0e-6);
     if (cell <= 0.0) cell = radius / kReach;
     if (radius > cell * kMaxReach) throw std::logic_error("cell list: cells narrower than radius / kMaxReach");
     const bool same_cell = cell == cell_;
@@ -64,7 +77,7 @@ class CellList {
     lo_[0] = lo0; lo_[1] = lo1; lo_[D - 1] = lo2;
     hi[0] = hi0; hi[1] = hi1; hi[D - 1] = hi2;
     std::size_t ncell = 1;
-    for (int d = 0; d < D; ++d) {
+    for (int d = 0; d < D && !multi_; ++d) {
       if (n == 0) { lo_[d] = 0; hi[d] = 0; }
       if (!std::isfinite(lo_[d]) || !std::isfinite(hi[d]))
         throw std::runtime_error("cell list: non-finite particle position");
@@ -73,9 +86,16 @@ class CellList {
       dims_[d] = static_cast<int>(span) + 1;
       ncell *= static_cast<std::size_t>(dims_[d]);
     }
+    if (multi_) {
+      for (int d = 0; d < D; ++d)
+        if (!std::isfinite(lo_[d]) && n > 0) throw std::runtime_error("cell list: non-finite particle position");
+      ncell = grids_.layout(pos, n, level_, cell, grids);
+      if (grids_.max_rows(radius) > kMaxRanges) throw std::logic_error("cell list: more stencil rows than kMaxRanges");
+    }
     if (ncell > (std::size_t(1) << 31)) throw std::runtime_error("cell list: too many cells (particles flew apart?)");
-    bool same_grid = in_order && adopted_ && same_cell && n == cell_of_.size() && n > 0;
-    for (int d = 0; d < D; ++d) same_grid = same_grid && lo_[d] == lo_before[d] && dims_[d] == dims_before[d];
+    bool same_grid = in_order && adopted_ && same_cell && n == cell_of_.size() && n > 0 && multi_ == multi_before &&
+                     (!multi_ || grids_.same_as(grids_before));
+    for (int d = 0; d < D && !multi_; ++d) same_grid = same_grid && lo_[d] == lo_before[d] && dims_[d] == dims_before[d];
     adopted_ = false;
     moved_ = 0;
     updated_ = same_grid;
@@ -85,8 +105,12 @@ class CellList {
     sorted_.resize(n);
     // the cell of each particle in parallel (the arithmetic); counting and placing stay
     // serial (two plain passes), so indices stay ascending inside a cell for any thread count
-#pragma omp parallel for schedule(static) if (n > 4096)
-    for (std::size_t i = 0; i < n; ++i) cell_of_[i] = cell_index(pos[i]);
+#pragma omp parallel if (n > 4096)
+    {
+      std::size_t i0 = 0, i1 = n;
+      share(n, i0, i1);
+      keys(pos, i0, i1, cell_of_.data());
+    }
     for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of_[i]];
     // prefix sums give each cell's end; placing particles backwards while decrementing leaves
     // each cell's start and keeps indices ascending inside a cell (no extra array)
@@ -132,22 +156,41 @@ class CellList {
 
   /// Max number of ranges returned by ranges().
   /// (a row of a cell's own stencil may split into runs: at most kMaxReach + 1 per row)
-  static constexpr int kMaxRanges = (kMaxReach + 1) * (D == 2 ? 2 * kMaxReach + 1 : (2 * kMaxReach + 1) * (2 * kMaxReach + 1));
+  /// (one grid per level: one range per row of each grid's block, LevelGrids::max_rows, up to four levels)
+  static constexpr int kMaxRanges = D == 2 ? 64 : 1024;
   /// Index ranges [begin, end) into sorted() that cover the particles within `radius` of x
   /// (default: the build radius; at most (2 reach + 1)^(D-1) ranges: cells adjacent along x are
   /// contiguous). Returns the number of ranges. For hot loops that want plain code instead of a
   /// callback.
   int ranges(const V& x, std::uint32_t (*out)[2], double radius = 0.0) const {
+    if (multi_) {
+      int n = 0;
+      grids_.point_rows(x, radius > 0.0 ? radius : build_radius_, [&](std::uint32_t k0, std::uint32_t k1) {
+        out[n][0] = cell_start_[k0];
+        out[n][1] = cell_start_[k1];
+        ++n;
+      });
+      return n;
+    }
     int c[D];
     for (int d = 0; d < D; ++d) c[d] = coord(x, d);
     return stencil_ranges(c, out, radius > 0.0 ? reach_for(radius) : reach_max_);
   }
-  /// The same ranges for every particle of cell `cell` (they share one stencil): ±reach cells,
-  /// by default the cell's own reach (reach()).
-  int cell_ranges(std::size_t cell, std::uint32_t (*out)[2], int reach = -1) const {
-    const bool own = reach < 0;
+  /// The same ranges for every particle of cell `cell` (they share one stencil): by default the
+  /// cell's own pairs' (reach()); `radius` > 0: every particle within radius of the cell.
+  int cell_ranges(std::size_t cell, std::uint32_t (*out)[2], double radius = 0.0) const {
+    if (multi_) {
+      int n = 0;
+      grid_rows(cell, radius, [&](std::uint32_t k0, std::uint32_t k1) {
+        out[n][0] = cell_start_[k0];
+        out[n][1] = cell_start_[k1];
+        ++n;
+      });
+      return n;
+    }
+    const bool own = radius <= 0.0;
     const std::size_t self = cell;
-    if (own) reach = this->reach(cell);
+    const int reach = own ? this->reach(cell) : reach_for(radius);
     int c[D];
     coords(cell, c);
     return stencil_ranges(c, out, reach, own ? static_cast<std::int64_t>(self) : -1);
@@ -166,9 +209,15 @@ class CellList {
   /// length: ±ceil(kappa (max h in the cell + max h within the widest stencil) / (2 cell))
   /// cells. A fine particle far from the coarse ones then scans its own level's neighbourhood,
   /// not the coarse support's. Valid until the next build or until h changes (call it again).
+  ///
+  /// One grid per level (build's `level`): set_grid_reach.
   template <class H>
   void set_reach(H&& h, double kappa) {
     const std::size_t ncell = cell_count(), nocc = occupied_.size();
+    if (multi_) {
+      set_grid_reach(std::forward<H>(h), kappa);
+      return;
+    }
     if (reach_max_ <= 1) { reach_.clear(); hcell_.clear(); return; }
     hcell_.assign(ncell, 0.0f);
     reach_.resize(ncell);
@@ -299,8 +348,10 @@ class CellList {
   /// particle in a cell with near == 0 has no such particle within the cell's pair reach (empty
   /// cells are left 0: no particle asks). The stencil: ±reach cells, by default each cell's own
   /// (reach()). O(occupied cells x 3^D), not O(cells): a tank is mostly empty cells.
+  /// `radius` > 0: the cells within radius instead of each cell's own pairs.
   template <class Pred>
-  void mark_near(std::vector<char>& near, Pred&& pred, int reach = -1) const {
+  void mark_near(std::vector<char>& near, Pred&& pred, double radius = 0.0) const {
+    const int reach = radius > 0.0 && !multi_ ? reach_for(radius) : -1;
     const std::size_t ncell = cell_count();
     const std::size_t nocc = occupied_.size();
     tmp_.assign(ncell, 0);  // tmp_[c] = 1: cell c itself holds a particle with pred
@@ -316,6 +367,14 @@ class CellList {
       }
 #pragma omp for schedule(static)
       for (std::size_t oc = 0; oc < nocc; ++oc) {
+        if (multi_) {  // (the cells of the stencil's rows: those between its taken cells hold no pair but are few)
+          char any = 0;
+          grid_rows(occupied_[oc], radius, [&](std::uint32_t k0, std::uint32_t k1) {
+            for (std::uint32_t k = k0; k < k1 && !any; ++k) any = has[k];
+          });
+          near[occupied_[oc]] = any;
+          continue;
+        }
         const int R = reach >= 0 ? reach : this->reach(occupied_[oc]);
         const char any = window(has, occupied_[oc], R, char(0), [](char a, char b) { return char(a | b); });
         near[occupied_[oc]] = any;
@@ -333,9 +392,12 @@ class CellList {
                     tmp_.capacity() + sweep_work_.capacity() * 8 + moved_in_.capacity() * sizeof(Move) +
                     (moved_out_.capacity() + left_.capacity() + arrive_.capacity()) * 4;
     for (const auto& m : found_) b += m.capacity() * sizeof(Move);
+    b += grids_.bytes();
     return b;
   }
   double cell_size() const { return cell_; }
+  /// Whether the cells are one grid per level (build's `level`).
+  bool level_grids() const { return multi_; }
   /// sweep_cells' scratch: the occupied cells' work and its running sums (kept with the list,
   /// so that bytes() counts it and no pass allocates it anew)
   std::vector<std::uint64_t>& sweep_work() const { return sweep_work_; }
@@ -347,6 +409,10 @@ class CellList {
   int dims_[D]{};
   std::vector<std::uint32_t> cell_of_, cell_start_, sorted_, occupied_;
   int reach_max_ = kReach;            // the build radius's stencil
+  bool multi_ = false;                // one grid per level (build's level)
+  LevelGrids<D> grids_;               // their layout
+  const double* level_ = nullptr;     // the levels during build()
+  double build_radius_ = 0.0;         // build()'s radius (the widest query)
   std::vector<std::uint8_t> reach_;   // each cell's stencil (set_reach); empty: reach_max_
   std::vector<float> hcell_;          // each cell's largest h (set_reach; empty: no filter)
   double pair_reach_ = 0.0;           // kappa / (2 cell) with a margin of 1e-7 (set_reach)
@@ -447,8 +513,12 @@ class CellList {
       // the new cells into sorted_ (the identity since the adoption: scratch here), a vector
       // loop; then the few that differ (the same static partition: each thread reads its own)
       std::uint32_t* __restrict key = sorted_.data();
-#pragma omp for schedule(static) nowait
-      for (std::size_t i = 0; i < n; ++i) key[i] = cell_index(pos[i]);
+      {
+        std::size_t i0 = 0, i1 = n;
+        share(n, i0, i1);
+        keys(pos, i0, i1, key);
+      }
+#pragma omp barrier
 #pragma omp for schedule(static)
       for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t c = key[i];
@@ -519,6 +589,56 @@ class CellList {
   int coord(const V& x, int d) const {
     int c = static_cast<int>((x[d] - lo_[d]) * inv_cell_);
     return std::clamp(c, 0, dims_[d] - 1);
+  }
+  /// The cells particles [i0, i1) are binned in, into out[i0, i1) (one grid per level: by runs of
+  /// one level, as the store sorted by cell holds them).
+  void keys(const std::vector<V>& pos, std::size_t i0, std::size_t i1, std::uint32_t* __restrict out) const {
+    if (!multi_) {
+      for (std::size_t i = i0; i < i1; ++i) out[i] = cell_index(pos[i]);
+      return;
+    }
+    for (std::size_t i = i0; i < i1;) {
+      const double l = level_[i];
+      std::size_t j = i + 1;
+      while (j < i1 && level_[j] == l) ++j;
+      grids_.index_run(pos, i, j, grids_.grid_of_level(l), out);
+      i = j;
+    }
+  }
+  /// This thread's static share [i0, i1) of [0, n) (i0 = 0, i1 = n outside a parallel region).
+  static void share(std::size_t n, std::size_t& i0, std::size_t& i1) {
+#ifdef _OPENMP
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num()), nt = static_cast<std::size_t>(omp_get_num_threads());
+    i0 = n * t / nt;
+    i1 = n * (t + 1) / nt;
+#else
+    i0 = 0;
+    i1 = n;
+#endif
+  }
+  /// One grid per level: row(first cell, end cell) for each row of cell `cell`'s stencil
+  /// (LevelGrids::rows with LevelGrids::widths: its pairs', or every cell within radius).
+  template <class Row>
+  void grid_rows(std::size_t cell, double radius, Row&& row) const {
+    int w[LevelGrids<D>::kMaxGrids];
+    const bool pairs = radius <= 0.0 && !hcell_.empty();
+    grids_.widths(cell, pairs ? 0.0 : radius > 0.0 ? radius : build_radius_, pairs ? reach_[cell] : 0, w);
+    grids_.rows(cell, w, row);
+  }
+  /// set_reach with one grid per level: each cell's largest h, then LevelGrids::set_reach.
+  template <class H>
+  void set_grid_reach(H&& h, double kappa) {
+    const std::size_t ncell = cell_count(), nocc = occupied_.size();
+    hcell_.assign(ncell, 0.0f);
+    reach_.assign(ncell, 1);
+#pragma omp parallel for schedule(static) if (sorted_.size() > 4096)
+    for (std::size_t oc = 0; oc < nocc; ++oc) {
+      const std::uint32_t c = occupied_[oc];
+      double m = 0.0;
+      for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) m = std::max(m, double(h(sorted_[k])));
+      hcell_[c] = static_cast<float>(m);
+    }
+    grids_.set_reach(hcell_, occupied_, kappa, reach_, sorted_.size() > 4096);
   }
   std::uint32_t cell_index(const V& x) const {
     std::size_t idx = 0;

@@ -407,12 +407,16 @@ struct ResolutionRegionConfig {
   int level = 1;
   int line = 0;
 };
+/// The cell list's layout with resolution levels (`resolution.cells`, core/system.hpp): level 0's cells (each cell's
+/// 3^D stencil), the finest pairs' cells (each cell's stencil narrowed to its pairs), or one grid of cells per level
+/// (core/cell_grids.hpp).
+enum class CellLayout { Level0, Finest, Levels };
 struct ResolutionConfig {
   std::vector<ResolutionRegionConfig> regions;
   int relax_iterations = 300;  // the level interface's relaxation at set-up (physics/resolution.hpp)
   int settle_iterations = 10;  // the shifts of each split's children (physics/resolution.hpp adapt_levels)
   bool multirate = false;      // the finest level sub-cycled at half the others' step (schemes/multirate.hpp)
-  bool finest_cells = false;   // `cells: finest`: the cell list at the finest pairs' support (core/system.hpp cell_side)
+  CellLayout cells = CellLayout::Levels;  // `cells`: the cell list's layout (core/system.hpp)
   int multirate_line = 0;
   int line = 0;
   bool on() const { return !regions.empty(); }

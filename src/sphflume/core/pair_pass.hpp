@@ -33,10 +33,10 @@ struct CellStencil {
   const std::uint32_t* sorted = nullptr;
   bool identity = false;
 
-  /// The stencil of `cell` (±reach cells; -1: the cell's own, CellList::reach); `padded` =
-  /// count rounded up to a multiple of `lanes`.
-  void set(const CellList<D>& cells, std::size_t cell, std::size_t lanes, int reach = -1) {
-    nr = cells.cell_ranges(cell, rg, reach);
+  /// The stencil of `cell` (its own pairs', CellList::cell_ranges; radius > 0: every particle
+  /// within radius of the cell); `padded` = count rounded up to a multiple of `lanes`.
+  void set(const CellList<D>& cells, std::size_t cell, std::size_t lanes, double radius = 0.0) {
+    nr = cells.cell_ranges(cell, rg, radius);
     count = 0;
     for (int r = 0; r < nr; ++r) count += rg[r][1] - rg[r][0];
     padded = (count + lanes - 1) / lanes * lanes;
@@ -351,8 +351,8 @@ struct LaneSums {
 /// other cell the stencil of its 3^D cells is set with `lanes` padding and the scratch columns
 /// are reserved, then body(cell, st, B) gathers its columns and runs the cell's particles.
 /// Returns the sum of what body returns (pair counts). Must not be called inside a parallel
-/// region. `reach`: the stencil's ± cells, by default each cell's own (CellList::reach: the
-/// pairs at h_ij); a pass with a fixed radius gives cells.reach_for(radius).
+/// region. `radius`: 0 (the default) for each cell's own pairs (CellList::cell_ranges: the
+/// pairs at h_ij); a pass with a fixed radius gives it.
 ///
 /// Each thread runs one contiguous run of cells. The store is in cell order, so a thread then
 /// reads mostly the particles that it wrote itself in the static particle loops between the
@@ -364,7 +364,7 @@ struct LaneSums {
 /// across the tank, with the walls among them). The results do not depend on the partition:
 /// a cell's sums are its own, and the pair counts are integers.
 template <class T, int D, class Need, class Body>
-std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes, Need&& needs, Body&& body, int reach = -1) {
+std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes, Need&& needs, Body&& body, double radius = 0.0) {
   const auto& occupied = cells.occupied();
   const std::size_t nocc = occupied.size();
   int maxt = 1;
@@ -390,7 +390,7 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
     CellStencil<D> st;
     ScratchColumns<T> B(ncol);
     auto run = [&](std::size_t cell) {
-      st.set(cells, cell, lanes, reach);
+      st.set(cells, cell, lanes, radius);
       B.reserve(st.padded);
       total += body(cell, st, B);
     };
@@ -404,7 +404,7 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
         const std::size_t m = needs(cell);
         wk[oc + 1] = 0;
         if (m > 0) {
-          st.set(cells, cell, lanes, reach);
+          st.set(cells, cell, lanes, radius);
           wk[oc + 1] = (m + 1) * st.padded;  // (the + 1: the stencil's copy)
         }
       }

@@ -10,6 +10,7 @@
 #include "sphflume/core/periodic.hpp"
 #include "sphflume/core/cell_list.hpp"
 #include "sphflume/core/communicator.hpp"
+#include "sphflume/core/config.hpp"
 #include "sphflume/core/halo.hpp"
 #include "sphflume/core/kernels.hpp"
 #include "sphflume/core/particles.hpp"
@@ -34,25 +35,27 @@ struct System {
   /// Resolution levels (docs/numerics.md §14): levels > 0 when a `resolution:` section refines
   /// regions; the particles then carry the store fields "h" and "level" (spacing dx / 2^level,
   /// h / 2^level, mass / 2^(D level)). dx, h and support stay level 0's; the cell list is built
-  /// with the largest support (its 3^D stencil holds every pair) or, with finest_cells
-  /// (`resolution.cells: finest`), with cells as wide as the finest pairs' support (cell_side)
-  /// and each cell's stencil narrowed to its own pairs (CellList::set_reach: ±1 cell among fine
-  /// particles, ±2 near coarse ones).
+  /// with the largest support (its 3^D stencil holds every pair), or (cell_layout,
+  /// `resolution.cells`) with cells as wide as the finest pairs' support (cell_side) and each
+  /// cell's stencil narrowed to its own pairs (CellList::set_reach: ±1 cell among fine particles,
+  /// ±2 near coarse ones), or with one grid of cells per level (core/cell_grids.hpp: each level's
+  /// particles in cells of its own support, each cell's stencil the cells of every level that may
+  /// hold its pairs).
   int levels = 0;
-  bool finest_cells = false;
+  CellLayout cell_layout = CellLayout::Level0;
   /// The levels' owner (physics/resolution.hpp; null with one resolution): regions, h, split, merge, settling, the
-  /// step's h; it sets levels and finest_cells above (Resolution::attach).
+  /// step's h; it sets levels and cell_layout above (Resolution::attach).
   std::shared_ptr<Resolution<D>> resolution;
-  /// The cell list's side: level 0's support; with finest_cells the finest level's support, at
+  /// The cell list's side: level 0's support; with the finest pairs' cells the finest level's support, at
   /// least half the largest (CellList::kMaxReach), with a margin of 1e-6 (a fine pair's support
   /// is then within one cell however h rounds).
   double cell_side() const {
-    if (!finest_cells) return support;
+    if (cell_layout != CellLayout::Finest) return support;
     return std::max(support / h * finest_h(), support / CellList<D>::kMaxReach) * (1.0 + 1.0e-6);
   }
   /// Narrow the cell list's stencils to each cell's pairs (levels; after h or the list changed).
   void set_cell_reach() {
-    if (!finest_cells) return;
+    if (cell_layout == CellLayout::Level0) return;
     const auto* hs = particles.find(field::smoothing_length);
     if (!hs || hs->size() < cells.sorted().size()) return;  // (before the levels' h is set: the widest stencil)
     const double* hv = hs->data();
@@ -131,7 +134,8 @@ struct System {
     // (the store still in the order of the last re-sort: only the particles that changed cell
     // are re-placed)
     const double side = cell_side();
-    cells.build(particles.pos, particles.n_owned(), support, cells_layout_ == particles.layout(), side);
+    const double* lv = level_grid_field();
+    cells.build(particles.pos, particles.n_owned(), support, cells_layout_ == particles.layout(), side, lv, levels + 1);
     if (cells.updated())
       particles.permute_runs(cells.moved(), cells.moved_from(), cells.moved_to());
     else
@@ -140,12 +144,18 @@ struct System {
     cells_layout_ = particles.layout();
     for (int l = 0; l < nl; ++l) layer[l]->build(particles, support * 1.1 + dx);
     if (particles.size() > particles.n_owned()) {
-      cells.build(particles.pos, particles.size(), support, false, side);
+      cells.build(particles.pos, particles.size(), support, false, side, level_grid_field(), levels + 1);
       cells_layout_ = 0;  // (the list now holds the images too)
     }
     set_cell_reach();
   }
   std::uint64_t cells_layout_ = 0;  // the store's layout() the cell list was last sorted for
+  /// The particles' levels when the cell list takes one grid per level (null otherwise).
+  const double* level_grid_field() const {
+    if (cell_layout != CellLayout::Levels || levels == 0) return nullptr;
+    const auto* lv = particles.find(field::level);
+    return lv ? lv->data() : nullptr;
+  }
   /// Copy the fields of every image from its source again (after a pass changed fields that
   /// later pair loops read from neighbours).
   void refresh_halos() {

@@ -112,7 +112,8 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
   res.settle_iterations = static_cast<int>(settle);
   // the cell list's cells: level 0's support (each cell's 3^D stencil) or the finest pairs' (each
   // cell's stencil narrowed to its own pairs; docs/numerics.md §14 has where each is faster)
-  res.finest_cells = r.choice("cells", "level0", {"level0", "finest"}) == "finest";
+  const std::string cells = r.choice("cells", "levels", {"levels", "level0", "finest"});
+  res.cells = cells == "finest" ? CellLayout::Finest : cells == "levels" ? CellLayout::Levels : CellLayout::Level0;
   res.multirate = r.scalar<bool>("multirate", false);
   if (res.multirate) {
     res.multirate_line = r.get("multirate").key_line();

@@ -26,9 +26,9 @@ void smooth_level_h(System<D>& S) {
   // cells whose stencil holds particles of more than one level: only their particles average
   // (elsewhere the average is the level's own h)
   std::vector<char> mixed, near;
-  const int R0 = S.cells.reach_for(S.support);  // (the average's level-0 support: the widest stencil)
+  // (the average's level-0 support: the widest stencil)
   for (int l = 0; l <= S.levels; ++l) {
-    S.cells.mark_near(near, [&](std::size_t i) { return static_cast<int>(lv[i]) == l; }, R0);
+    S.cells.mark_near(near, [&](std::size_t i) { return static_cast<int>(lv[i]) == l; }, S.support);
     if (mixed.empty()) mixed.assign(near.size(), 0);
     for (std::size_t c = 0; c < near.size(); ++c) mixed[c] = static_cast<char>(mixed[c] + near[c]);
   }
@@ -79,7 +79,7 @@ void smooth_level_h(System<D>& S) {
         if (sw > 0.0f) hs[a] = std::clamp(double(sh / sw), h_fine, S.h);  // (float round-off kept inside the levels' h)
       }
       return std::uint64_t(0);
-    }, R0);
+    }, S.support);
   });
   S.refresh_halos(hs.data());
   S.set_cell_reach();  // (the pair passes' stencils follow the new h)

@@ -120,7 +120,7 @@ class Resolution {
   /// The System's level count and cell layout (`cells: level0 | finest`), which its cell list reads.
   void attach(System<D>& S) const {
     S.levels = levels();
-    S.finest_cells = S.levels > 0 && cfg_.finest_cells;
+    S.cell_layout = S.levels > 0 ? cfg_.cells : CellLayout::Level0;
   }
   /// Each particle's h at its place (smooth_level_h); after every neighbour update a pass reads h from.
   void smooth_h(System<D>& S) const { smooth_level_h(S); }

@@ -83,7 +83,7 @@ void finalise_mpi() {
 
 /// All-to-all exchange of byte buffers: send[q] goes to rank q; returns what each rank sent
 /// here, back to back in rank order, with recv_counts[q] bytes from rank q.
-std::vector<std::byte> exchange(const std::vector<std::vector<std::byte>>& send, std::vector<int>& recv_counts) {
+std::vector<std::byte> exchange_bytes(const std::vector<std::vector<std::byte>>& send, std::vector<int>& recv_counts) {
   const int size = static_cast<int>(send.size());
   std::vector<int> sc(size), sd(size), rd(size);
   recv_counts.assign(size, 0);
@@ -207,7 +207,7 @@ class Slabs final : public Halo<D> {
       P.pack(i, b.data() + b.size() - pb);
     }
     std::vector<int> rc;
-    const auto in = exchange(send, rc);
+    const auto in = exchange_bytes(send, rc);
     if (!flag.empty()) P.remove_if_flagged(flag);
     for (std::size_t off = 0; off < in.size(); off += pb) P.add_packed(in.data() + off);
     migrated_ += static_cast<double>(in.size() / pb);
@@ -240,7 +240,7 @@ class Slabs final : public Halo<D> {
     }
     std::vector<std::vector<std::byte>> send(size());
     pack_all(P, send);
-    const auto in = exchange(send, recv_);
+    const auto in = exchange_bytes(send, recv_);
     begin_ = P.size();
     for (std::size_t off = 0; off < in.size(); off += pb) P.add_remote_image(in.data() + off);
     end_ = P.size();
@@ -252,7 +252,7 @@ class Slabs final : public Halo<D> {
     std::vector<std::vector<std::byte>> send(size());
     pack_all(P, send);
     std::vector<int> rc;
-    const auto in = exchange(send, rc);
+    const auto in = exchange_bytes(send, rc);
     std::size_t i = begin_;
     for (std::size_t off = 0; off < in.size(); off += pb) P.unpack(i++, in.data() + off);
     count(send);
@@ -266,7 +266,7 @@ class Slabs final : public Halo<D> {
         std::memcpy(send[q].data() + k * width, column + std::size_t(send_[q][k]) * width, width);
     }
     std::vector<int> rc;
-    const auto in = exchange(send, rc);
+    const auto in = exchange_bytes(send, rc);
     std::memcpy(column + begin_ * width, in.data(), in.size());
     count(send);
   }
