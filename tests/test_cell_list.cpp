@@ -249,6 +249,30 @@ TEST(CellList, SweepRunsEveryNeededCellOnce) {
 #endif
 }
 
+// Every cell's stencil (cell_ranges) holds every particle j within kappa (h_i + h_j)/2 of each
+// of its particles i (brute force).
+template <int D>
+void stencils_hold_every_pair(const CellList<D>& cl, const std::vector<Vec<D>>& pos, const std::vector<double>& h,
+                              double kappa, const char* when) {
+  std::uint32_t rg[CellList<D>::kMaxRanges][2];
+  for (const std::uint32_t c : cl.occupied()) {
+    std::set<std::uint32_t> stencil;
+    const int nr = cl.cell_ranges(c, rg);
+    for (int r = 0; r < nr; ++r)
+      for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) stencil.insert(cl.sorted()[k]);
+    for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) {
+      const std::uint32_t i = cl.sorted()[k];
+      for (std::size_t j = 0; j < pos.size(); ++j) {
+        const Vec<D> r = pos[i] - pos[j];
+        const double s = 0.5 * kappa * (h[i] + h[j]);
+        if (dot(r, r) < s * s) {
+          ASSERT_TRUE(stencil.count(static_cast<std::uint32_t>(j))) << when << ": " << i << " misses " << j;
+        }
+      }
+    }
+  }
+}
+
 // Resolution levels (docs/numerics.md §14): cells as wide as the fine pairs' support, each cell's
 // stencil narrowed to its own pairs (set_reach) holds every pair within kappa (h_i + h_j)/2;
 // the fine cells away from the coarse particles scan ±1 cell, the others ±2; a query of the
@@ -265,24 +289,8 @@ void variable_reach_holds_every_pair(int n, double h_fine, unsigned seed) {
   cl.build(pos, pos.size(), kappa * h_coarse, false, kappa * h_fine * (1.0 + 1.0e-6));
   cl.set_reach([&](std::uint32_t j) { return h[j]; }, kappa);
   int fine_cells = 0, wide_cells = 0;
-  std::uint32_t rg[CellList<D>::kMaxRanges][2];
-  for (const std::uint32_t c : cl.occupied()) {
-    (cl.reach(c) == 1 ? fine_cells : wide_cells) += 1;
-    std::set<std::uint32_t> stencil;
-    const int nr = cl.cell_ranges(c, rg);
-    for (int r = 0; r < nr; ++r)
-      for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) stencil.insert(cl.sorted()[k]);
-    for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) {
-      const std::uint32_t i = cl.sorted()[k];
-      for (std::size_t j = 0; j < pos.size(); ++j) {
-        const Vec<D> r = pos[i] - pos[j];
-        const double s = 0.5 * kappa * (h[i] + h[j]);
-        if (dot(r, r) < s * s) {
-          ASSERT_TRUE(stencil.count(static_cast<std::uint32_t>(j))) << i << " misses " << j;
-        }
-      }
-    }
-  }
+  for (const std::uint32_t c : cl.occupied()) (cl.reach(c) == 1 ? fine_cells : wide_cells) += 1;
+  stencils_hold_every_pair(cl, pos, h, kappa, "set_reach");
   EXPECT_GT(fine_cells, 0);
   EXPECT_GT(wide_cells, 0);
   // the widest query still holds everything within the build radius
@@ -333,28 +341,9 @@ void level_grids_hold_every_pair(int n, double h_fine, unsigned seed) {
   ASSERT_TRUE(cl.level_grids());
   // the store's order: level 0's cells, then level 1's
   for (std::size_t k = 1; k < pos.size(); ++k) ASSERT_GE(level[cl.sorted()[k]], level[cl.sorted()[k - 1]]);
-  auto check_pairs = [&](const char* when) {
-    std::uint32_t rg[CellList<D>::kMaxRanges][2];
-    for (const std::uint32_t c : cl.occupied()) {
-      std::set<std::uint32_t> stencil;
-      const int nr = cl.cell_ranges(c, rg);
-      for (int r = 0; r < nr; ++r)
-        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) stencil.insert(cl.sorted()[k]);
-      for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) {
-        const std::uint32_t i = cl.sorted()[k];
-        for (std::size_t j = 0; j < pos.size(); ++j) {
-          const Vec<D> r = pos[i] - pos[j];
-          const double s = 0.5 * kappa * (h[i] + h[j]);
-          if (dot(r, r) < s * s) {
-            ASSERT_TRUE(stencil.count(static_cast<std::uint32_t>(j))) << when << ": " << i << " misses " << j;
-          }
-        }
-      }
-    }
-  };
-  check_pairs("before set_reach");
+  stencils_hold_every_pair(cl, pos, h, kappa, "before set_reach");
   cl.set_reach([&](std::uint32_t j) { return h[j]; }, kappa);
-  check_pairs("after set_reach");
+  stencils_hold_every_pair(cl, pos, h, kappa, "after set_reach");
   // a fine particle deep in the fine zone scans fewer candidates than with level 0's cells
   CellList<D> single;
   single.build(pos, pos.size(), R);
