@@ -29,8 +29,15 @@ class DummyWalls final : public WallModel<D> {
     if (this->cfg.no_slip) corr_.resize(P.size() * D);
     // walls with no fluid within the kernel support keep the background state: skip their
     // neighbour search (most of a tank's walls, most of the time)
-    S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); });
     const auto& cells = S.cells;
+    const std::uint32_t* srt = cells.sorted().data();
+    const auto has_walls = [&](std::size_t cell) {  // (only a cell with wall particles reads its mark)
+      for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
+        if (P.kind[srt[k]] == Kind::Wall) return true;
+      return false;
+    };
+    S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); },
+                      0.0, has_walls);
     const Pass p{cells.sorted().data(), P.pos.data(), P.vel.data(), P.rho.data(), P.p.data(), P.kind.data(),
                  P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr,  // moving walls
                  this->cfg.no_slip ? corr_.data() : nullptr, P.n_owned(), this->cfg.clamp_negative_pressure,
@@ -422,8 +429,6 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   // the cell's first particle (gather_if) and pre-tested in float (backup_candidates); the few
   // candidates it passes are tested again in double, as the force uses them. The rare pairs
   // found are applied serially, sorted, so the sums do not depend on the threads.
-  // (levels: cells may be narrower than the reach)
-  S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); }, reach);
   hits_.clear();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
@@ -432,6 +437,14 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
     const double depth2 = dot(to[k], to[k]);
     return depth2 > 0.0 && depth2 < dx * dx;  // a corner's own point has no normal
   };
+  const auto has_first_layer = [&](std::size_t cell) {  // (only such a cell reads its mark)
+    for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
+      if (first_layer(sorted[k])) return true;
+    return false;
+  };
+  // (levels: cells may be narrower than the reach)
+  S.cells.mark_near(this->near_, [&, fast = near_only](std::size_t j) { return fluid_like(P.kind[j]) && (!fast || fast[j] != 0.0); },
+                    reach, has_first_layer);
   const auto hit = [&](std::uint32_t j, std::size_t k) {  // the exact test
     const Vec<D> r = P.pos[k] - P.pos[j];
     const double r2 = dot(r, r);

@@ -348,9 +348,14 @@ class CellList {
   /// particle in a cell with near == 0 has no such particle within the cell's pair reach (empty
   /// cells are left 0: no particle asks). The stencil: ±reach cells, by default each cell's own
   /// (reach()). O(occupied cells x 3^D), not O(cells): a tank is mostly empty cells.
-  /// `radius` > 0: the cells within radius instead of each cell's own pairs.
-  template <class Pred>
-  void mark_near(std::vector<char>& near, Pred&& pred, double radius = 0.0) const {
+  /// `radius` > 0: the cells within radius instead of each cell's own pairs. `ask`: only the
+  /// cells c with ask(c) are marked (the others are left 0: a caller that reads near only where
+  /// it has work spares the stencils of the rest).
+  struct AnyCell {
+    bool operator()(std::size_t) const { return true; }
+  };
+  template <class Pred, class Ask = AnyCell>
+  void mark_near(std::vector<char>& near, Pred&& pred, double radius = 0.0, Ask&& ask = Ask{}) const {
     const int reach = radius > 0.0 && !multi_ ? reach_for(radius) : -1;
     const std::size_t ncell = cell_count();
     const std::size_t nocc = occupied_.size();
@@ -367,6 +372,7 @@ class CellList {
       }
 #pragma omp for schedule(static)
       for (std::size_t oc = 0; oc < nocc; ++oc) {
+        if (!ask(static_cast<std::size_t>(occupied_[oc]))) continue;
         if (multi_) {  // (the cells of the stencil's rows: those between its taken cells hold no pair but are few)
           char any = 0;
           grid_rows(occupied_[oc], radius, [&](std::uint32_t k0, std::uint32_t k1) {
