@@ -20,6 +20,18 @@
 
 namespace sph {
 
+/// This thread's static share [i0, i1) of [0, n) (i0 = 0, i1 = n outside a parallel region).
+inline void thread_share(std::size_t n, std::size_t& i0, std::size_t& i1) {
+#ifdef _OPENMP
+  const std::size_t t = static_cast<std::size_t>(omp_get_thread_num()), nt = static_cast<std::size_t>(omp_get_num_threads());
+  i0 = n * t / nt;
+  i1 = n * (t + 1) / nt;
+#else
+  i0 = 0;
+  i1 = n;
+#endif
+}
+
 template <int D>
 class LevelGrids {
  public:
@@ -56,19 +68,9 @@ class LevelGrids {
     {
       std::array<V, kMaxGrids> a = mn, b = mx;
       std::size_t i0 = 0, i1 = n;
-#ifdef _OPENMP
-      {
-        const std::size_t t = static_cast<std::size_t>(omp_get_thread_num()), nt = static_cast<std::size_t>(omp_get_num_threads());
-        i0 = n * t / nt;
-        i1 = n * (t + 1) / nt;
-      }
-#endif
+      thread_share(n, i0, i1);
       const double* __restrict p = pos.data()->c.data();
-      for (std::size_t i = i0; i < i1;) {  // (runs of one level: the store sorted by cell holds them together)
-        const double l = level[i];
-        std::size_t j = i + 1;
-        while (j < i1 && level[j] == l) ++j;
-        const int g = grid_of_level(l);
+      level_runs(level, i0, i1, [&](std::size_t i, std::size_t j, int g) {
         for (int d = 0; d < D; ++d) {
           double lo = a[g][d], hi = b[g][d];
           for (std::size_t k = i; k < j; ++k) {
@@ -78,8 +80,7 @@ class LevelGrids {
           a[g][d] = lo;
           b[g][d] = hi;
         }
-        i = j;
-      }
+      });
 #pragma omp critical(sphflume_cell_grids)
       for (int g = 0; g < grids; ++g)
         for (int d = 0; d < D; ++d) { mn[g][d] = std::min(mn[g][d], a[g][d]); mx[g][d] = std::max(mx[g][d], b[g][d]); }
@@ -126,6 +127,18 @@ class LevelGrids {
     return true;
   }
   int grid_of_level(double level) const { return std::clamp(static_cast<int>(level), 0, n_ - 1); }
+  /// fn(i, j, g) for each run [i, j) of particles of one level within [i0, i1), g its grid (the store sorted by
+  /// cell holds each level's particles together: a few long runs).
+  template <class Fn>
+  void level_runs(const double* level, std::size_t i0, std::size_t i1, Fn&& fn) const {
+    for (std::size_t i = i0; i < i1;) {
+      const double l = level[i];
+      std::size_t j = i + 1;
+      while (j < i1 && level[j] == l) ++j;
+      fn(i, j, grid_of_level(l));
+      i = j;
+    }
+  }
 
   /// The global cells of positions [i0, i1) on grid g, into out[i0, i1).
   void index_run(const std::vector<V>& pos, std::size_t i0, std::size_t i1, int g, std::uint32_t* __restrict out) const {
@@ -145,15 +158,6 @@ class LevelGrids {
       }
       out[i] = idx;
     }
-  }
-  /// The global cell of position x on grid g.
-  std::uint32_t index(const V& x, int g) const {
-    const Grid& G = g_[g];
-    std::size_t idx = 0;
-    for (int d = D - 1; d >= 0; --d)
-      idx = idx * static_cast<std::size_t>(G.dims[d]) +
-            static_cast<std::size_t>(std::clamp(static_cast<int>((x[d] - G.o[d]) * G.inv), 0, std::max(G.dims[d] - 1, 0)));
-    return G.off + static_cast<std::uint32_t>(idx);
   }
   /// The grid of global cell `cell` and its coordinates there.
   int locate(std::size_t cell, int* c) const {

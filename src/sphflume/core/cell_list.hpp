@@ -108,7 +108,7 @@ class CellList {
 #pragma omp parallel if (n > 4096)
     {
       std::size_t i0 = 0, i1 = n;
-      share(n, i0, i1);
+      thread_share(n, i0, i1);
       keys(pos, i0, i1, cell_of_.data());
     }
     for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of_[i]];
@@ -219,19 +219,12 @@ class CellList {
       return;
     }
     if (reach_max_ <= 1) { reach_.clear(); hcell_.clear(); return; }
-    hcell_.assign(ncell, 0.0f);
+    cell_max_h(h);
     reach_.resize(ncell);
     pair_reach_ = kappa * 0.5 * inv_cell_ * (1.0 + 1.0e-7);
-    float* __restrict hc = hcell_.data();
+    const float* __restrict hc = hcell_.data();
 #pragma omp parallel if (sorted_.size() > 4096)
     {
-#pragma omp for schedule(static)
-      for (std::size_t oc = 0; oc < nocc; ++oc) {
-        const std::uint32_t c = occupied_[oc];
-        double m = 0.0;
-        for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) m = std::max(m, double(h(sorted_[k])));
-        hc[c] = static_cast<float>(m);
-      }
       const int R = reach_max_;
       // (the cell's side carries a margin of 1e-6 over the finest support: a fine cell's
       // ceil(1 - 1e-6) is 1; float h's rounding is below it)
@@ -521,7 +514,7 @@ class CellList {
       std::uint32_t* __restrict key = sorted_.data();
       {
         std::size_t i0 = 0, i1 = n;
-        share(n, i0, i1);
+        thread_share(n, i0, i1);
         keys(pos, i0, i1, key);
       }
 #pragma omp barrier
@@ -603,24 +596,7 @@ class CellList {
       for (std::size_t i = i0; i < i1; ++i) out[i] = cell_index(pos[i]);
       return;
     }
-    for (std::size_t i = i0; i < i1;) {
-      const double l = level_[i];
-      std::size_t j = i + 1;
-      while (j < i1 && level_[j] == l) ++j;
-      grids_.index_run(pos, i, j, grids_.grid_of_level(l), out);
-      i = j;
-    }
-  }
-  /// This thread's static share [i0, i1) of [0, n) (i0 = 0, i1 = n outside a parallel region).
-  static void share(std::size_t n, std::size_t& i0, std::size_t& i1) {
-#ifdef _OPENMP
-    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num()), nt = static_cast<std::size_t>(omp_get_num_threads());
-    i0 = n * t / nt;
-    i1 = n * (t + 1) / nt;
-#else
-    i0 = 0;
-    i1 = n;
-#endif
+    grids_.level_runs(level_, i0, i1, [&](std::size_t i, std::size_t j, int g) { grids_.index_run(pos, i, j, g, out); });
   }
   /// One grid per level: row(first cell, end cell) for each row of cell `cell`'s stencil
   /// (LevelGrids::rows with LevelGrids::widths: its pairs', or every cell within radius).
@@ -631,19 +607,25 @@ class CellList {
     grids_.widths(cell, pairs ? 0.0 : radius > 0.0 ? radius : build_radius_, pairs ? reach_[cell] : 0, w);
     grids_.rows(cell, w, row);
   }
-  /// set_reach with one grid per level: each cell's largest h, then LevelGrids::set_reach.
+  /// Each occupied cell's largest h(j) into hcell_ (0 for the empty cells).
   template <class H>
-  void set_grid_reach(H&& h, double kappa) {
-    const std::size_t ncell = cell_count(), nocc = occupied_.size();
-    hcell_.assign(ncell, 0.0f);
-    reach_.assign(ncell, 1);
+  void cell_max_h(H& h) {
+    const std::size_t nocc = occupied_.size();
+    hcell_.assign(cell_count(), 0.0f);
+    float* __restrict hc = hcell_.data();
 #pragma omp parallel for schedule(static) if (sorted_.size() > 4096)
     for (std::size_t oc = 0; oc < nocc; ++oc) {
       const std::uint32_t c = occupied_[oc];
       double m = 0.0;
       for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) m = std::max(m, double(h(sorted_[k])));
-      hcell_[c] = static_cast<float>(m);
+      hc[c] = static_cast<float>(m);
     }
+  }
+  /// set_reach with one grid per level: each cell's largest h, then LevelGrids::set_reach.
+  template <class H>
+  void set_grid_reach(H&& h, double kappa) {
+    cell_max_h(h);
+    reach_.assign(cell_count(), 1);
     grids_.set_reach(hcell_, occupied_, kappa, reach_, sorted_.size() > 4096);
   }
   std::uint32_t cell_index(const V& x) const {
