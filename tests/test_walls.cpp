@@ -150,3 +150,67 @@ geometry:
 time: {end: 1.0}
 )");
 }
+
+// A block resting on the floor: its bottom face and the floor under it are covered, never wet
+// (fill_shapes flags their wall particles "wall_covered"). Their surface points must not push the
+// fluid, or the block's foot pushes the fluid beside it down into the floor-block corner at up to
+// four times the force at the surface (docs/numerics.md §14, the refined 3D obstacle). The fluid
+// column beside the block is pressed against the block's face by 0.35 dx: the backup must push it
+// away from the face and never into the floor; with the flags cleared (the control) the block's
+// bottom-face particles at its foot push some of it down.
+namespace {
+constexpr const char* kBlockOnFloor = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 20.0}
+walls: {type: dummy, slip: free_slip}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.3]}
+  - {type: box, fill: wall, min: [0.3, 0.0], max: [0.4, 0.1]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+time: {end: 1.0}
+)";
+// the smallest vertical backup acceleration over the fluid beside the block's foot
+double lowest_push_beside_block(bool clear_flags) {
+  test::Setup<2> s(kBlockOnFloor);
+  auto& P = s.S.particles;
+  const double dx = s.S.dx;
+  if (clear_flags) for (auto& v : P.scalar(field::wall_covered)) v = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid && P.pos[i][0] > 0.3 - dx) P.pos[i][0] += 0.35 * dx;  // into the s0 band (dx/4 from the face)
+  s.S.update_neighbours();
+  for (auto& a : P.acc) a = Vec<2>{};
+  s.S.walls->add_forces(s.S);
+  double lowest = 0.0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Fluid && P.pos[i][0] > 0.3 - dx) {
+      if (P.pos[i][1] > dx) {  // (the bottom row's face particle is the corner's: its surface point is on the bottom face)
+        EXPECT_LT(P.acc[i][0], 0.0) << "the block's face pushes the particle at y = " << P.pos[i][1] << " away";
+      }
+      lowest = std::min(lowest, P.acc[i][1]);
+    }
+  return lowest;
+}
+}  // namespace
+
+TEST(Walls, CoveredFacesAreFlaggedAndPushNoFluid) {
+  test::Setup<2> s(kBlockOnFloor);
+  const auto& P = s.S.particles;
+  const auto& cov = P.require(field::wall_covered);
+  const auto& to = P.require(field::wall_to_surface);
+  std::size_t block_bottom = 0, floor_under = 0;
+  for (std::size_t k = 0; k < P.n_owned(); ++k) {
+    if (P.kind[k] != Kind::Wall) continue;
+    const Vec<2> sp = P.pos[k] + to[k];
+    const bool on_floor_line = std::abs(sp[1]) < 1e-12 && sp[0] > 0.3 && sp[0] < 0.4;  // the covered strip
+    const bool expect = on_floor_line && norm(to[k]) > 0.0;
+    EXPECT_EQ(cov[k] != 0.0, expect) << "wall particle at (" << P.pos[k][0] << ", " << P.pos[k][1] << ")";
+    if (expect) (P.pos[k][1] > 0.0 ? block_bottom : floor_under) += 1;
+  }
+  EXPECT_GE(block_bottom, 9u);  // the block's bottom row (10 particles, its corners' ties may go to the sides)
+  EXPECT_GE(floor_under, 9u);   // and the floor's top row under it
+  const double g = 9.81;
+  EXPECT_GE(lowest_push_beside_block(false), -1e-9 * g);  // nothing pushes the fluid into the floor
+  EXPECT_LT(lowest_push_beside_block(true), -g);           // the control: the foot does, without the flags
+}

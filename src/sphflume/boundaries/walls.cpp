@@ -432,8 +432,9 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   hits_.clear();
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
-  const auto first_layer = [&](std::size_t k) {  // (owned or image: images carry the fields)
-    if (P.kind[k] != Kind::Wall) return false;
+  const auto* covered = P.find(field::wall_covered);  // (set-up: faces another fixed wall covers)
+  const auto first_layer = [&, cov = covered ? covered->data() : nullptr](std::size_t k) {  // (owned or image: images carry the fields)
+    if (P.kind[k] != Kind::Wall || (cov && cov[k] != 0.0)) return false;
     const double depth2 = dot(to[k], to[k]);
     return depth2 > 0.0 && depth2 < dx * dx;  // a corner's own point has no normal
   };

@@ -75,7 +75,8 @@ class WallModel {
   /// the surface of a first-layer wall particle k (depth d_k < dx below the surface, unit
   /// normal n_k) gets  f = A5 (1 − s/s0)² P(r∥) n_k,  s = (x_a − x_k)·n_k − d_k, with the
   /// Monaghan–Kos strength A5 and tangential weight P. The fluid's normal distance from the
-  /// surface is dx/2, so a flow the wall model holds never feels it.
+  /// surface is dx/2, so a flow the wall model holds never feels it. A wall particle whose face
+  /// another fixed wall covers ("wall_covered", set up by fill_shapes) has no surface to hold.
   void add_backup(System<D>& S, const double* near_only) const;
   void apply_backup(System<D>& S) const;  // the force of each (fluid, wall) pair in hits_, in their sorted order
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach

@@ -28,6 +28,7 @@ inline constexpr ScalarField nu_t{"nu_t"};                  // eddy viscosity (p
 inline constexpr ScalarField free_surface{"free_surface"};  // ISPH's free-surface flag
 inline constexpr ScalarField mobility{"_mobility"};         // ISPH scratch
 inline constexpr ScalarField psi{"_psi"};                   // ISPH scratch
+inline constexpr ScalarField wall_covered{"wall_covered"};  // 1: the wall's face is covered by another (backup skips it)
 inline constexpr ScalarField motion_group{"motion_group"};  // 0 fixed, k + 1 the k-th wall motion
 inline constexpr ScalarField smoothing_length{"h"};         // per-particle h (resolution levels, core/refinement)
 inline constexpr ScalarField level{"level"};                // resolution level: spacing dx / 2^level

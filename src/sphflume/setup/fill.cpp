@@ -147,6 +147,31 @@ int zone_of(const std::vector<FillZone<D>>& zones, const PorousMedia<D>* porous,
   return -1;
 }
 
+/// The wall points whose surface point lies on a face another wall covers (a solid resting on the floor: its bottom
+/// face, and the floor under it). Half a spacing beyond such a surface point, where the fluid's first row would sit,
+/// lies a wall point of the covering body. Only fixed walls count, both the covered and the covering: a moving body
+/// uncovers what it rested on. The flag is read by the walls' backup alone (docs/numerics.md §14), which would
+/// otherwise push the fluid at such a face's foot into the corner the two bodies make.
+template <int D>
+std::vector<char> covered_walls(const Case& c, const FillPoints<D>& f) {
+  const double dx = c.dx;
+  std::vector<char> covered(f.wall_x.size(), 0);
+  std::vector<Vec<D>> fixed;
+  const auto is_fixed = [&](std::size_t i) { return c.shapes[f.wall_shape[i]].motion.empty(); };
+  for (std::size_t i = 0; i < f.wall_x.size(); ++i)
+    if (is_fixed(i)) fixed.push_back(f.wall_x[i]);
+  if (fixed.empty()) return covered;
+  const WallBins<D> bins(fixed, dx);
+  for (std::size_t i = 0; i < f.wall_x.size(); ++i) {
+    if (!is_fixed(i)) continue;
+    const Vec<D> v = f.wall_s[i] - f.wall_x[i];
+    const double len = norm(v);
+    if (!(len > 0.0)) continue;
+    covered[i] = bins.any_within(f.wall_s[i] + (0.5 * dx / len) * v, 0.5 * dx * 0.999) ? 1 : 0;
+  }
+  return covered;
+}
+
 }  // namespace
 
 template <int D>
@@ -224,7 +249,7 @@ FillPoints<D> fill_shapes(const Case& c, int layers, const PorousMedia<D>* porou
       });
     }
   }
-
+  f.wall_covered = covered_walls<D>(c, f);
   return f;
 }
 
@@ -338,10 +363,14 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
   }
   // walls: split to the finest level of the regions within a level-0 support (the fluid of a
   // level, which may stray one coarser h beyond its region before it merges, meets walls of its
-  // own spacing); the surface point moves with the child along the surface
+  // own spacing); the surface point moves with the child along the surface. Only the layers that
+  // the finest fluid's support reaches are split: a wall particle whose top lies deeper below its
+  // surface than that level's support (the fluid sits at least half its spacing above the surface)
+  // stays at its own spacing, as the coarser fluid needs it (Flume B's slope: 2 of its 4 layers)
   out.wall_x.clear();
   out.wall_s.clear();
   out.wall_shape.clear();
+  out.wall_covered.clear();
   struct WallPending { Vec<D> x, s; double half; int level; };
   std::vector<WallPending> wstack;
   for (std::size_t i = 0; i < f.wall_x.size(); ++i) {
@@ -352,9 +381,10 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
     while (!wstack.empty()) {
       const WallPending p = wstack.back();
       wstack.pop_back();
-      if (p.level < want) {
+      const double depth = norm(p.s - p.x);
+      if (p.level < want && depth - p.half < support / double(1 << want)) {
         Vec<D> n = p.s - p.x;
-        const double len = norm(n);
+        const double len = depth;
         if (len > 0.0) n *= 1.0 / len;
         const auto kids = split_positions<D>(p.x, p.half);
         for (std::size_t k = kids.size(); k-- > 0;) {
@@ -366,6 +396,7 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
       out.wall_x.push_back(p.x);
       out.wall_s.push_back(p.s);
       out.wall_shape.push_back(f.wall_shape[i]);
+      out.wall_covered.push_back(f.wall_covered.empty() ? 0 : f.wall_covered[i]);  // (the parent's face)
       out.wall_level.push_back(p.level);
     }
   }

@@ -17,6 +17,7 @@ struct FillPoints {
   std::vector<double> fluid_half;          // half the lattice spacing of each fluid point
   std::vector<Vec<D>> wall_x, wall_s;      // wall points and the nearest point of their shape's surface
   std::vector<std::uint32_t> wall_shape;   // which shape made each wall point
+  std::vector<char> wall_covered;          // 1: its surface point lies on a face another fixed wall covers
   std::vector<char> drop;                  // fluid points inside walls (drop_inside_walls)
   std::vector<int> fluid_level;            // resolution level of each fluid point (refine_fill; empty: all 0)
   std::vector<int> wall_level;             // resolution level of each wall point (refine_fill; empty: all 0)

@@ -1,5 +1,6 @@
 // The initial state of a built system (setup/setup.hpp): the equation of state, the particles with
 // their hydrostatic density, the moving walls' fields and periodicity.
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -95,6 +96,10 @@ void add_particles(const Case& c, System<D>& S, const FillPoints<D>& f, BuildRep
   for (std::size_t i = 0; i < f.wall_x.size(); ++i) {
     P.add(f.wall_x[i], Vec<D>{}, rho_wall, level_mass<D>(m, f.wall_level.empty() ? 0 : f.wall_level[i]), Kind::Wall);
     ++rep.wall;
+  }
+  if (c.walls.backup && std::count(f.wall_covered.begin(), f.wall_covered.end(), 1) > 0) {  // (fill_shapes)
+    auto& cov = P.scalar(field::wall_covered);
+    for (std::size_t i = 0; i < f.wall_x.size(); ++i) cov[first_wall + i] = f.wall_covered[i];
   }
   if (c.resolution.on()) {  // resolution levels: each particle's h and level (walls: refine_fill's)
     auto& hs = P.scalar(field::smoothing_length);
