@@ -392,3 +392,34 @@ TEST(InputErrors, DualIntegratorRefusesModelsItLacks) {
                         "walls: {type: dynamic}\nscheme:\n"));
   EXPECT_HAS(e, "walls.type: dynamic");
 }
+
+// The wall_force gauge in 3D: a rectangle of a wall face (opposite corners, equal along the axis of its normal) and the
+// normal pointing into the water, along one axis.
+TEST(InputErrors, WallForceGaugesAreCheckedIn3D) {
+  const std::string base = R"(name: t
+dimension: 3
+particles:
+  dx: 0.05
+fluid:
+  density: 1000.0
+geometry:
+  - {type: tank, min: [0.0, 0.0, 0.0], max: [0.4, 0.3, 0.3]}
+  - {type: box, fill: fluid, min: [0.0, 0.0, 0.0], max: [0.2, 0.3, 0.1]}
+time:
+  end: 1.0
+gauges:
+)";  // line 13: gauges.0
+  auto with = [&](const std::string& g) { return base + "  - " + g + "\n"; };
+  EXPECT_EQ(error_of(with("{name: f, type: wall_force, start: [0.4, 0.0, 0.0], end: [0.4, 0.3, 0.3], normal: [-1, 0, 0]}")), "");
+  std::string m = error_of(with("{name: f, type: wall_force, start: [0.4, 0.0, 0.0], end: [0.4, 0.3, 0.3]}"));
+  EXPECT_HAS(m, "line 13");
+  EXPECT_HAS(m, "normal");
+  m = error_of(with("{name: f, type: wall_force, start: [0.4, 0.0, 0.0], end: [0.4, 0.3, 0.3], normal: [-1, 1, 0]}"));
+  EXPECT_HAS(m, "gauges.0.normal");
+  EXPECT_HAS(m, "along one axis");
+  m = error_of(with("{name: f, type: wall_force, start: [0.4, 0.0, 0.0], end: [0.3, 0.3, 0.3], normal: [-1, 0, 0]}"));
+  EXPECT_HAS(m, "gauges.0.end");
+  EXPECT_HAS(m, "the same x");
+  m = error_of(with("{name: f, type: wall_force, start: [0.4, 0.0, 0.0], end: [0.4, 0.3, 0.0], normal: [-1, 0, 0]}"));
+  EXPECT_HAS(m, "a width along both");
+}

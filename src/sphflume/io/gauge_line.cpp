@@ -167,49 +167,89 @@ class ScalarFluxGauge final : public GaugeType<D> {
   }
 };
 
-/// wall_force: the pressure force per metre of width [N/m] on the stretch of a wall face from
-/// start to end (2D): the wall particles' pressure integrated over their faces, F = Σ_w p_w s_w,
+/// wall_force: the pressure force on a wall face. 2D: per metre of width [N/m], on the stretch
+/// from start to end: the wall particles' pressure integrated over their faces, F = Σ_w p_w s_w,
 /// over the face layer (the wall particles whose centres lie behind the line, along its normal n,
 /// within their own spacing s_w = √(m_w/ρ0), and whose projections fall within the stretch). For a
-/// line going up n = +x: the push of the water on a wall to its right. The dummy walls' pressure
-/// is the fluid's extrapolated to each wall particle (boundaries/walls.cpp), as the momentum
-/// equation reads it, less the background pressure (a dry wall particle's: 0). Resolution levels:
-/// each particle its own s_w.
+/// line going up n = +x: the push of the water on a wall to its right. 3D [N]: on the axis-aligned
+/// rectangle with opposite corners start and end (equal in the coordinate of its axis), whose
+/// `normal` (± that axis) points into the water: F = Σ_w p_w s_w² over the wall particles behind
+/// it within s_w whose projections fall inside it. The dummy walls' pressure is the fluid's
+/// extrapolated to each wall particle (boundaries/walls.cpp), as the momentum equation reads it,
+/// less the background pressure (a dry wall particle's: 0). Resolution levels: each particle its
+/// own s_w.
 template <int D>
 class WallForceGauge final : public GaugeType<D> {
  public:
   void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override {
-    if (D != 2) r.fail_at(n, path, "a 2D case (wall_force gauges are 2D in this version)");
     g.start = r.vec("start", D);
     g.end = r.vec("end", D);
     for (const char* k : {"start", "end"})
       if (!r.has(k)) r.misspelt(k);
     if (g.start.empty() || g.end.empty())
-      r.fail_at(n, path, "'start' and 'end' points of the wall face (for a face going up, the wall lies to +x)");
+      r.fail_at(n, path, D == 2 ? "'start' and 'end' points of the wall face (for a face going up, the wall lies to +x)"
+                                : "'start' and 'end': opposite corners of the wall face, an axis-aligned rectangle");
     double len2 = 0.0;
     for (int d = 0; d < D; ++d) len2 += (g.end[d] - g.start[d]) * (g.end[d] - g.start[d]);
     if (!(len2 > 0.0)) r.fail_at(r.get("end"), r.key_path("end"), "an end point different from 'start'");
+    if constexpr (D == 3) {
+      if (!r.has("normal")) r.misspelt("normal");
+      g.normal = r.vec("normal", D);
+      const int ax = axis_of(g.normal);
+      if (ax < 0)
+        r.fail_at(g.normal.empty() ? n : r.get("normal"), r.key_path("normal"),
+                  "the face's normal, pointing into the water, along one axis (e.g. [1, 0, 0] or [0, 0, -1])");
+      if (std::abs(g.end[ax] - g.start[ax]) > 1e-9 * (1.0 + std::abs(g.start[ax])))
+        r.fail_at(r.get("end"), r.key_path("end"),
+                  fmt::format("the face's opposite corner in its plane: the same {} as 'start' ({})", "xyz"[ax], g.start[ax]));
+      for (int d = 0; d < D; ++d)
+        if (d != ax && !(g.end[d] != g.start[d]))
+          r.fail_at(r.get("end"), r.key_path("end"), "the opposite corner of a rectangle with a width along both of its sides");
+    }
   }
   std::string columns(const GaugeConfig&) const override { return ",force"; }
   std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
     const auto& P = S.particles;
-    const Vec<D> a = point_of<D>(g.start);
-    Vec<D> t = point_of<D>(g.end) - a;
-    const double len = std::sqrt(dot(t, t));
-    t *= 1.0 / len;
-    Vec<D> nrm{};
-    nrm[0] = t[D - 1];
-    nrm[D - 1] = -t[0];
     const double rho0 = S.eos.rho0;
     double F = 0.0;
-    for (std::size_t i = 0; i < P.n_owned(); ++i) {
-      if (P.kind[i] != Kind::Wall) continue;
-      const Vec<D> r = P.pos[i] - a;
-      const double along = dot(r, t), depth = dot(r, nrm), s = std::sqrt(P.mass[i] / rho0);
-      if (depth > 0.0 && depth < s && along >= 0.0 && along < len) F += (P.p[i] - S.eos.background) * s;
+    if constexpr (D == 2) {
+      const Vec<D> a = point_of<D>(g.start);
+      Vec<D> t = point_of<D>(g.end) - a;
+      const double len = std::sqrt(dot(t, t));
+      t *= 1.0 / len;
+      Vec<D> nrm{};
+      nrm[0] = t[D - 1];
+      nrm[D - 1] = -t[0];
+      for (std::size_t i = 0; i < P.n_owned(); ++i) {
+        if (P.kind[i] != Kind::Wall) continue;
+        const Vec<D> r = P.pos[i] - a;
+        const double along = dot(r, t), depth = dot(r, nrm), s = std::sqrt(P.mass[i] / rho0);
+        if (depth > 0.0 && depth < s && along >= 0.0 && along < len) F += (P.p[i] - S.eos.background) * s;
+      }
+    } else {
+      const int ax = axis_of(g.normal);
+      const double sign = g.normal[ax] > 0.0 ? 1.0 : -1.0;
+      double lo[D], hi[D];
+      for (int d = 0; d < D; ++d) { lo[d] = std::min(g.start[d], g.end[d]); hi[d] = std::max(g.start[d], g.end[d]); }
+      for (std::size_t i = 0; i < P.n_owned(); ++i) {
+        if (P.kind[i] != Kind::Wall) continue;
+        const double depth = sign * (g.start[ax] - P.pos[i][ax]), s = std::cbrt(P.mass[i] / rho0);
+        bool in = depth > 0.0 && depth < s;
+        for (int d = 0; d < D && in; ++d) in = d == ax || (P.pos[i][d] >= lo[d] && P.pos[i][d] < hi[d]);
+        if (in) F += (P.p[i] - S.eos.background) * s * s;
+      }
     }
     S.comm->sum(&F, 1);
     return {F};
+  }
+
+ private:
+  /// The axis of a normal along one axis (-1: none, or not a normal).
+  static int axis_of(const std::vector<double>& nrm) {
+    int ax = -1, nonzero = 0;
+    for (std::size_t d = 0; d < nrm.size(); ++d)
+      if (nrm[d] != 0.0) { ax = static_cast<int>(d); ++nonzero; }
+    return nonzero == 1 && std::isfinite(nrm[static_cast<std::size_t>(ax)]) ? ax : -1;
   }
 };
 
