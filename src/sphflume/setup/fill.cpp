@@ -387,8 +387,13 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
         const double len = depth;
         if (len > 0.0) n *= 1.0 / len;
         const auto kids = split_positions<D>(p.x, p.half);
+        const auto& shape = c.shapes[f.wall_shape[i]];
         for (std::size_t k = kids.size(); k-- > 0;) {
           const Vec<D> t = kids[k] - p.x;
+          // a child on or past its body's surface is dropped (a face off the coarse lattice: the parent lies less
+          // than dx/4 inside it): the body's fine walls are its fine lattice's points inside it, as a uniform
+          // fine fill makes them (its mass was the parent's volume beyond the face)
+          if ((len > 0.0 && !(depth - dot(t, n) > 0.0)) || !inside_wall_shape<D>(shape, kids[k])) continue;
           wstack.push_back({kids[k], p.s + (t - dot(t, n) * n), 0.5 * p.half, p.level + 1});
         }
         continue;

@@ -113,6 +113,30 @@ Vec<D> surface_point(const ShapeConfig& s, const Vec<D>& x) {
   return p;
 }
 
+/// Whether x lies inside the solid of a wall shape: a box's, a mesh's or a plain polygon's interior, a tank's walls
+/// (outside its inner box). Planes and slopes answer true: their wall points are rows under a face, judged by the
+/// depth below it (refine_fill: a split wall point's children must stay inside their body).
+template <int D>
+bool inside_wall_shape(const ShapeConfig& s, const Vec<D>& x) {
+  if (s.type == "tank") {
+    for (int d = 0; d < D; ++d)
+      if (x[d] < s.min[d] || x[d] > s.max[d]) return true;
+    return false;
+  }
+  if (s.type == "box") {
+    for (int d = 0; d < D; ++d)
+      if (x[d] < s.min[d] || x[d] > s.max[d]) return false;
+    return true;
+  }
+  if (s.type == "mesh") {
+    if constexpr (D == 3) return s.mesh->inside({x[0], x[1], x[2]});
+  }
+  if (s.type == "polygon" && s.solid.empty()) {
+    if constexpr (D == 2) return inside_polygon(s.vertices, x[0], x[1]);
+  }
+  return true;
+}
+
 /// The box whose lattice a shape visits (a tank: with its walls; a polygon or a mesh: its bounding
 /// box anchored on the global dx grid so they line up with boxes at 0).
 template <int D>
