@@ -258,36 +258,21 @@ TEST(Resolution, RefusesWhatTheLevelsCannotServeYet) {
 
 TEST(Resolution, WallsNearARegionTakeItsLevel) {
   // a region against the left wall and the bed: the wall points within a level-0 support of it
-  // are split to level 1 (their mass, h and surface vectors with them) as deep as the level-1
-  // fluid's support reaches (a point whose top lies deeper below the surface than half the level-0
-  // support stays: the coarse fluid's layers); the others stay level 0
+  // are split to level 1 (their mass, h and surface vectors with them); the others stay level 0
   test::Setup<2> one(pool(kAboveWater)), w(pool("{shape: box, min: [0.0, 0.0], max: [0.2, 0.4]}"));
   const auto& P = w.S.particles;
   const auto& lv = P.require(field::level);
-  const auto& to = P.require(field::wall_to_surface);
-  const double dx0 = 0.01, m0 = 1000.0 * dx0 * dx0, reach1 = 0.5 * w.S.support;
-  std::size_t fine = 0, coarse = 0, deep = 0;
+  const double m0 = 1000.0 * 0.01 * 0.01;
+  std::size_t fine = 0, coarse = 0;
   double wall_mass = 0.0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     if (P.kind[i] != Kind::Wall) continue;
     wall_mass += P.mass[i];
     const bool near = P.pos[i][0] < 0.2 + w.S.support;
-    const double depth = norm(to[i]);
-    const bool split = lv[i] == 1.0;
-    EXPECT_EQ(P.mass[i], level_mass<2>(m0, split ? 1 : 0));
-    if (split) {  // a child lies within (√2/4) dx0 of its parent's depth, whose top was within reach1
-      EXPECT_TRUE(near) << P.pos[i][0] << ", " << P.pos[i][1];
-      EXPECT_LT(depth, reach1 + (0.5 + std::sqrt(2.0) / 4.0) * dx0) << P.pos[i][0] << ", " << P.pos[i][1];
-    } else {
-      EXPECT_EQ(lv[i], 0.0);
-      if (near) {
-        EXPECT_GE(depth, reach1 + 0.5 * dx0 - 1e-12) << P.pos[i][0] << ", " << P.pos[i][1];
-      }
-      deep += near ? 1 : 0;
-    }
-    (split ? fine : coarse) += 1;
+    EXPECT_EQ(lv[i], near ? 1.0 : 0.0) << P.pos[i][0] << ", " << P.pos[i][1];
+    EXPECT_EQ(P.mass[i], level_mass<2>(m0, near ? 1 : 0));
+    (near ? fine : coarse) += 1;
   }
-  EXPECT_GT(deep, 0u);  // the deeper 2 of the 4 layers stay coarse (the level-1 support reaches 2 dx0 deep)
   EXPECT_GT(fine, 0u);
   EXPECT_GT(coarse, 0u);
   EXPECT_NEAR(wall_mass, one.S.total_mass(Kind::Wall), 1e-12 * wall_mass);  // each wall point's mass shared

@@ -363,10 +363,9 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
   }
   // walls: split to the finest level of the regions within a level-0 support (the fluid of a
   // level, which may stray one coarser h beyond its region before it merges, meets walls of its
-  // own spacing); the surface point moves with the child along the surface. Only the layers that
-  // the finest fluid's support reaches are split: a wall particle whose top lies deeper below its
-  // surface than that level's support (the fluid sits at least half its spacing above the surface)
-  // stays at its own spacing, as the coarser fluid needs it (Flume B's slope: 2 of its 4 layers)
+  // own spacing); the surface point moves with the child along the surface. (Splitting only the
+  // layers the finest fluid's support reaches was tried, session 31: Flume B's band 16 % slower,
+  // the fine fluid then meeting coarse walls in every cell along the bed: docs/numerics.md §14.)
   out.wall_x.clear();
   out.wall_s.clear();
   out.wall_shape.clear();
@@ -382,7 +381,7 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
       const WallPending p = wstack.back();
       wstack.pop_back();
       const double depth = norm(p.s - p.x);
-      if (p.level < want && depth - p.half < support / double(1 << want)) {
+      if (p.level < want) {
         Vec<D> n = p.s - p.x;
         const double len = depth;
         if (len > 0.0) n *= 1.0 / len;

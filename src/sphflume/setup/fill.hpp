@@ -38,8 +38,7 @@ void drop_inside_walls(const Case& c, FillPoints<D>& f);
 /// of that level stops there. Each wall point within the level-0 support of a region is split
 /// the same way to that region's level (the finest such), so that the fluid of a level meets a
 /// wall of its own spacing; a child's surface point is its parent's moved along the surface. A
-/// child on or past its body's surface (a face off the coarse lattice) is dropped, and only the
-/// layers the finest fluid's support reaches are split.
+/// child on or past its body's surface (a face off the coarse lattice) is dropped.
 template <int D>
 void refine_fill(const Case& c, double support, FillPoints<D>& f);
 
