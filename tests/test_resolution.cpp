@@ -283,13 +283,15 @@ TEST(Resolution, SplitWallsStayInsideTheirBody) {
   // a block on the floor (a polygon: its points are the global lattice's inside it) whose right face (x = 0.397) lies
   // off the level-0 lattice, 0.002 m (< dx/4) beyond its last column of points (x = 0.395): split to level 1, that column's right children (x = 0.3975) would stand outside the
   // face, in the water's way (the 3D obstacle's impact, docs/numerics.md §14). Every wall particle stays inside its
-  // body: none in the water's strip beyond the face, and the face's own fine column is there (x = 0.3925).
+  // body: none in the water's strip beyond the face, and the face's own fine column is there (x = 0.3925). The left
+  // face (x = 0.2965) is the converse: the level-0 column at 0.295 lies outside the block, so the fine column at
+  // 0.2975, inside it, has no parent; it is added (add_face_points), and the fluid child that stood there removed.
   const std::string yaml = R"(dimension: 2
 particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
 fluid: {density: 1000.0, viscosity: 1.0e-6}
 geometry:
   - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.4]}
-  - {type: polygon, fill: wall, vertices: [[0.3, 0.0], [0.397, 0.0], [0.397, 0.1], [0.3, 0.1]]}
+  - {type: polygon, fill: wall, vertices: [[0.2965, 0.0], [0.397, 0.0], [0.397, 0.1], [0.2965, 0.1]]}
   - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.6, 0.2]}
 resolution:
   regions:
@@ -299,13 +301,20 @@ time: {end: 0.1}
   test::Setup<2> s(yaml);
   const auto& P = s.S.particles;
   const auto& lv = P.require(field::level);
-  std::size_t face = 0;
+  std::size_t face = 0, left = 0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
-    if (P.kind[i] != Kind::Wall || P.pos[i][1] < 0.0 || P.pos[i][1] > 0.1) continue;  // (the block's height)
+    if (P.pos[i][1] < 0.0 || P.pos[i][1] > 0.1) continue;  // (the block's height)
+    if (P.kind[i] != Kind::Wall) {  // no fluid inside the block
+      EXPECT_FALSE(P.pos[i][0] > 0.2965 && P.pos[i][0] < 0.397) << "fluid in the block at " << P.pos[i][0] << ", " << P.pos[i][1];
+      continue;
+    }
     EXPECT_FALSE(P.pos[i][0] > 0.397 && P.pos[i][0] < 0.6) << "a wall particle in the water at " << P.pos[i][0] << ", " << P.pos[i][1];
+    EXPECT_FALSE(P.pos[i][0] > 0.01 && P.pos[i][0] < 0.2965) << "a wall particle in the water at " << P.pos[i][0] << ", " << P.pos[i][1];
     if (std::abs(P.pos[i][0] - 0.3925) < 1e-9 && lv[i] == 1.0) ++face;
+    if (std::abs(P.pos[i][0] - 0.2975) < 1e-9 && lv[i] == 1.0) ++left;
   }
-  EXPECT_EQ(face, 20u);  // the face's fine column, 0.1 m at 0.005 m
+  EXPECT_EQ(face, 20u);  // the right face's fine column, 0.1 m at 0.005 m
+  EXPECT_EQ(left, 20u);  // the left face's (x = 0.2965): its parents at x = 0.295 lay outside the block
 }
 
 TEST(Resolution, ShepardAndDualMultirateAreRefused) {

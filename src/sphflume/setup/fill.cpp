@@ -1,6 +1,10 @@
 // The lattice fill of a case's shapes (setup/fill.hpp).
 #include "sphflume/setup/fill.hpp"
 
+#include <array>
+#include <cmath>
+#include <map>
+
 #include "sphflume/core/refinement.hpp"
 #include "sphflume/physics/resolution.hpp"
 #include "sphflume/setup/shape_lattice.hpp"
@@ -151,7 +155,10 @@ int zone_of(const std::vector<FillZone<D>>& zones, const PorousMedia<D>* porous,
 /// face, and the floor under it). Half a spacing beyond such a surface point, where the fluid's first row would sit,
 /// lies a wall point of the covering body. Only fixed walls count, both the covered and the covering: a moving body
 /// uncovers what it rested on. The flag is read by the walls' backup alone (docs/numerics.md §14), which would
-/// otherwise push the fluid at such a face's foot into the corner the two bodies make.
+/// otherwise push the fluid at such a face's foot into the corner the two bodies make. The probe finds a covering body
+/// on the same lattice (every shape's points lie on the global dx lattice or their box's); a body off it, a porous
+/// region or a slope's rows are not seen as covering. Every layer under a covered face is flagged (the backup reads
+/// the first).
 template <int D>
 std::vector<char> covered_walls(const Case& c, const FillPoints<D>& f) {
   const double dx = c.dx;
@@ -170,6 +177,88 @@ std::vector<char> covered_walls(const Case& c, const FillPoints<D>& f) {
     covered[i] = bins.any_within(f.wall_s[i] + (0.5 * dx / len) * v, 0.5 * dx * 0.999) ? 1 : 0;
   }
   return covered;
+}
+
+/// refine_fill's complement to dropping the children outside a body: the fine lattice points inside a body whose coarse
+/// parent lay outside it (a face off the coarse lattice), which a uniform fine fill has. Each is a lattice neighbour
+/// (±dx_l along an axis) of a wall point of its level, inside that point's body (a box or a plain polygon, filled
+/// solid; a mesh, within its wall layers' depth: the shapes inside_wall_shape judges by their interior; a tank's
+/// inner faces lie on its lattice, and slopes' and planes' rows follow their face), with no wall point within 0.9 dx_l
+/// (its lattice neighbours lie dx_l away; a point one level coarser whose cell holds it, at most (√D/4) dx_{l−1} =
+/// 0.87 dx_l: neighbouring wall points differ by at most one level). Repeated while points are added (a face up to
+/// a coarse spacing beyond the last coarse column; a corner where two such faces meet). The fluid points within half
+/// their own spacing of an added wall point are removed, as drop_inside_walls removes fluid from walls.
+template <int D>
+void add_face_points(const Case& c, int layers, FillPoints<D>& w) {
+  const auto judged = [&](const ShapeConfig& s) {
+    return s.type == "box" || s.type == "mesh" || (s.type == "polygon" && s.solid.empty());
+  };
+  const std::size_t first_added = w.wall_x.size();
+  std::size_t from = 0;
+  const int max_passes = (1 << c.resolution.max_level()) + D + 1;
+  for (int pass = 0; pass < max_passes; ++pass) {
+    const WallBins<D> bins(w.wall_x, 0.5 * c.dx);  // (the bins' side exceeds every level's 0.9 dx_l)
+    std::vector<std::pair<Vec<D>, std::size_t>> found;  // (point, the wall point it neighbours)
+    std::map<std::array<long, D>, Vec<D>> seen;         // (each found once, though two neighbours find it)
+    for (std::size_t i = from; i < w.wall_x.size(); ++i) {
+      const int l = w.wall_level[i];
+      const ShapeConfig& shape = c.shapes[w.wall_shape[i]];
+      if (l == 0 || !judged(shape)) continue;
+      const double dl = c.dx / double(1 << l);
+      for (int d = 0; d < D; ++d)
+        for (const double sgn : {-1.0, 1.0}) {
+          Vec<D> x = w.wall_x[i];
+          x[d] += sgn * dl;
+          if (!inside_wall_shape<D>(shape, x) || bins.any_within(x, 0.9 * dl)) continue;
+          if (shape.type == "mesh" && !(norm(surface_point<D>(shape, x) - x) < layers * c.dx)) continue;  // (mesh_points)
+          if (shape.type == "box") {  // (lattice(): a box holds the points whose whole cell it holds)
+            bool fits = true;
+            for (int e = 0; e < D; ++e) fits &= x[e] - 0.5 * dl >= shape.min[e] - 1e-9 * dl && x[e] + 0.5 * dl <= shape.max[e] + 1e-9 * dl;
+            if (!fits) continue;
+          }
+          std::array<long, D> key;  // cells of dl/2: a duplicate lies in this cell or one beside it
+          for (int e = 0; e < D; ++e) key[e] = static_cast<long>(std::floor(x[e] / (0.5 * dl)));
+          bool dup = false;
+          for (int o = 0; o < (D == 2 ? 9 : 27) && !dup; ++o) {
+            auto k = key;
+            for (int e = 0, r = o; e < D; ++e, r /= 3) k[e] += r % 3 - 1;
+            const auto it = seen.find(k);
+            dup = it != seen.end() && norm(it->second - x) < 0.25 * dl;
+          }
+          if (dup) continue;
+          seen.emplace(key, x);
+          found.emplace_back(x, i);
+        }
+    }
+    if (found.empty()) break;
+    from = w.wall_x.size();
+    for (const auto& [x, k] : found) {
+      w.wall_x.push_back(x);
+      w.wall_s.push_back(surface_point<D>(c.shapes[w.wall_shape[k]], x));
+      w.wall_shape.push_back(w.wall_shape[k]);
+      w.wall_covered.push_back(0);  // (a face off the lattice: none rests on another body here)
+      w.wall_level.push_back(w.wall_level[k]);
+    }
+  }
+  if (w.wall_x.size() == first_added) return;
+  const std::vector<Vec<D>> added(w.wall_x.begin() + static_cast<std::ptrdiff_t>(first_added), w.wall_x.end());
+  const WallBins<D> bins(added, 0.5 * c.dx);
+  std::size_t kept = 0;  // (removed, not flagged: the set-up relaxation reads the points that stay)
+  for (std::size_t i = 0; i < w.fluid_x.size(); ++i) {
+    const int l = w.fluid_level[i];  // (half its own spacing: under the bins' side at every level)
+    if (bins.any_within(w.fluid_x[i], 0.5 * c.dx / double(1 << l) * 0.999)) continue;
+    w.fluid_x[kept] = w.fluid_x[i];
+    w.fluid_v[kept] = w.fluid_v[i];
+    w.fluid_shape[kept] = w.fluid_shape[i];
+    w.fluid_half[kept] = w.fluid_half[i];
+    w.fluid_level[kept] = w.fluid_level[i];
+    w.drop[kept++] = w.drop[i];
+  }
+  for (auto* v : {&w.fluid_x, &w.fluid_v}) v->resize(kept);
+  w.fluid_shape.resize(kept);
+  w.fluid_half.resize(kept);
+  w.fluid_level.resize(kept);
+  w.drop.resize(kept);
 }
 
 }  // namespace
@@ -404,6 +493,7 @@ void refine_fill(const Case& c, double support, FillPoints<D>& f) {
       out.wall_level.push_back(p.level);
     }
   }
+  add_face_points<D>(c, wall_layers_for(c), out);
   f = std::move(out);
 }
 
