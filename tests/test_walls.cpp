@@ -123,18 +123,20 @@ void backup_matches_brute_force(const char* yaml) {
 }
 }  // namespace
 
-TEST(Walls, BackupFindsExactlyItsPairs2D) {
-  backup_matches_brute_force<2>(R"(
+// a 0.6 x 0.3 m tank with dummy walls (dx 0.01, h = 1.5 dx), its geometry list open for more shapes
+constexpr const char* kDummyTank2D = R"(
 dimension: 2
 gravity: [0.0, -9.81]
 particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
 fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 20.0}
 walls: {type: dummy, slip: free_slip}
+time: {end: 1.0}
 geometry:
   - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.3]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.1]}
-time: {end: 1.0}
-)");
+)";
+
+TEST(Walls, BackupFindsExactlyItsPairs2D) {
+  backup_matches_brute_force<2>((std::string(kDummyTank2D) + "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.1]}\n").c_str());
 }
 
 TEST(Walls, BackupFindsExactlyItsPairs3D) {
@@ -159,18 +161,9 @@ time: {end: 1.0}
 // away from the face and never into the floor; with the flags cleared (the control) the block's
 // bottom-face particles at its foot push some of it down.
 namespace {
-constexpr const char* kBlockOnFloor = R"(
-dimension: 2
-gravity: [0.0, -9.81]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 20.0}
-walls: {type: dummy, slip: free_slip}
-geometry:
-  - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.3]}
-  - {type: box, fill: wall, min: [0.3, 0.0], max: [0.4, 0.1]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
-time: {end: 1.0}
-)";
+const std::string kBlockOnFloor = std::string(kDummyTank2D) +
+                                  "  - {type: box, fill: wall, min: [0.3, 0.0], max: [0.4, 0.1]}\n"
+                                  "  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}\n";
 // the smallest vertical backup acceleration over the fluid beside the block's foot
 double lowest_push_beside_block(bool clear_flags) {
   test::Setup<2> s(kBlockOnFloor);
