@@ -1,6 +1,9 @@
 #include "sphflume/boundaries/motion.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -21,6 +24,102 @@ WallMotion<D>::WallMotion(const std::vector<MotionConfig>& motions, const std::s
     const double len = norm(e);
     if (!(len > 0.0)) throw InputError(fmt::format("{}: line {}: motion '{}': direction must be non-zero", file, m.line, m.name));
     dir_.push_back((1.0 / len) * e);
+    Absorber a;
+    if (m.absorb) {
+      a.on = true;
+      for (int d = 0; d < D && static_cast<std::size_t>(d) < m.absorb_point.size(); ++d) a.point[d] = m.absorb_point[static_cast<std::size_t>(d)];
+      // the gain: exact for one frequency (ω/m1(kh): no reflection at that period), long-wave
+      // theory sqrt(g/h) for a spectrum (docs/numerics.md, "Active absorption")
+      a.c_h = std::sqrt(m.gravity / m.depth);
+      const bool one_period = (m.law == "regular" || m.law == "stokes2" || m.law == "absorber") && m.period > 0.0;
+      if (one_period) {
+        const double w = 2.0 * std::numbers::pi / m.period;
+        a.c_h = w / piston_transfer(wave_number(w, m.depth, m.gravity) * m.depth);
+      }
+      a.tau = m.drift_time;
+    }
+    abs_.push_back(a);
+  }
+}
+
+template <int D>
+void WallMotion<D>::absorb(System<D>& S, std::size_t k, double t) {
+  Absorber& a = abs_[k];
+  if (a.started && !(t > a.t_last)) return;  // a stage at the same or an earlier time: nothing new
+  const auto& P = S.particles;
+  if (!a.started) {  // the level's scan starts above the paddle's top; the gauge's distance from its face
+    const auto* grp = P.find(field::motion_group);
+    const auto* to = P.find(field::wall_to_surface);
+    double top = -std::numeric_limits<double>::infinity(), face = top;
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (grp && (*grp)[i] == double(k + 1)) {
+        top = std::max(top, P.pos[i][D - 1]);
+        if (to) face = std::max(face, dot(P.pos[i] + (*to)[i], dir_[k]));
+      }
+    a.top = S.comm->max(top);
+    face = S.comm->max(face) - displacement(k, t);
+    a.offset = std::isfinite(face) ? std::max(0.0, dot(a.point, dir_[k]) - face) : 0.0;
+  }
+  const double dt = a.started ? t - a.t_last : 0.0;
+  a.x += dt * a.u;
+  const Vec<D> p = a.point + (laws_[k]->displacement(t) + a.x) * dir_[k];
+  const double level = water_level_at<D>(p, S, a.top);
+  if (!std::isfinite(level))
+    throw SimulationError(fmt::format("at t = {:.6g} s: motion '{}': no water at its absorption gauge '{}' (x = {:.4g} m): "
+                                      "move the gauge into the water ahead of the paddle",
+                                      t, cfg_[k].name, cfg_[k].absorb_gauge, p[0]));
+  const double e = level - laws_[k]->elevation(t, a.offset);
+  if (!a.started) {
+    a.e_mean = e;
+    a.started = true;
+  } else {
+    a.e_mean += std::min(1.0, dt / a.tau) * (e - a.e_mean);
+  }
+  a.u = -a.c_h * (e - a.e_mean) - a.x / a.tau;
+  a.t_last = t;
+}
+
+template <int D>
+double WallMotion<D>::displacement(std::size_t k, double t) const {
+  return laws_[k]->displacement(t) + abs_[k].x + (abs_[k].started && t > abs_[k].t_last ? (t - abs_[k].t_last) * abs_[k].u : 0.0);
+}
+
+template <int D>
+double WallMotion<D>::velocity(std::size_t k, double t) const {
+  return laws_[k]->velocity(t) + abs_[k].u;
+}
+
+template <int D>
+std::map<std::string, double> WallMotion<D>::state() const {
+  std::map<std::string, double> s;
+  for (std::size_t k = 0; k < abs_.size(); ++k) {
+    const auto& a = abs_[k];
+    if (!a.on || !a.started) continue;
+    const std::string p = "motion." + cfg_[k].name + ".";
+    s[p + "t_last"] = a.t_last;
+    s[p + "e_mean"] = a.e_mean;
+    s[p + "x"] = a.x;
+    s[p + "u"] = a.u;
+    s[p + "top"] = a.top;
+    s[p + "offset"] = a.offset;
+  }
+  return s;
+}
+
+template <int D>
+void WallMotion<D>::restore(const std::map<std::string, double>& s) {
+  for (std::size_t k = 0; k < abs_.size(); ++k) {
+    auto& a = abs_[k];
+    const std::string p = "motion." + cfg_[k].name + ".";
+    const auto it = s.find(p + "t_last");
+    if (!a.on || it == s.end()) continue;
+    a.started = true;
+    a.t_last = it->second;
+    a.e_mean = s.at(p + "e_mean");
+    a.x = s.at(p + "x");
+    a.u = s.at(p + "u");
+    a.top = s.at(p + "top");
+    a.offset = s.at(p + "offset");
   }
 }
 
@@ -32,17 +131,19 @@ std::size_t WallMotion<D>::index(const std::string& name) const {
 }
 
 template <int D>
-void WallMotion<D>::apply(System<D>& S, double t) const {
+void WallMotion<D>::apply(System<D>& S, double t) {
   auto& P = S.particles;
   const auto* grp = P.find(field::motion_group);
   if (!grp) return;
+  for (std::size_t k = 0; k < size(); ++k)
+    if (abs_[k].on) absorb(S, k, t);
   const auto* org = P.find(field::motion_origin);
   if (!org) throw std::logic_error("wall motion: no motion_origin field");
   auto& acc = P.vector(field::wall_acc);
   std::vector<Vec<D>> x(size()), u(size()), a(size());
   for (std::size_t k = 0; k < size(); ++k) {
-    x[k] = laws_[k]->displacement(t) * dir_[k];
-    u[k] = laws_[k]->velocity(t) * dir_[k];
+    x[k] = displacement(k, t) * dir_[k];
+    u[k] = velocity(k, t) * dir_[k];
     a[k] = laws_[k]->acceleration(t) * dir_[k];
   }
   const std::size_t n = P.n_owned();

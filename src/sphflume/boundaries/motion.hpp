@@ -7,9 +7,24 @@
 // the prediction), the cell lists are rebuilt from the new positions by that pass, and the wall
 // model sees the paddle's velocity (no-slip ghost velocity, the PPE's divergence) and its
 // acceleration (the dummy walls' pressure, Adami et al. 2012: (g − a_w)·r).
+// Active absorption (Schäffer & Klopman 2000; the AWAS of DualSPHysics, Altomare et al. 2017,
+// Coastal Eng. 127): a motion with `absorption` reads the water level η_m at its face (at the offset
+// of a water_level gauge, moving with the paddle) at each call, compares it with the incident
+// elevation its law makes there (PaddleLaw::elevation), and adds to the law's motion the velocity
+// that, in long-wave theory, cancels the difference (what the structure reflected):
+//   u_c = −G (e − ē),  e = η_m − η_I(d),   x_c = ∫ (u_c − x_c/τ) dt,
+// G = sqrt(g/h) (long waves) or ω/m1(kh) for a law of one period (regular, stokes2, an absorber given
+// its period), η_I(d) the law's elevation at the gauge's distance d from the face,
+// ē the mean of e over the drift time τ (an exponential average: the SPH level's offset from the
+// still level and the set-down do not drive the paddle), and the −x_c/τ drift correction that keeps
+// the paddle about its mean place. The correction's acceleration is left out of wall_acc: a
+// reflected amplitude a_r at ω adds ρ ω sqrt(g/h) a_r r to the dummy walls' pressure, r ≤ the wall's
+// depth (about 1 % of the hydrostatic pressure for a 2 cm reflection at T = 1.2 s, h = 0.4 m).
+// The state (x_c, u_c, ē, the last time) goes into restart points (state(), restore()).
 // Store fields: "motion_group" (0 fixed, k + 1 the k-th motion), "motion_origin" (x at X = 0),
 // "wall_acc" (a_w, for the wall model); all follow the particles through sorts and restarts.
 #pragma once
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,8 +39,15 @@ template <int D>
 class WallMotion {
  public:
   WallMotion(const std::vector<MotionConfig>& motions, const std::string& file);
-  /// Put every moving wall particle at its place, velocity and acceleration of time t.
-  void apply(System<D>& S, double t) const;
+  /// Put every moving wall particle at its place, velocity and acceleration of time t (an absorbing
+  /// motion first reads the level at its face and updates its correction, when t is past the last call).
+  void apply(System<D>& S, double t);
+  /// The paddle's displacement and velocity along its direction: the law's plus the absorption's.
+  double displacement(std::size_t k, double t) const;
+  double velocity(std::size_t k, double t) const;
+  /// The absorbing motions' state, "motion.NAME.KEY" (restart points), and its return.
+  std::map<std::string, double> state() const;
+  void restore(const std::map<std::string, double>& s);
   std::size_t size() const { return laws_.size(); }
   const std::string& name(std::size_t k) const { return cfg_[k].name; }
   std::size_t index(const std::string& name) const;
@@ -39,9 +61,21 @@ class WallMotion {
   Vec<D> pressure_force(const System<D>& S, std::size_t k) const;
 
  private:
+  struct Absorber {
+    bool on = false, started = false;
+    Vec<D> point{};        // the level's point with the paddle at rest
+    double c_h = 0.0;      // sqrt(g/h)
+    double tau = 0.0;      // the drift time
+    double top = 0.0;      // where the level's scan starts (the paddle's top)
+    double offset = 0.0;   // the gauge's distance ahead of the paddle's face (the target is read there)
+    double t_last = 0.0, e_mean = 0.0, x = 0.0, u = 0.0;
+  };
+  void absorb(System<D>& S, std::size_t k, double t);
+
   std::vector<MotionConfig> cfg_;
   std::vector<std::unique_ptr<PaddleLaw>> laws_;
   std::vector<Vec<D>> dir_;
+  std::vector<Absorber> abs_;
 };
 
 /// Move the walls of S to time t (no-op without motions).

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <fmt/format.h>
 
+#include "sphflume/boundaries/wave_spectrum.hpp"
 #include "sphflume/core/errors.hpp"
 
 namespace sph {
@@ -20,7 +22,7 @@ double ramp(double tau, double tr) {
 
 class Solitary final : public PaddleLaw {
  public:
-  Solitary(const MotionConfig& m, const std::string& file) : start_(m.start) {
+  Solitary(const MotionConfig& m, const std::string& file) : start_(m.start), h0_(m.depth) {
     const double H = m.height, h0 = m.depth, g = m.gravity;
     eps_ = H / h0;
     c_ = std::sqrt(g * (h0 + H));
@@ -47,6 +49,12 @@ class Solitary final : public PaddleLaw {
     return c_ * eps_ * s / (1.0 + eps_ * s);
   }
   double stroke() const override { return -2.0 * x0_; }
+  double elevation(double t, double x) const override {
+    if (t <= start_) return 0.0;
+    const double tp = t - start_ - ts_;
+    const double ch = std::cosh(0.5 * beta_ * (c_ * tp - raw(tp) - x));
+    return eps_ * h0_ / (ch * ch);
+  }
 
  private:
   /// X(t') of the unshifted law (centred on the crest's passage at t' = 0).
@@ -67,7 +75,7 @@ class Solitary final : public PaddleLaw {
     }
     return x;
   }
-  double start_, eps_ = 0.0, c_ = 0.0, beta_ = 0.0, a_ = 0.0, ts_ = 0.0, x0_ = 0.0;
+  double start_, h0_, eps_ = 0.0, c_ = 0.0, beta_ = 0.0, a_ = 0.0, ts_ = 0.0, x0_ = 0.0;
   bool explicit_ = false;
 };
 
@@ -79,10 +87,21 @@ class Regular final : public PaddleLaw {
     const double kh = k * m.depth;
     const double m1 = piston_transfer(kh);
     half_stroke_ = 0.5 * m.height / m1;
+    amp_ = 0.5 * m.height;
+    k_ = k;
+    celerity_ = omega_ / k;
     if (second_order) {
       const double sh = std::sinh(kh);
       second_ = m.height * m.height / (32.0 * m.depth) * (3.0 * std::cosh(kh) / (sh * sh * sh) - 2.0 / m1);
+      // the bound second harmonic of a Stokes wave (Dean & Dalrymple 1991 eq. 11.48)
+      bound_ = m.height * m.height * k / 16.0 * std::cosh(kh) * (2.0 + std::cosh(2.0 * kh)) / (sh * sh * sh);
     }
+  }
+  double elevation(double t, double x) const override {
+    const double tau = t - start_ - x / celerity_;  // (the ramp's front travels at c: a first-order estimate)
+    if (tau <= 0.0) return 0.0;
+    const double ph = omega_ * (t - start_) - k_ * x;
+    return ramp(tau, ramp_) * (amp_ * std::cos(ph) + bound_ * std::cos(2.0 * ph));
   }
   double displacement(double t) const override {
     const double tau = t - start_;
@@ -92,12 +111,14 @@ class Regular final : public PaddleLaw {
   double stroke() const override { return 2.0 * half_stroke_; }
 
  private:
-  double start_, ramp_, omega_ = 0.0, half_stroke_ = 0.0, second_ = 0.0;
+  double start_, ramp_, omega_ = 0.0, half_stroke_ = 0.0, second_ = 0.0, amp_ = 0.0, bound_ = 0.0, k_ = 0.0, celerity_ = 1.0;
 };
 
 class Table final : public PaddleLaw {
  public:
-  explicit Table(const MotionConfig& m) : start_(m.start), ramp_(m.ramp), t_(m.table_t), x_(m.table_x) {
+  explicit Table(const MotionConfig& m)
+      : start_(m.start), ramp_(m.ramp), shallow_(m.depth > 0.0 ? std::sqrt(m.depth / m.gravity) : 0.0), depth_(m.depth), t_(m.table_t),
+        x_(m.table_x) {
     // node slopes by central differences (one-sided at the ends): a C1 cubic Hermite curve
     // through the samples, so that the paddle's velocity is continuous and its acceleration bounded
     const std::size_t n = t_.size();
@@ -126,10 +147,99 @@ class Table final : public PaddleLaw {
     const auto [lo, hi] = std::minmax_element(x_.begin(), x_.end());
     return *hi - *lo;
   }
+  /// Long-wave theory: a piston moving at U makes η = U sqrt(h/g), carried at c = sqrt(g h) (NaN
+  /// without a depth).
+  double elevation(double t, double x) const override {
+    return shallow_ > 0.0 ? shallow_ * velocity(t - x * shallow_ / depth_) : std::numeric_limits<double>::quiet_NaN();
+  }
 
  private:
-  double start_, ramp_;
+  double start_, ramp_, shallow_, depth_;
   std::vector<double> t_, x_, v_;
+};
+
+
+/// irregular, focused, elevation: a sum of linear components (boundaries/wave_spectrum.hpp),
+/// X = r Σ (a_n/m1_n) sin(ω_n τ + φ_n), η = r Σ a_n cos(ω_n τ + φ_n); the elevation law also ramps
+/// down over the ramp's length before its series ends, and rests after.
+class LinearSum final : public PaddleLaw {
+ public:
+  explicit LinearSum(const MotionConfig& m) : start_(m.start), ramp_(m.ramp), comps_(wave_components(m)) {
+    for (const auto& c : comps_) {
+      gain_.push_back(1.0 / piston_transfer(c.k * m.depth));
+      stroke_ += 2.0 * c.amplitude * gain_.back();
+    }
+    if (m.law == "elevation") {
+      t0_ = m.elevation_t.front();
+      t1_ = m.elevation_t.back();
+    }
+  }
+  double displacement(double t) const override { return sum(t, true); }
+  double velocity(double t) const override {
+    const double tau = t - start_;
+    if (tau <= t0_ || tau >= t1_) return 0.0;
+    double v = 0.0;
+    for (std::size_t n = 0; n < comps_.size(); ++n) {
+      const auto& c = comps_[n];
+      v += c.amplitude * gain_[n] * c.omega * std::cos(c.omega * tau + c.phase);
+    }
+    const double r = envelope(tau), dr = envelope_rate(tau);
+    return r * v + (dr != 0.0 ? dr * raw(tau, true) : 0.0);
+  }
+  double elevation(double t, double x) const override {
+    const double tau = t - start_;
+    if (tau <= t0_ || tau >= t1_) return 0.0;
+    double e = 0.0;
+    for (const auto& c : comps_) e += c.amplitude * std::cos(c.omega * tau + c.phase - c.k * x);
+    return envelope(tau) * e;  // (the envelope at the paddle: the ramp's front is not delayed)
+  }
+  double stroke() const override { return stroke_; }
+
+ private:
+  double raw(double tau, bool paddle) const {
+    double x = 0.0;
+    for (std::size_t n = 0; n < comps_.size(); ++n) {
+      const auto& c = comps_[n];
+      x += paddle ? c.amplitude * gain_[n] * std::sin(c.omega * tau + c.phase) : c.amplitude * std::cos(c.omega * tau + c.phase);
+    }
+    return x;
+  }
+  double sum(double t, bool paddle) const {
+    const double tau = t - start_;
+    if (tau <= t0_ || tau >= t1_) return 0.0;
+    return envelope(tau) * raw(tau, paddle);
+  }
+  double envelope(double tau) const {
+    double r = ramp(tau - t0_, ramp_);
+    if (std::isfinite(t1_)) r *= ramp(t1_ - tau, ramp_);
+    return r;
+  }
+  /// d(envelope)/dτ (0 outside the ramps).
+  double envelope_rate(double tau) const {
+    if (!(ramp_ > 0.0)) return 0.0;
+    const double w = std::numbers::pi / ramp_;
+    double r1 = ramp(tau - t0_, ramp_), d1 = 0.0;
+    if (tau - t0_ < ramp_) d1 = 0.5 * w * std::sin(w * (tau - t0_));
+    if (!std::isfinite(t1_)) return d1;
+    const double r2 = ramp(t1_ - tau, ramp_);
+    double d2 = 0.0;
+    if (t1_ - tau < ramp_) d2 = -0.5 * w * std::sin(w * (t1_ - tau));
+    return d1 * r2 + r1 * d2;
+  }
+  double start_, ramp_;
+  std::vector<WaveComponent> comps_;
+  std::vector<double> gain_;
+  double t0_ = 0.0, t1_ = std::numeric_limits<double>::infinity(), stroke_ = 0.0;
+};
+
+/// absorber: a paddle at rest that makes no wave (η = 0): with `absorption`, an active absorber
+/// at the flume's end in place of a beach or a sponge.
+class Absorber final : public PaddleLaw {
+ public:
+  double displacement(double) const override { return 0.0; }
+  double velocity(double) const override { return 0.0; }
+  double elevation(double, double) const override { return 0.0; }
+  double stroke() const override { return 0.0; }
 };
 
 }  // namespace
@@ -160,6 +270,7 @@ double wave_number(double omega, double depth, double g) {
 }
 
 double piston_transfer(double kh) {
+  if (kh > 20.0) return 2.0;  // deep water (the cosh/sinh ratio overflows beyond kh ≈ 177; 2 to 1e-16 here)
   return 2.0 * (std::cosh(2.0 * kh) - 1.0) / (std::sinh(2.0 * kh) + 2.0 * kh);
 }
 
@@ -168,6 +279,8 @@ std::unique_ptr<PaddleLaw> make_paddle_law(const MotionConfig& m, const std::str
   if (m.law == "regular") return std::make_unique<Regular>(m, false);
   if (m.law == "stokes2") return std::make_unique<Regular>(m, true);
   if (m.law == "table") return std::make_unique<Table>(m);
+  if (m.law == "irregular" || m.law == "focused" || m.law == "elevation") return std::make_unique<LinearSum>(m);
+  if (m.law == "absorber") return std::make_unique<Absorber>();
   throw InputError(fmt::format("{}: line {}: motion '{}': unknown law '{}'", file, m.line, m.name, m.law));
 }
 

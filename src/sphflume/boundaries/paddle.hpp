@@ -26,8 +26,13 @@
 //            the samples (node slopes by central differences), so that the paddle's velocity is
 //            continuous and its acceleration bounded; held at its last value after the end
 //            (arriving at rest); displacement from the first sample, multiplied by the ramp.
+//  irregular, focused, elevation: a sum of linear components, each through the transfer function
+//            (boundaries/wave_spectrum.hpp): a JONSWAP or Pierson–Moskowitz sea with seeded random
+//            phases, a NewWave group focused at a given place and time, a user's elevation series.
+//  absorber  at rest, no wave: with `absorption`, an active absorber at the flume's end.
 // The ramp: r = (1 − cos(π τ/T_r))/2 for τ = t − start < T_r, 1 after (0: no ramp).
 #pragma once
+#include <limits>
 #include <memory>
 
 #include "sphflume/core/config.hpp"
@@ -43,8 +48,15 @@ class PaddleLaw {
   virtual double velocity(double t) const;
   /// Acceleration [m/s²]: a central difference of the velocity.
   double acceleration(double t) const;
-  /// The total stroke the law intends (solitary: S; regular: S of the first order; table: max − min).
+  /// The total stroke the law intends (solitary: S; regular: S of the first order; table: max − min;
+  /// a sum of components: Σ 2 a_n/m1_n, the bound of its excursion).
   virtual double stroke() const = 0;
+  /// The incident wave's elevation a distance x ahead of the paddle's face that the law makes, in
+  /// the theory it is built on (the target of active absorption): solitary H sech²θ; regular
+  /// (H/2) cos(ωτ − kx) (stokes2 with its bound second harmonic); a sum of components
+  /// Σ a_n cos(ω_n τ + φ_n − k_n x); table, given a depth, long-wave theory U(t − x/c) sqrt(h/g);
+  /// absorber 0; NaN where the law has none.
+  virtual double elevation(double t, double x) const { (void)t; (void)x; return std::numeric_limits<double>::quiet_NaN(); }
 };
 
 /// The law of a motion (throws InputError with the case line for a law it cannot build).

@@ -5,6 +5,7 @@
 // file. No YAML here.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
@@ -185,7 +186,7 @@ struct ShapeConfig {
 /// boundaries/paddle.hpp).
 struct MotionConfig {
   std::string name;
-  std::string law;                  // solitary | regular | stokes2 | table
+  std::string law;                  // solitary | regular | stokes2 | table | irregular | focused | elevation
   std::vector<double> direction;    // e (normalised by the reader); default +x
   std::string theory = "rayleigh";  // solitary: rayleigh (implicit, Newton) | goring | rayleigh_explicit
   double height = 0.0;              // H: solitary and regular waves [m]
@@ -196,6 +197,26 @@ struct MotionConfig {
   std::string file;                 // table: CSV of time, displacement (as written in the case, resolved by the reader)
   std::vector<double> table_t, table_x;  // table: the samples
   double gravity = 9.81;            // |g| (set from the case's gravity)
+  // irregular and focused waves (boundaries/wave_spectrum.hpp)
+  std::string spectrum = "jonswap";  // jonswap | pierson_moskowitz
+  double hm0 = 0.0;                 // irregular: significant height 4 sqrt(m0) [m]
+  double tp = 0.0;                  // irregular, focused: peak period [s]
+  double gamma = 3.3;               // jonswap: peak enhancement
+  std::uint64_t seed = 1;           // irregular: the random phases' seed
+  int components = 0;               // number of frequencies (0: chosen from the run's length)
+  double f_min = 0.0, f_max = 0.0;  // frequency band [Hz] (0: the law's default)
+  double amplitude = 0.0;           // focused: the crest amplitude at the focus [m]
+  double focus_x = 0.0;             // focused: distance of the focus from the paddle's rest face [m]
+  double focus_time = 0.0;          // focused: time of the focus after `start` [s]
+  double duration = 0.0;            // the run's length after `start` (time.end − start; sets default components)
+  std::vector<double> elevation_t, elevation_eta;  // elevation: the target surface elevation at the paddle
+  // active absorption (Schäffer & Klopman 2000, boundaries/motion.hpp): the level measured at the
+  // paddle's face, at the offset of the named water_level gauge, moving with the paddle
+  bool absorb = false;
+  std::string absorb_gauge;         // the water_level gauge at the face
+  double absorb_offset = 0.0;       // its distance ahead of the paddle's rest face, along the motion [m]
+  std::vector<double> absorb_point; // the gauge's point (z ignored)
+  double drift_time = 0.0;          // the time constant of the drift correction [s] (0: the law's default)
   int line = 0;
 };
 
@@ -212,6 +233,7 @@ struct GaugeConfig {
   // runup: still-water level z, the reach from the slope line [m] (0 = 1.5 dx), the thinnest water
   // layer normal to the slope that counts as wet [m] (a lab wire's 1 mm) and the fewest fluid
   // neighbours within 2 dx a particle needs to count
+  // (overtopping: `level` holds the crest's width in 3D)
   double level = 0.0, reach = 0.0, film = 0.001;
   int neighbours = 2;
   int line = 0;

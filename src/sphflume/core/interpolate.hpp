@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -153,6 +154,60 @@ std::optional<Vec<D>> interpolate_gradient(const System<D>& S, const Vec<D>& x, 
     out[1] = (g1 * m00 - g0 * m01) / det;
     return out;
   });
+}
+
+/// Values at points, each computed by the part of the domain that holds the point (its
+/// neighbours, owned or halo, are there) and summed over the parts: f(x, out) writes nv values
+/// (NaN allowed); a point no part holds reads NaN. In one process: f at every point, as is.
+template <int D, class F>
+std::vector<double> at_held_points(const System<D>& S, const std::vector<Vec<D>>& pts, int nv, F&& f) {
+  const std::size_t w = static_cast<std::size_t>(nv) + 1;
+  std::vector<double> buf(pts.size() * w, 0.0);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (S.owns(pts[i])) {
+      f(pts[i], &buf[i * w]);
+      buf[i * w + w - 1] = 1.0;
+    }
+  S.comm->sum(buf.data(), buf.size());
+  std::vector<double> out(pts.size() * (w - 1), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (buf[i * w + w - 1] > 0.0)
+      for (std::size_t k = 0; k + 1 < w; ++k) out[i * (w - 1) + k] = buf[i * w + k] / buf[i * w + w - 1];
+  return out;
+}
+
+/// The level at x: scan down the vertical line through x in steps of dx/4 from level_top to the
+/// lowest particle (in blocks of points: each is read by the part of the domain that holds it);
+/// the highest z where the fluid fraction Σ V_b W >= 0.5, linearly interpolated.
+template <int D>
+double water_level_at(Vec<D> x, const System<D>& S, double level_top) {
+  const auto& P = S.particles;
+  constexpr int vz = D - 1;
+  const double step = 0.25 * S.dx;
+  double zlo = level_top;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) zlo = std::min(zlo, P.pos[i][vz]);
+  zlo = S.comm->min(zlo);
+  double prev_f = 0.0, prev_z = level_top;
+  constexpr int kBlock = 32;
+  std::vector<Vec<D>> pts;
+  for (double z = level_top; z >= zlo;) {
+    pts.clear();
+    for (int k = 0; k < kBlock && z >= zlo; ++k, z -= step) {
+      x[vz] = z;
+      pts.push_back(x);
+    }
+    const auto fr = at_held_points(S, pts, 1, [&](const Vec<D>& p, double* out) { out[0] = fluid_fraction(S, p); });
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const double zk = pts[k][vz], f = std::isfinite(fr[k]) ? fr[k] : 0.0;
+      if (f >= 0.5) {
+        if (zk == level_top) return zk;
+        return zk + (prev_z - zk) * (f - 0.5) / (f - prev_f);
+      }
+      prev_f = f;
+      prev_z = zk;
+    }
+  }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace sph

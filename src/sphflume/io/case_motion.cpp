@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -28,14 +29,97 @@ void read_table(Reader& r, MotionConfig& m) {
   if (m.table_t.size() < 2) r.fail_at(r.get("file"), r.key_path("file"), fmt::format("at least two rows of time, displacement in {}", csv.path));
 }
 
+
+/// irregular, focused and elevation (boundaries/wave_spectrum.hpp).
+void read_linear_waves(Reader& r, const Node& n, MotionConfig& m, const Case& c) {
+  m.depth = r.positive("depth", 0.0, true);
+  m.duration = c.t_end - m.start;
+  m.f_min = r.scalar<double>("f_min", 0.0);
+  m.f_max = r.scalar<double>("f_max", 0.0);
+  for (const char* k : {"f_min", "f_max"})
+    if (r.has(k) && !(r.scalar<double>(k, 0.0) > 0.0)) r.fail_at(r.get(k), r.key_path(k), "a frequency > 0 in Hz");
+  if (m.law == "elevation") {
+    m.file = r.required<std::string>("file", "a CSV file of time [s], surface elevation [m] at the paddle's face");
+    const CsvNumbers csv = read_csv_numbers(r, "file", m.file, 2, "time, elevation");
+    for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+      if (!m.elevation_t.empty() && !(csv.rows[i][0] > m.elevation_t.back()))
+        r.fail_at(r.get("file"), r.key_path("file"), fmt::format("strictly increasing times; {} line {} goes back", csv.path, csv.lines[i]));
+      m.elevation_t.push_back(csv.rows[i][0]);
+      m.elevation_eta.push_back(csv.rows[i][1]);
+    }
+    if (m.elevation_t.size() < 8) r.fail_at(r.get("file"), r.key_path("file"), fmt::format("at least 8 rows of time, elevation in {}", csv.path));
+  } else {
+    if (!r.has("tp"))
+      r.fail_at(n, r.key_path("tp"), fmt::format("the peak period Tp [s] of the {}'s spectrum (a {} motion needs it)", m.law == "irregular" ? "sea" : "group", m.law));
+    m.tp = r.positive("tp", 0.0, true);
+    m.spectrum = r.choice("spectrum", "jonswap", {"jonswap", "pierson_moskowitz"});
+    m.gamma = r.scalar<double>("gamma", 3.3);
+    if (!(m.gamma >= 1.0 && m.gamma <= 10.0)) r.fail_at(r.get("gamma"), r.key_path("gamma"), "a peak enhancement in [1, 10] (JONSWAP's mean 3.3)");
+    if (r.has("gamma") && m.spectrum != "jonswap")
+      r.fail_at(r.get("gamma"), r.key_path("gamma"), "no gamma with spectrum pierson_moskowitz (it is JONSWAP with gamma 1)");
+    const int nc = r.scalar<int>("components", 0);
+    if (r.has("components") && (nc < 8 || nc > 100000)) r.fail_at(r.get("components"), r.key_path("components"), "an integer in [8, 100000]");
+    m.components = nc;
+    if (m.law == "irregular") {
+      m.hm0 = r.positive("hm0", 0.0, true);
+      const int seed = r.scalar<int>("seed", 1);
+      if (seed < 0) r.fail_at(r.get("seed"), r.key_path("seed"), "an integer >= 0");
+      m.seed = static_cast<std::uint64_t>(seed);
+      // Miche's limit for the highest wave of the sea (H_max ≈ 1.86 Hm0 over 1000 waves, Goda 2000)
+      const double k = wave_number(2.0 * std::numbers::pi / m.tp, m.depth, m.gravity);
+      const double hmax = 0.142 * (2.0 * std::numbers::pi / k) * std::tanh(k * m.depth);
+      if (!(1.86 * m.hm0 < hmax))
+        r.fail_at(r.get("hm0"), r.key_path("hm0"), fmt::format("Hm0 below {:.4g} m: the sea's highest waves (1.86 Hm0) must stay below Miche's breaking limit {:.4g} m at Tp", hmax / 1.86, hmax));
+    } else {
+      m.amplitude = r.positive("amplitude", 0.0, true);
+      m.focus_x = r.required<double>("focus_x", "the focus's distance from the paddle's rest face [m]");
+      m.focus_time = r.required<double>("focus_time", "the time of the focus after 'start' [s]");
+      if (!(m.focus_x >= 0.0)) r.fail_at(r.get("focus_x"), r.key_path("focus_x"), "a distance >= 0 in m ahead of the paddle");
+      if (!(m.focus_time > 0.0)) r.fail_at(r.get("focus_time"), r.key_path("focus_time"), "a time > 0 in s after 'start'");
+    }
+    const double f0 = m.f_min > 0.0 ? m.f_min : 0.5 / m.tp, f1 = m.f_max > 0.0 ? m.f_max : 3.0 / m.tp;
+    if (!(f1 > f0)) r.fail_at(r.get(r.has("f_max") ? "f_max" : "f_min"), r.key_path(r.has("f_max") ? "f_max" : "f_min"), fmt::format("f_max above f_min ({} Hz)", f0));
+  }
+}
+
+/// `absorption: {gauge: NAME, drift_time: T}`: active absorption from the level at the paddle's face.
+void read_absorption(Reader& r, MotionConfig& m, const Case& c) {
+  if (!r.has("absorption")) return;
+  const Node& a = r.get("absorption");
+  Reader ar(a, r.file(), r.key_path("absorption"));
+  ar.valid({"gauge", "drift_time"});
+  m.absorb = true;
+  m.absorb_gauge = ar.required<std::string>("gauge", "the name of a water_level gauge at the paddle's face (the level the absorption reads)");
+  m.drift_time = ar.scalar<double>("drift_time", 0.0);
+  if (ar.has("drift_time") && !(m.drift_time > 0.0))
+    ar.fail_at(ar.get("drift_time"), ar.key_path("drift_time"), "a time > 0 in s (default: 10 wave periods)");
+  ar.finish();
+  const GaugeConfig* g = nullptr;
+  for (const auto& gc : c.gauges)
+    if (gc.name == m.absorb_gauge) g = &gc;
+  if (!g || g->type != "water_level")
+    ar.fail_at(ar.get("gauge"), ar.key_path("gauge"),
+               fmt::format("a water_level gauge at the paddle's face: '{}' is {}; add '- {{name: {}, type: water_level, x: X}}' "
+                           "under 'gauges' with X a few dx ahead of the paddle", m.absorb_gauge, g ? "a " + g->type + " gauge" : "not a gauge",
+                           m.absorb_gauge));
+  m.absorb_point = g->point;
+  if (m.law == "table" && !(m.depth > 0.0)) r.fail_at(r.get("absorption"), r.key_path("absorption"), "a 'depth' on a table motion with absorption (the target level comes from long-wave theory)");
+  if (m.drift_time == 0.0) {
+    const double T = m.law == "regular" || m.law == "stokes2" || m.law == "absorber" ? m.period : m.tp;
+    if (!(T > 0.0)) r.fail_at(r.get("absorption"), r.key_path("absorption"), "a drift_time [s] (the law has no period to take 10 of)");
+    m.drift_time = 10.0 * T;
+  }
+}
+
 MotionConfig read_motion(const Node& n, const std::string& file, const std::string& path, const Case& c) {
   Reader r(n, file, path);
-  r.valid({"name", "law", "direction", "theory", "height", "depth", "period", "start", "ramp", "file"});
+  r.valid({"name", "law", "direction", "theory", "height", "depth", "period", "start", "ramp", "file", "spectrum", "hm0",
+           "tp", "gamma", "seed", "components", "f_min", "f_max", "amplitude", "focus_x", "focus_time", "absorption"});
   MotionConfig m;
   m.line = n.line();
   m.name = r.required<std::string>("name", "a motion name (shapes join it with 'motion: NAME')");
-  (void)r.required<std::string>("law", "a paddle law: solitary, regular, stokes2 or table");
-  m.law = r.choice("law", "", {"solitary", "regular", "stokes2", "table"});
+  (void)r.required<std::string>("law", "a paddle law: solitary, regular, stokes2, table, irregular, focused, elevation or absorber");
+  m.law = r.choice("law", "", {"solitary", "regular", "stokes2", "table", "irregular", "focused", "elevation", "absorber"});
   const std::size_t d = static_cast<std::size_t>(c.dimension);
   std::vector<double> e(d, 0.0);
   e[0] = 1.0;
@@ -68,10 +152,21 @@ MotionConfig read_motion(const Node& n, const std::string& file, const std::stri
       if (!(m.height < hmax))
         r.fail_at(r.get("height"), r.key_path("height"), fmt::format("a wave height below Miche's breaking limit 0.142 L tanh(kh) = {:.4g} m (L = {:.4g} m for period {} s in depth {} m)", hmax, 2.0 * std::numbers::pi / k, m.period, m.depth));
     }
-  } else {  // table
+  } else if (m.law == "absorber") {
+    if (!(m.gravity > 0.0)) r.fail_at(n, path, "gravity (absorption needs |g| > 0)");
+    m.depth = r.positive("depth", 0.0, true);
+    if (r.has("period")) m.period = r.positive("period", 0.0);  // the gain's frequency (default: long waves)
+    if (!r.has("absorption"))
+      r.fail_at(n, r.key_path("absorption"), "an 'absorption: {gauge: NAME}' on an absorber (at rest without it, it is a wall)");
+  } else if (m.law == "table") {
     m.file = r.required<std::string>("file", "a CSV file of time [s], displacement [m]");
     read_table(r, m);
+    m.depth = r.positive("depth", 0.0);  // (only active absorption reads it)
+  } else {
+    if (!(m.gravity > 0.0)) r.fail_at(n, path, "gravity (the wave laws need |g| > 0)");
+    read_linear_waves(r, n, m, c);
   }
+  read_absorption(r, m, c);
   r.finish();
   return m;
 }
@@ -113,6 +208,25 @@ void read_motions(Reader& top, const std::string& file, Case& c) {
                                      "than the {} wall layers ({:.4g} m at dx = {}): fluid would leak through it; make the "
                                      "box at least {:.4g} m thick", file, s.line, i, along, wall_layers_for(c), need, c.dx, need));
     }
+  }
+  // active absorption reads the level at the paddle's face: its gauge stands ahead of the moving
+  // box's face, within one still-water depth of it
+  for (const auto& m : c.motions) {
+    if (!m.absorb) continue;
+    double face = -std::numeric_limits<double>::infinity();
+    for (const auto& s : c.shapes)
+      if (s.motion == m.name && s.type == "box") {
+        double f = 0.0;
+        for (std::size_t d = 0; d < s.max.size(); ++d) f += m.direction[d] * (m.direction[d] > 0.0 ? s.max[d] : s.min[d]);
+        face = std::max(face, f);
+      }
+    if (!std::isfinite(face)) continue;  // (not a box: no face to check against)
+    double at = 0.0;
+    for (std::size_t d = 0; d + 1 < m.absorb_point.size() && d < m.direction.size(); ++d) at += m.direction[d] * m.absorb_point[d];
+    if (!(at > face && at <= face + m.depth))
+      throw InputError(fmt::format("{}: line {}: motion '{}': its absorption gauge '{}' is {:.4g} m from the paddle's face: "
+                                   "expected a water_level gauge ahead of the face within one depth ({} m), e.g. at x = {:.4g}",
+                                   file, m.line, m.name, m.absorb_gauge, at - face, m.depth, face + 5.0 * c.dx));
   }
   for (const auto& m : c.motions)
     if (!used.count(m.name))

@@ -15,40 +15,6 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-/// The level at x: scan down the vertical line through x in steps of dx/4 from level_top to the
-/// lowest particle (in blocks of points: each is read by the part of the domain that holds it);
-/// the highest z where the fluid fraction Σ V_b W >= 0.5, linearly interpolated.
-template <int D>
-double level_at(Vec<D> x, const System<D>& S, double level_top) {
-  const auto& P = S.particles;
-  constexpr int vz = D - 1;
-  const double step = 0.25 * S.dx;
-  double zlo = level_top;
-  for (std::size_t i = 0; i < P.n_owned(); ++i) zlo = std::min(zlo, P.pos[i][vz]);
-  zlo = S.comm->min(zlo);
-  double prev_f = 0.0, prev_z = level_top;
-  constexpr int kBlock = 32;
-  std::vector<Vec<D>> pts;
-  for (double z = level_top; z >= zlo;) {
-    pts.clear();
-    for (int k = 0; k < kBlock && z >= zlo; ++k, z -= step) {
-      x[vz] = z;
-      pts.push_back(x);
-    }
-    const auto fr = at_held_points(S, pts, 1, [&](const Vec<D>& p, double* out) { out[0] = fluid_fraction(S, p); });
-    for (std::size_t k = 0; k < pts.size(); ++k) {
-      const double zk = pts[k][vz], f = std::isfinite(fr[k]) ? fr[k] : 0.0;
-      if (f >= 0.5) {
-        if (zk == level_top) return zk;
-        return zk + (prev_z - zk) * (f - 0.5) / (f - prev_f);
-      }
-      prev_f = f;
-      prev_z = zk;
-    }
-  }
-  return kNan;
-}
-
 /// water_level: the level on the vertical line through `point` (or x).
 template <int D>
 class WaterLevelGauge final : public GaugeType<D> {
@@ -63,7 +29,7 @@ class WaterLevelGauge final : public GaugeType<D> {
   }
   std::string columns(const GaugeConfig&) const override { return ",level"; }
   std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double level_top) const override {
-    return {level_at<D>(point_of<D>(g.point), S, level_top)};
+    return {water_level_at<D>(point_of<D>(g.point), S, level_top)};
   }
 };
 
@@ -85,7 +51,7 @@ class DepthProfileGauge final : public GaugeType<D> {
     for (int i = 0; i < g.points; ++i) {
       const double s = static_cast<double>(i) / (g.points - 1);
       for (int d = 0; d < D; ++d) point[d] = g.start[d] + s * (g.end[d] - g.start[d]);
-      out.push_back(level_at<D>(point_of<D>(point), S, level_top) - point[D - 1]);
+      out.push_back(water_level_at<D>(point_of<D>(point), S, level_top) - point[D - 1]);
     }
     return out;
   }

@@ -41,25 +41,7 @@ Vec<D> line_normal(const GaugeConfig& g, double& ds) {
   return nrm;
 }
 
-/// Values at points, each computed by the part of the domain that holds the point (its
-/// neighbours, owned or halo, are there) and summed over the parts: f(x, out) writes nv values
-/// (NaN allowed); a point no part holds reads NaN. In one process: f at every point, as is.
-template <int D, class F>
-std::vector<double> at_held_points(const System<D>& S, const std::vector<Vec<D>>& pts, int nv, F&& f) {
-  const std::size_t w = static_cast<std::size_t>(nv) + 1;
-  std::vector<double> buf(pts.size() * w, 0.0);
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    if (S.owns(pts[i])) {
-      f(pts[i], &buf[i * w]);
-      buf[i * w + w - 1] = 1.0;
-    }
-  S.comm->sum(buf.data(), buf.size());
-  std::vector<double> out(pts.size() * (w - 1), std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    if (buf[i * w + w - 1] > 0.0)
-      for (std::size_t k = 0; k + 1 < w; ++k) out[i * (w - 1) + k] = buf[i * w + k] / buf[i * w + w - 1];
-  return out;
-}
+using sph::at_held_points;
 
 /// The g.points points of a gauge line, evenly from start to end.
 template <int D>

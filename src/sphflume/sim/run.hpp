@@ -95,6 +95,7 @@ struct Run {
     S.time = rs.time;
     S.step = rs.step;
     scheme->restore(rs.scheme);
+    if (S.motion) S.motion->restore(rs.scheme);  // active absorption's state ("motion.NAME.KEY")
     if (S.transport) {
       std::vector<double> m;
       for (std::size_t k = 0; k < S.transport->count(); ++k) {
@@ -110,6 +111,8 @@ struct Run {
     r.time = S.time;
     r.step = S.step;
     r.scheme = scheme->state();
+    if (S.motion)
+      for (const auto& [k, v] : S.motion->state()) r.scheme[k] = v;
     if (S.transport)
       for (std::size_t k = 0; k < S.transport->count(); ++k) r.scheme["source_mass." + S.transport->name(k)] = S.transport->source_mass(k);
     return r;

@@ -1,0 +1,293 @@
+// The wave flume's design tools (issue 59): irregular seas and focused groups from a spectrum,
+// a user's elevation series, active absorption's input checks and the overtopping gauge.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "sphflume/boundaries/paddle.hpp"
+#include "sphflume/boundaries/wave_spectrum.hpp"
+#include "sphflume/io/case.hpp"
+#include "sphflume/io/gauges.hpp"
+#include "sphflume/setup/setup.hpp"
+#include "test_helpers.hpp"
+
+using namespace sph;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+MotionConfig sea(double hm0 = 0.05, double tp = 1.5) {
+  MotionConfig m;
+  m.name = "paddle";
+  m.law = "irregular";
+  m.hm0 = hm0;
+  m.tp = tp;
+  m.depth = 0.5;
+  m.gravity = 9.81;
+  m.duration = 60.0;
+  return m;
+}
+
+/// ∫ S df of the JONSWAP shape over [a, b] by the midpoint rule on 20000 cells.
+double shape_integral(double a, double b, double fp, double gamma) {
+  const int n = 20000;
+  double s = 0.0;
+  for (int i = 0; i < n; ++i) s += jonswap_shape(a + (i + 0.5) * (b - a) / n, fp, gamma);
+  return s * (b - a) / n;
+}
+
+}  // namespace
+
+// The discrete sea holds Hm0 exactly (4 sqrt(Σ a²/2)), peaks at fp (within one Δf), and the
+// default band [0.5 fp, 3 fp] holds 99.0 % of a JONSWAP γ = 3.3 sea's m0 (98.5 % of a PM sea's: its
+// tail is longer; numbers of a 2-million-point quadrature), so little of the sea is left out.
+TEST(Waves, SpectrumHoldsHm0AndPeaksAtFp) {
+  for (const double gamma : {1.0, 3.3, 7.0}) {
+    MotionConfig m = sea();
+    m.gamma = gamma;
+    const auto c = wave_components(m);
+    ASSERT_EQ(static_cast<int>(c.size()), default_components(m));
+    double m0 = 0.0, amax = 0.0, fpk = 0.0;
+    for (const auto& w : c) {
+      m0 += 0.5 * w.amplitude * w.amplitude;
+      if (w.amplitude > amax) { amax = w.amplitude; fpk = w.omega / (2 * kPi); }
+    }
+    EXPECT_NEAR(4.0 * std::sqrt(m0), m.hm0, 1e-12 * m.hm0);
+    const double df = 2.5 / m.tp / static_cast<double>(c.size());
+    EXPECT_NEAR(fpk, 1.0 / m.tp, df) << "gamma " << gamma;
+    const double fp = 1.0 / m.tp;
+    const double frac = shape_integral(0.5 * fp, 3.0 * fp, fp, gamma) / shape_integral(0.2 * fp, 40.0 * fp, fp, gamma);
+    EXPECT_GT(frac, gamma > 1.0 ? 0.9895 : 0.984) << "gamma " << gamma;
+  }
+  // the sea repeats after 1/Δf: at least 100 Tp and the run's length
+  MotionConfig m = sea();
+  m.duration = 400.0;
+  EXPECT_GE(static_cast<double>(default_components(m)) / (2.5 / m.tp), 400.0 - 1e-9);
+  m.duration = 10.0;
+  EXPECT_GE(static_cast<double>(default_components(m)) / (2.5 / m.tp), 100.0 * m.tp - 1e-9);
+}
+
+// The phases come from the seed alone (the same sea on every machine, another seed another sea),
+// and are uniform: the mean of cos φ and sin φ over N components within 4/sqrt(2N) of 0.
+TEST(Waves, PhasesFollowTheSeed) {
+  MotionConfig m = sea();
+  m.components = 2000;
+  const auto a = wave_components(m), b = wave_components(m);
+  m.seed = 2;
+  const auto c = wave_components(m);
+  double same = 0.0, differ = 0.0, mc = 0.0, ms = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    same = std::max(same, std::abs(a[i].phase - b[i].phase));
+    differ += std::abs(a[i].phase - c[i].phase);
+    mc += std::cos(a[i].phase);
+    ms += std::sin(a[i].phase);
+    EXPECT_GE(a[i].phase, 0.0);
+    EXPECT_LT(a[i].phase, 2 * kPi);
+  }
+  EXPECT_EQ(same, 0.0);
+  EXPECT_GT(differ / static_cast<double>(a.size()), 0.5);
+  const double n = static_cast<double>(a.size());
+  EXPECT_LT(std::abs(mc / n), 4.0 / std::sqrt(2.0 * n));
+  EXPECT_LT(std::abs(ms / n), 4.0 / std::sqrt(2.0 * n));
+  // the 64-bit twister's 10000th output is fixed by the C++ standard: the sea is portable
+  std::mt19937_64 rng(5489u);
+  rng.discard(9999);
+  EXPECT_EQ(rng(), 9981545732273789042ull);
+}
+
+// The paddle drives each component through the piston's transfer function: X = r Σ (a/m1) sin,
+// η at the face = r Σ a cos, so X' = (η-weighted) Σ a ω/m1 cos. Checked against the components,
+// with the analytic velocity against a central difference of X, and |X| within the stated stroke.
+TEST(Waves, IrregularPaddleUsesTheTransferFunction) {
+  MotionConfig m = sea();
+  m.ramp = 3.0;
+  m.start = 0.5;
+  const auto law = make_paddle_law(m, "test.yaml");
+  const auto c = wave_components(m);
+  for (const double t : {4.0, 7.3, 20.0, 55.5}) {
+    const double tau = t - m.start;
+    double x = 0.0, e = 0.0;
+    for (const auto& w : c) {
+      x += w.amplitude / piston_transfer(w.k * m.depth) * std::sin(w.omega * tau + w.phase);
+      e += w.amplitude * std::cos(w.omega * tau + w.phase);
+    }
+    EXPECT_NEAR(law->displacement(t), x, 1e-12);
+    EXPECT_NEAR(law->elevation(t, 0.0), e, 1e-12);
+  }
+  double worst = 0.0, xmax = 0.0;
+  for (double t = 0.0; t < 30.0; t += 0.01) {
+    const double d = 1e-6;
+    const double fd = (law->displacement(t + d) - law->displacement(t - d)) / (2 * d);
+    worst = std::max(worst, std::abs(fd - law->velocity(t)));
+    xmax = std::max(xmax, std::abs(law->displacement(t)));
+  }
+  EXPECT_LT(worst, 1e-6);  // through the ramp too (the ramp's rate is in the velocity)
+  EXPECT_LE(xmax, 0.5 * law->stroke());
+  EXPECT_EQ(law->displacement(0.5), 0.0);
+  EXPECT_NEAR(law->velocity(0.5 + 1e-6), 0.0, 1e-6);  // from rest
+}
+
+// A NewWave group: every component's crest meets at the focus, η(x_f, t_f) = A (linear sum of
+// the components' progressive waves), and the group is lower everywhere else along the flume.
+TEST(Waves, FocusedGroupCrestsAtTheFocus) {
+  MotionConfig m = sea();
+  m.law = "focused";
+  m.amplitude = 0.04;
+  m.focus_x = 6.0;
+  m.focus_time = 12.0;
+  const auto c = wave_components(m);
+  auto eta = [&](double x, double tau) {
+    double e = 0.0;
+    for (const auto& w : c) e += w.amplitude * std::cos(w.omega * tau + w.phase - w.k * x);
+    return e;
+  };
+  EXPECT_NEAR(eta(m.focus_x, m.focus_time), m.amplitude, 1e-12);
+  for (const double dx : {-2.0, -0.5, 0.7, 3.0})
+    for (const double dt : {-1.0, -0.3, 0.0, 0.4})
+      EXPECT_LT(eta(m.focus_x + dx, m.focus_time + dt), 0.95 * m.amplitude);
+  const auto law = make_paddle_law(m, "test.yaml");
+  EXPECT_NEAR(law->elevation(m.start + 3.0, 0.0), eta(0.0, 3.0), 1e-12);
+  EXPECT_NEAR(law->elevation(m.start + 9.0, 2.5), eta(2.5, 9.0), 1e-12);
+}
+
+// A user's elevation series: sampled evenly, its Fourier components are those of the series, so
+// the law's elevation reproduces a periodic series of three harmonics to round-off between its
+// ends, and the paddle moves each through the transfer function.
+TEST(Waves, ElevationSeriesIsDecomposedExactly) {
+  MotionConfig m;
+  m.name = "paddle";
+  m.law = "elevation";
+  m.depth = 0.5;
+  m.gravity = 9.81;
+  const double T = 20.0;
+  const int n = 2000;
+  auto series = [&](double t) {
+    return 0.02 * std::cos(2 * kPi * 15 * t / T + 0.3) + 0.01 * std::sin(2 * kPi * 31 * t / T) + 0.005 * std::cos(2 * kPi * 47 * t / T - 1.0);
+  };
+  for (int j = 0; j <= n; ++j) {
+    m.elevation_t.push_back(T * j / n);
+    m.elevation_eta.push_back(series(T * j / n) + 0.1);  // (an offset: the still level is dropped)
+  }
+  const auto law = make_paddle_law(m, "test.yaml");
+  // the law's series has n + 1 samples over T: its even resampling is at T/(n + 1), not the
+  // samples' own spacing, so the harmonics are read to the linear interpolation's error
+  double worst = 0.0;
+  for (double t = 1.0; t < 19.0; t += 0.0137) worst = std::max(worst, std::abs(law->elevation(t, 0.0) - series(t)));
+  EXPECT_LT(worst, 2e-3 * 0.035);
+  const auto c = wave_components(m);
+  double x = 0.0;
+  for (const auto& w : c) x += w.amplitude / piston_transfer(w.k * m.depth) * std::sin(w.omega * 7.0 + w.phase);
+  EXPECT_NEAR(law->displacement(7.0), x, 1e-12);
+  EXPECT_EQ(law->displacement(T + 0.1), 0.0);  // at rest after the series
+}
+
+// Bad input: a spectrum without Tp, a sea above Miche's limit, absorption without a level gauge
+// at the paddle's face (missing, of another type, behind the paddle or far from it), and a 3D
+// overtopping gauge without its width: each names its line and key.
+TEST(Waves, BadInputIsNamed) {
+  const std::string base = R"(name: t
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.02, h_over_dx: 2.0}
+fluid: {density: 1000.0}
+geometry:
+  - {type: tank, fill: wall, min: [-0.2, 0.0], max: [4.0, 0.8]}
+  - {type: box, fill: wall, min: [-0.12, 0.0], max: [0.0, 0.8], motion: paddle}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [4.0, 0.5]}
+time: {end: 20.0, output_interval: 0.1}
+gauges:
+  - {name: eta_face, type: water_level, x: 0.1}
+  - {name: pressure, type: pressure, point: [1.0, 0.1]}
+motions:
+  - {name: paddle, law: irregular, hm0: 0.05, tp: 1.5, depth: 0.5, ramp: 3.0 MORE}
+)";
+  auto err = [&](const std::string& more) {
+    std::string t = base;
+    t.replace(t.find(" MORE"), 5, more);
+    try {
+      (void)parse_case(t, "case.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(err(""), "");
+  EXPECT_EQ(err(", absorption: {gauge: eta_face}"), "");
+  std::string e;
+  {
+    std::string t = base;
+    t.replace(t.find("tp: 1.5, "), 9, "");
+    t.replace(t.find(" MORE"), 5, "");
+    try {
+      (void)parse_case(t, "case.yaml");
+    } catch (const InputError& ex) {
+      e = ex.what();
+    }
+    EXPECT_HAS(e, "line 15: 'motions.0.tp': expected the peak period Tp");
+  }
+  EXPECT_HAS(err(", gamma: 0.5"), "motions.0.gamma");
+  {
+    std::string t = base;
+    t.replace(t.find("hm0: 0.05"), 9, "hm0: 0.20");
+    t.replace(t.find(" MORE"), 5, "");
+    try {
+      (void)parse_case(t, "case.yaml");
+    } catch (const InputError& ex) {
+      e = ex.what();
+    }
+    EXPECT_HAS(e, "Miche");
+  }
+  EXPECT_HAS(err(", absorption: {gauge: nothing}"), "line 15: 'motions.0.absorption.gauge': expected a water_level gauge");
+  EXPECT_HAS(err(", absorption: {gauge: pressure}"), "is a pressure gauge");
+  EXPECT_HAS(err(", absorption: {gauge: eta_face, drift: 3}"), "motions.0.absorption.drift");
+  {
+    std::string t = base;
+    t.replace(t.find("x: 0.1}"), 7, "x: 1.5}");
+    t.replace(t.find(" MORE"), 5, ", absorption: {gauge: eta_face}");
+    try {
+      (void)parse_case(t, "case.yaml");
+    } catch (const InputError& ex) {
+      e = ex.what();
+    }
+    EXPECT_HAS(e, "its absorption gauge 'eta_face' is 1.5 m from the paddle's face");
+  }
+  {
+    std::string t = base;
+    t.replace(t.find(" MORE"), 5, "");
+    t.replace(t.find("law: irregular, hm0: 0.05, tp: 1.5, depth: 0.5, ramp: 3.0"), 57, "law: solitary, height: 0.1, depth: 0.5, absorption: {gauge: eta_face}");
+    try {
+      (void)parse_case(t, "case.yaml");
+    } catch (const InputError& ex) {
+      e = ex.what();
+    }
+    EXPECT_HAS(e, "a drift_time");
+  }
+}
+
+// The overtopping gauge counts the water beyond its crest line, Σ m/ρ0: in a still tank, the
+// fluid area beyond x (2D: per metre already), to the lattice's one column.
+TEST(Waves, OvertoppingGaugeCountsTheLeeSide) {
+  const Case c = parse_case(R"(name: t
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01}
+fluid: {density: 1000.0}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [1.0, 0.5]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [1.0, 0.2]}
+time: {end: 1.0, output_interval: 0.1}
+gauges:
+  - {name: over, type: overtopping, x: 0.7}
+  - {name: back, type: overtopping, x: 0.7, direction: -1}
+)", "case.yaml");
+  System<2> S;
+  build_system<2>(c, S);
+  S.update_neighbours();
+  const double v = GaugeSet<2>::evaluate(c.gauges[0], S, 0.5)[0];
+  const double w = GaugeSet<2>::evaluate(c.gauges[1], S, 0.5)[0];
+  EXPECT_NEAR(v, 0.3 * 0.2, 0.5 * 0.01 * 0.2 + 1e-9);
+  EXPECT_NEAR(v + w, 1.0 * 0.2, 1e-9);  // every particle on one side or the other
+}
