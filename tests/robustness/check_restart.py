@@ -114,6 +114,15 @@ for pscheme in ["wcsph", "isph", "isph_lind"]:
         rng.randint(3, 15))
     check(ok, f"piston ({pscheme}, moving walls): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
 
+# active absorption (issue 59): the paddles' corrections (displacement, velocity, mean, the delayed readings) travel
+# in the restart data; both the generating paddle and the absorber at the far end correct from t = 0
+acase = os.path.join(ROOT, "cases", "absorber_end.yaml")
+ok, why, _, _, left = killed_and_restarted(
+    "absorbing", ["run", acase, "-q", "--threads", "2"] + sets_of(
+        "particles.dx=0.03", "time.end=1.0", "time.output_interval=0.02", "time.snapshot_interval=0.04"),
+    rng.randint(3, 20))
+check(ok, f"absorber_end (active absorption): killed after {len(left)} snapshots, restarted: bitwise equal: {why}")
+
 # resolution levels (issue 42): the particles' h and level travel in the restart data
 rcase = os.path.join(ROOT, "cases", "still_tank_refined.yaml")
 ok, why, rref, rkill, left = killed_and_restarted(

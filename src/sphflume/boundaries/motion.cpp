@@ -37,6 +37,13 @@ WallMotion<D>::WallMotion(const std::vector<MotionConfig>& motions, const std::s
         a.c_h = w / piston_transfer(wave_number(w, m.depth, m.gravity) * m.depth);
       }
       a.tau = m.drift_time;
+      // the speed at which the level's reading is carried to the face (the delay d/c below)
+      const double T = one_period ? m.period : (m.law == "irregular" || m.law == "focused") ? m.tp : 0.0;
+      a.celerity = std::sqrt(m.gravity * m.depth);
+      if (T > 0.0) {
+        const double w = 2.0 * std::numbers::pi / T;
+        a.celerity = w / wave_number(w, m.depth, m.gravity);
+      }
     }
     abs_.push_back(a);
   }
@@ -59,6 +66,7 @@ void WallMotion<D>::absorb(System<D>& S, std::size_t k, double t) {
     a.top = S.comm->max(top);
     face = S.comm->max(face) - displacement(k, t);
     a.offset = std::isfinite(face) ? std::max(0.0, dot(a.point, dir_[k]) - face) : 0.0;
+    a.delay = a.offset / a.celerity;
   }
   const double dt = a.started ? t - a.t_last : 0.0;
   a.x += dt * a.u;
@@ -75,7 +83,18 @@ void WallMotion<D>::absorb(System<D>& S, std::size_t k, double t) {
   } else {
     a.e_mean += std::min(1.0, dt / a.tau) * (e - a.e_mean);
   }
-  a.u = -a.c_h * (e - a.e_mean) - a.x / a.tau;
+  // the reading of d/c ago: what arrives at the face now passed the gauge then (an incoming wave
+  // read late by kd in phase would leave K = tan(kd/2); docs/numerics.md §15)
+  a.hist.emplace_back(t, e);
+  const double td = t - a.delay;
+  while (a.hist.size() > 2 && a.hist[1].first <= td) a.hist.pop_front();
+  double ed = a.hist.front().second;
+  if (a.hist.size() > 1 && td > a.hist.front().first) {
+    const auto& [t0, e0] = a.hist[0];
+    const auto& [t1, e1] = a.hist[1];
+    ed = e0 + (e1 - e0) * std::min(1.0, (td - t0) / (t1 - t0));
+  }
+  a.u = -a.c_h * (ed - a.e_mean) - a.x / a.tau;
   a.t_last = t;
 }
 
@@ -102,6 +121,12 @@ std::map<std::string, double> WallMotion<D>::state() const {
     s[p + "u"] = a.u;
     s[p + "top"] = a.top;
     s[p + "offset"] = a.offset;
+    s[p + "delay"] = a.delay;
+    s[p + "history"] = static_cast<double>(a.hist.size());
+    for (std::size_t j = 0; j < a.hist.size(); ++j) {
+      s[fmt::format("{}history.{}.t", p, j)] = a.hist[j].first;
+      s[fmt::format("{}history.{}.e", p, j)] = a.hist[j].second;
+    }
   }
   return s;
 }
@@ -120,6 +145,11 @@ void WallMotion<D>::restore(const std::map<std::string, double>& s) {
     a.u = s.at(p + "u");
     a.top = s.at(p + "top");
     a.offset = s.at(p + "offset");
+    a.delay = s.at(p + "delay");
+    a.hist.clear();
+    const auto nh = static_cast<std::size_t>(s.at(p + "history"));
+    for (std::size_t j = 0; j < nh; ++j)
+      a.hist.emplace_back(s.at(fmt::format("{}history.{}.t", p, j)), s.at(fmt::format("{}history.{}.e", p, j)));
   }
 }
 

@@ -12,9 +12,10 @@
 // of a water_level gauge, moving with the paddle) at each call, compares it with the incident
 // elevation its law makes there (PaddleLaw::elevation), and adds to the law's motion the velocity
 // that, in long-wave theory, cancels the difference (what the structure reflected):
-//   u_c = −G (e − ē),  e = η_m − η_I(d),   x_c = ∫ (u_c − x_c/τ) dt,
+//   u_c = −G (e(t − d/c) − ē),  e = η_m − η_I(d),   x_c = ∫ (u_c − x_c/τ) dt,
 // G = sqrt(g/h) (long waves) or ω/m1(kh) for a law of one period (regular, stokes2, an absorber given
-// its period), η_I(d) the law's elevation at the gauge's distance d from the face,
+// its period), η_I(d) the law's elevation at the gauge's distance d from the face, read d/c late (c the
+// celerity at the law's period, or √(gh)): what reaches the face now passed the gauge then,
 // ē the mean of e over the drift time τ (an exponential average: the SPH level's offset from the
 // still level and the set-down do not drive the paddle), and the −x_c/τ drift correction that keeps
 // the paddle about its mean place. The correction's acceleration is left out of wall_acc: a
@@ -24,6 +25,7 @@
 // Store fields: "motion_group" (0 fixed, k + 1 the k-th motion), "motion_origin" (x at X = 0),
 // "wall_acc" (a_w, for the wall model); all follow the particles through sorts and restarts.
 #pragma once
+#include <deque>
 #include <map>
 #include <memory>
 #include <string>
@@ -52,6 +54,7 @@ class WallMotion {
   const std::string& name(std::size_t k) const { return cfg_[k].name; }
   std::size_t index(const std::string& name) const;
   const PaddleLaw& law(std::size_t k) const { return *laws_[k]; }
+  double start(std::size_t k) const { return cfg_[k].start; }
   const Vec<D>& direction(std::size_t k) const { return dir_[k]; }
   /// Force of the water's pressure on the walls of motion k [N, per m in 2D], as a lab's array of
   /// pressure sensors would read it: Σ p(s_k) dx^(D−1) (−n_k) over the first-layer wall particles,
@@ -68,6 +71,9 @@ class WallMotion {
     double tau = 0.0;      // the drift time
     double top = 0.0;      // where the level's scan starts (the paddle's top)
     double offset = 0.0;   // the gauge's distance ahead of the paddle's face (the target is read there)
+    double celerity = 1.0; // the waves' speed (the law's period, else long waves) and the delay offset/celerity
+    double delay = 0.0;
+    std::deque<std::pair<double, double>> hist;  // (t, e) over the last delay
     double t_last = 0.0, e_mean = 0.0, x = 0.0, u = 0.0;
   };
   void absorb(System<D>& S, std::size_t k, double t);

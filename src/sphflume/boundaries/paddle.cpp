@@ -194,6 +194,7 @@ class LinearSum final : public PaddleLaw {
     return envelope(tau) * e;  // (the envelope at the paddle: the ramp's front is not delayed)
   }
   double stroke() const override { return stroke_; }
+  std::vector<WaveComponent> components() const override { return comps_; }
 
  private:
   double raw(double tau, bool paddle) const {

@@ -34,7 +34,9 @@
 #pragma once
 #include <limits>
 #include <memory>
+#include <vector>
 
+#include "sphflume/boundaries/wave_spectrum.hpp"
 #include "sphflume/core/config.hpp"
 
 namespace sph {
@@ -57,6 +59,8 @@ class PaddleLaw {
   /// Σ a_n cos(ω_n τ + φ_n − k_n x); table, given a depth, long-wave theory U(t − x/c) sqrt(h/g);
   /// absorber 0; NaN where the law has none.
   virtual double elevation(double t, double x) const { (void)t; (void)x; return std::numeric_limits<double>::quiet_NaN(); }
+  /// The linear components the law is made of (irregular, focused, elevation); empty for the others.
+  virtual std::vector<WaveComponent> components() const { return {}; }
 };
 
 /// The law of a motion (throws InputError with the case line for a law it cannot build).

@@ -116,8 +116,7 @@ double jonswap_shape(double f, double fp, double gamma) {
 int default_components(const MotionConfig& m) {
   double f0 = 0.0, f1 = 0.0;
   band(m, f0, f1);
-  const double length = std::max(m.duration, 100.0 * m.tp);
-  return std::max(64, static_cast<int>(std::ceil((f1 - f0) * length)));
+  return std::max(64, static_cast<int>(std::ceil((f1 - f0) * 200.0 * m.tp - 1e-9)));
 }
 
 std::vector<WaveComponent> wave_components(const MotionConfig& m) {

@@ -13,7 +13,7 @@
 // a Pierson–Moskowitz sea's), with the
 // deterministic amplitudes a_n = sqrt(2 S(f_n) Δf) and phases uniform in [0, 2π) from a seeded
 // 64-bit Mersenne twister (the same sea on every machine). The sea repeats after 1/Δf: the default
-// number of components makes that at least the run's length and 100 peak periods.
+// number of components makes that 200 peak periods (a longer run gets a warning).
 // Focused group (NewWave, Tromans et al. 1991): a_n = A S(f_n)Δf / Σ S Δf and φ_n = k_n x_f − ω_n t_f,
 // so that every crest meets at the focus x_f at τ = t_f with the linear crest A.
 // Elevation series: the user's η(t) at the paddle, resampled evenly and decomposed by a discrete
@@ -36,8 +36,9 @@ double jonswap_shape(double f, double fp, double gamma);
 /// The components of a motion of law irregular, focused or elevation (m.depth, m.gravity set).
 std::vector<WaveComponent> wave_components(const MotionConfig& m);
 
-/// The number of components irregular and focused use by default: the sea repeats after 1/Δf ≥
-/// max(the run's length, 100 Tp), at least 64.
+/// The number of components irregular and focused use by default: the sea repeats after 1/Δf =
+/// 200 Tp (500 components over the default band), at least 64. It does not depend on the run's
+/// length, so a restart with a later time.end goes on with the same sea.
 int default_components(const MotionConfig& m);
 
 /// A uniform double in [0, 1) from a 64-bit Mersenne twister (53 bits; portable, unlike

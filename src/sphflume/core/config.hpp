@@ -208,7 +208,6 @@ struct MotionConfig {
   double amplitude = 0.0;           // focused: the crest amplitude at the focus [m]
   double focus_x = 0.0;             // focused: distance of the focus from the paddle's rest face [m]
   double focus_time = 0.0;          // focused: time of the focus after `start` [s]
-  double duration = 0.0;            // the run's length after `start` (time.end − start; sets default components)
   std::vector<double> elevation_t, elevation_eta;  // elevation: the target surface elevation at the paddle
   // active absorption (Schäffer & Klopman 2000, boundaries/motion.hpp): the level measured at the
   // paddle's face, at the offset of the named water_level gauge, moving with the paddle

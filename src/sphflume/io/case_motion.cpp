@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "sphflume/boundaries/paddle.hpp"
+#include "sphflume/boundaries/wave_spectrum.hpp"
 #include "sphflume/io/case_reader.hpp"
 
 namespace sph::caseio {
@@ -31,9 +32,8 @@ void read_table(Reader& r, MotionConfig& m) {
 
 
 /// irregular, focused and elevation (boundaries/wave_spectrum.hpp).
-void read_linear_waves(Reader& r, const Node& n, MotionConfig& m, const Case& c) {
+void read_linear_waves(Reader& r, const Node& n, MotionConfig& m) {
   m.depth = r.positive("depth", 0.0, true);
-  m.duration = c.t_end - m.start;
   m.f_min = r.scalar<double>("f_min", 0.0);
   m.f_max = r.scalar<double>("f_max", 0.0);
   for (const char* k : {"f_min", "f_max"})
@@ -164,7 +164,7 @@ MotionConfig read_motion(const Node& n, const std::string& file, const std::stri
     m.depth = r.positive("depth", 0.0);  // (only active absorption reads it)
   } else {
     if (!(m.gravity > 0.0)) r.fail_at(n, path, "gravity (the wave laws need |g| > 0)");
-    read_linear_waves(r, n, m, c);
+    read_linear_waves(r, n, m);
   }
   read_absorption(r, m, c);
   r.finish();
@@ -180,6 +180,17 @@ void read_motions(Reader& top, const std::string& file, Case& c) {
     std::set<std::string> names;
     for (std::size_t i = 0; i < ms.size(); ++i) {
       c.motions.push_back(read_motion(ms[i], file, fmt::format("motions.{}", i), c));
+      const MotionConfig& m = c.motions.back();
+      if (m.law == "irregular" || m.law == "focused") {  // a sea repeats after 1/Δf
+        const double f0 = m.f_min > 0.0 ? m.f_min : 0.5 / m.tp, f1 = m.f_max > 0.0 ? m.f_max : 3.0 / m.tp;
+        const int n = m.components > 0 ? m.components : default_components(m);
+        const double repeat = n / (f1 - f0);
+        if (c.t_end - m.start > repeat)
+          c.warnings.push_back(fmt::format("{}: line {}: motion '{}': the sea repeats after {:.4g} s ({} components over "
+                                           "[{:.4g}, {:.4g}] Hz) and the run goes on for {:.4g} s: set 'components: {}' "
+                                           "for a sea that does not repeat", file, m.line, m.name, repeat, n, f0, f1,
+                                           c.t_end - m.start, static_cast<int>(std::ceil((c.t_end - m.start) * (f1 - f0)))));
+      }
       if (!names.insert(c.motions.back().name).second)
         top.fail_at(ms[i], fmt::format("motions.{}.name", i), "a name not used by another motion");
     }

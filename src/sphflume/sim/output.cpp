@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -12,6 +13,8 @@
 
 namespace sph {
 namespace fs = std::filesystem;
+template <int D>
+void write_wave_components(const WallMotion<D>& m, const std::string& dir);
 namespace {
 
 /// The output folder must be writable before anything is computed.
@@ -71,6 +74,27 @@ RunOutput<D>::RunOutput(const Case& c, const RunOptions& o, Run<D>& R, std::shar
       if (e.path().extension() == ".h5" || e.path().extension() == ".tmp") fs::remove(e.path(), ec);
   gauges_ = std::make_unique<GaugeSet<D>>(c.gauges, o.output, R.hi[D - 1],
                                           resume_ ? R.S.time : std::numeric_limits<double>::quiet_NaN(), comm->root());
+  if (R.S.motion && comm->root()) write_wave_components(*R.S.motion, o.output + "/motions");
+}
+
+/// motions/NAME.components.csv for every motion made of linear components (irregular, focused,
+/// elevation): what sea the paddle makes, for the analysis (its target at any gauge).
+template <int D>
+void write_wave_components(const WallMotion<D>& m, const std::string& dir) {
+  for (std::size_t k = 0; k < m.size(); ++k) {
+    const auto comps = m.law(k).components();
+    if (comps.empty()) continue;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    const std::string path = dir + "/" + m.name(k) + ".components.csv";
+    std::ofstream f(path);
+    if (!f) throw IoError(fmt::format("cannot write '{}' (is the output folder writable?)", path));
+    f << "# motion '" << m.name(k) << "': eta(x, t) = sum of amplitude cos(2 pi frequency (t - start) + phase - wave_number x), "
+      << "x from the paddle's rest face, start = " << fmt::format("{}", m.start(k)) << " s (docs/numerics.md §15)\n";
+    f << "frequency,amplitude,wave_number,phase\n";
+    for (const auto& w : comps)
+      f << fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}\n", w.omega / (2.0 * std::numbers::pi), w.amplitude, w.k, w.phase);
+  }
 }
 
 template <int D>
