@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "sphflume/boundaries/motion.hpp"
 #include "sphflume/boundaries/paddle.hpp"
 #include "sphflume/boundaries/wave_spectrum.hpp"
 #include "sphflume/io/case.hpp"
@@ -263,6 +264,42 @@ motions:
   }
 }
 
+// A flap's bad input: its hinge below the bed or above the water, a missing hinge, a law made for
+// a piston, a vertical direction; hinge keys on a piston.
+TEST(Waves, FlapBadInputIsNamed) {
+  const std::string base = R"(name: t
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.02, h_over_dx: 2.0}
+fluid: {density: 1000.0}
+geometry:
+  - {type: tank, fill: wall, min: [-0.2, 0.0], max: [4.0, 0.8]}
+  - {type: box, fill: wall, min: [-0.12, 0.0], max: [0.0, 0.8], motion: paddle}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [4.0, 0.5]}
+time: {end: 20.0, output_interval: 0.1}
+motions:
+  - {name: paddle, law: regular, height: 0.03, depth: 0.5, period: 1.2, paddle: flap, hinge: [0.0, 0.1]}
+)";
+  auto err = [&](const std::string& from, const std::string& to) {
+    std::string t = base;
+    if (!from.empty()) t.replace(t.find(from), from.size(), to);
+    try {
+      (void)parse_case(t, "case.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(err("", ""), "");
+  EXPECT_HAS(err("hinge: [0.0, 0.1]", "hinge: [0.0, -0.05]"), "line 12: 'motions.0.hinge': expected a hinge at or above the bed");
+  EXPECT_HAS(err("hinge: [0.0, 0.1]", "hinge: [0.0, 0.6]"), "a hinge below the still-water level");
+  EXPECT_HAS(err(", hinge: [0.0, 0.1]", ""), "'motions.0.hinge': expected the flap's hinge");
+  EXPECT_HAS(err("law: regular, height: 0.03, depth: 0.5, period: 1.2", "law: solitary, height: 0.1, depth: 0.5"),
+             "'motions.0.paddle': expected a piston for law solitary");
+  EXPECT_HAS(err("paddle: flap, hinge", "direction: [0.0, 1.0], paddle: flap, hinge"), "a horizontal direction for a flap");
+  EXPECT_HAS(err("paddle: flap, hinge: [0.0, 0.1]", "hinge: [0.0, 0.1]"), "no hinge or level on a piston");
+}
+
 // The overtopping gauge counts the water beyond its crest line, Σ m/ρ0: in a still tank, the
 // fluid area beyond x (2D: per metre already), to the lattice's one column.
 TEST(Waves, OvertoppingGaugeCountsTheLeeSide) {
@@ -286,4 +323,89 @@ gauges:
   const double w = GaugeSet<2>::evaluate(c.gauges[1], S, 0.5)[0];
   EXPECT_NEAR(v, 0.3 * 0.2, 0.5 * 0.01 * 0.2 + 1e-9);
   EXPECT_NEAR(v + w, 1.0 * 0.2, 1e-9);  // every particle on one side or the other
+}
+
+// The flap's transfer function: at d = h it is Dean & Dalrymple's bottom-hinged flap
+// 4 sinh kh (kh sinh kh − cosh kh + 1)/(kh (sinh 2kh + 2kh)); in shallow water it tends to half the
+// piston's (the flap's depth-mean stroke is half its top's); for any hinge depth it equals the
+// wavemaker integral 4 k sinh kh ∫ f cosh k(h+z) dz/(sinh 2kh + 2kh) by quadrature; deep water → 2 (1 − (1 − e^{−kd})/kd),
+// continuous where the deep-water branch takes over (kh = 20).
+TEST(Waves, FlapTransferFunction) {
+  for (const double kh : {0.3, 1.0, 2.5}) {
+    const double dd = 4 * std::sinh(kh) * (kh * std::sinh(kh) - std::cosh(kh) + 1) / (kh * (std::sinh(2 * kh) + 2 * kh));
+    EXPECT_NEAR(flap_transfer(kh, 1.0), dd, 1e-13);
+    for (const double dh : {0.3, 0.7, 1.0}) {
+      const double h = 1.0, k = kh / h, d = dh * h;
+      const int n = 20000;
+      double in = 0.0;
+      for (int i = 0; i < n; ++i) {  // midpoint rule over the flap, z in [−d, 0]
+        const double z = -d + (i + 0.5) * d / n;
+        in += (z + d) / d * std::cosh(k * (h + z)) * d / n;
+      }
+      const double quad = 4 * k * std::sinh(kh) * in / (std::sinh(2 * kh) + 2 * kh);
+      EXPECT_NEAR(flap_transfer(kh, dh), quad, 1e-7 * quad) << "kh " << kh << " d/h " << dh;
+    }
+  }
+  EXPECT_NEAR(flap_transfer(1e-3, 1.0) / piston_transfer(1e-3), 0.5, 1e-3);
+  EXPECT_NEAR(flap_transfer(30.0, 1.0), 2.0 * (1.0 - (1.0 - std::exp(-30.0)) / 30.0), 1e-12);
+  EXPECT_NEAR(flap_transfer(20.0 - 1e-9, 0.5), flap_transfer(20.0 + 1e-9, 0.5), 1e-10);  // (slope 0.01)
+}
+
+// A flap turns about its hinge: each wall particle keeps its distance from the hinge, the particle
+// at the still-water level moves by X along the direction (tan θ = X/d), the velocity and
+// acceleration the motion sets are the time derivatives of the positions it sets (central
+// differences), and the vectors to the wall's surface turn with the flap.
+TEST(Waves, FlapTurnsAboutItsHinge) {
+  const Case c = parse_case(R"(name: t
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.02, h_over_dx: 2.0}
+fluid: {density: 1000.0}
+geometry:
+  - {type: tank, fill: wall, min: [-0.3, 0.0], max: [3.0, 0.8]}
+  - {type: box, fill: wall, min: [-0.12, 0.1], max: [0.0, 0.8], motion: flap}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [3.0, 0.5]}
+time: {end: 5.0, output_interval: 0.1}
+motions:
+  - {name: flap, law: regular, paddle: flap, hinge: [0.0, 0.1], height: 0.03, depth: 0.5, period: 1.2, ramp: 1.2}
+)", "case.yaml");
+  ASSERT_NEAR(c.motions[0].hinge_depth, 0.4, 1e-12);
+  System<2> S;
+  BuildReport rep;
+  (void)setup_system<2>(c, S, rep);
+  auto& P = S.particles;
+  const auto& grp = *P.find(field::motion_group);
+  const auto& org = *P.find(field::motion_origin);
+  const Vec<2> hinge{0.0, 0.1};
+  auto state = [&](double t) {
+    move_walls(S, t);
+    return std::make_tuple(P.pos, P.vel, P.vector(field::wall_acc), P.vector(field::wall_to_surface));
+  };
+  const auto [x0, v0, a0, s0] = state(0.0);
+  const double t = 2.0, dt = 1e-4;
+  const auto [xm, vm, am, sm] = state(t - dt);
+  const auto [xp, vp, ap, sp] = state(t + dt);
+  const auto [x, v, a, s] = state(t);
+  const double X = S.motion->displacement(0, t), th = std::atan2(X, 0.4);
+  ASSERT_GT(std::abs(X), 1e-3);
+  int moved = 0, at_level = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (grp[i] != 1.0) continue;
+    ++moved;
+    EXPECT_NEAR(norm(x[i] - hinge), norm(org[i] - hinge), 1e-12);
+    const Vec<2> fd_v = (1.0 / (2 * dt)) * (xp[i] - xm[i]), fd_a = (1.0 / (2 * dt)) * (vp[i] - vm[i]);
+    EXPECT_NEAR(norm(fd_v - v[i]), 0.0, 1e-6);
+    EXPECT_NEAR(norm(fd_a - a[i]), 0.0, 1e-3 * (1.0 + norm(a[i])));
+    // (x, z) turned by θ toward +x: (x cos θ + z sin θ, z cos θ − x sin θ)
+    const double c = std::cos(th), sn = std::sin(th);
+    EXPECT_NEAR(s[i][0], s0[i][0] * c + s0[i][1] * sn, 1e-12);
+    EXPECT_NEAR(s[i][1], s0[i][1] * c - s0[i][0] * sn, 1e-12);
+    if (std::abs(org[i][1] - 0.51) < 1e-9 && std::abs(org[i][0] + 0.01) < 1e-9) {  // the face's first column at z = 0.51
+      ++at_level;  // 0.41 m above the hinge, 0.01 m behind the face
+      EXPECT_NEAR(x[i][0] - org[i][0], 0.41 * sn + 0.01 * (1.0 - c), 1e-12);
+      EXPECT_NEAR(0.4 * std::tan(th), X, 1e-12);  // the face's line meets the still-water level at X
+    }
+  }
+  EXPECT_GT(moved, 100);
+  EXPECT_EQ(at_level, 1);
 }

@@ -24,6 +24,10 @@ WallMotion<D>::WallMotion(const std::vector<MotionConfig>& motions, const std::s
     const double len = norm(e);
     if (!(len > 0.0)) throw InputError(fmt::format("{}: line {}: motion '{}': direction must be non-zero", file, m.line, m.name));
     dir_.push_back((1.0 / len) * e);
+    Vec<D> hp{};
+    if (m.paddle == "flap")
+      for (int d = 0; d < D && static_cast<std::size_t>(d) < m.hinge.size(); ++d) hp[d] = m.hinge[static_cast<std::size_t>(d)];
+    hinge_.push_back(hp);
     Absorber a;
     if (m.absorb) {
       a.on = true;
@@ -31,10 +35,12 @@ WallMotion<D>::WallMotion(const std::vector<MotionConfig>& motions, const std::s
       // the gain: exact for one frequency (ω/m1(kh): no reflection at that period), long-wave
       // theory sqrt(g/h) for a spectrum (docs/numerics.md, "Active absorption")
       a.c_h = std::sqrt(m.gravity / m.depth);
+      // a flap's depth-mean velocity is its still-water-level velocity times d/(2h)
+      if (m.paddle == "flap") a.c_h *= 2.0 * m.depth / m.hinge_depth;
       const bool one_period = (m.law == "regular" || m.law == "stokes2" || m.law == "absorber") && m.period > 0.0;
       if (one_period) {
         const double w = 2.0 * std::numbers::pi / m.period;
-        a.c_h = w / piston_transfer(wave_number(w, m.depth, m.gravity) * m.depth);
+        a.c_h = w / paddle_transfer(m, wave_number(w, m.depth, m.gravity) * m.depth);
       }
       a.tau = m.drift_time;
       // the speed at which the level's reading is carried to the face (the delay d/c below)
@@ -160,6 +166,42 @@ std::size_t WallMotion<D>::index(const std::string& name) const {
   throw std::out_of_range("no motion named " + name);
 }
 
+namespace {
+
+/// a × v with a the flap's rotation axis z × e (e horizontal, unit): in 2D a is out of the plane,
+/// a × (v_x, v_z) = (e_x v_z, −e_x v_x).
+template <int D>
+Vec<D> axis_cross(const Vec<D>& e, const Vec<D>& v) {
+  Vec<D> r{};
+  if constexpr (D == 2) {
+    r[0] = e[0] * v[1];
+    r[1] = -e[0] * v[0];
+  } else {
+    const double ax = -e[1], ay = e[0];  // a = z × e = (−e_y, e_x, 0)
+    r[0] = ay * v[2];
+    r[1] = -ax * v[2];
+    r[2] = ax * v[1] - ay * v[0];
+  }
+  return r;
+}
+
+/// v rotated by θ about the axis a = z × e (Rodrigues; a ⊥ z, so the top of a vertical flap moves
+/// toward e for θ > 0).
+template <int D>
+Vec<D> rotated(const Vec<D>& e, const Vec<D>& v, double c, double s) {
+  const Vec<D> av = axis_cross<D>(e, v);
+  Vec<D> along{};  // a (a·v): zero in 2D (v in the plane)
+  if constexpr (D == 3) {
+    const double ax = -e[1], ay = e[0];
+    const double adv = ax * v[0] + ay * v[1];
+    along[0] = ax * adv;
+    along[1] = ay * adv;
+  }
+  return c * v + s * av + (1.0 - c) * along;
+}
+
+}  // namespace
+
 template <int D>
 void WallMotion<D>::apply(System<D>& S, double t) {
   auto& P = S.particles;
@@ -171,16 +213,45 @@ void WallMotion<D>::apply(System<D>& S, double t) {
   if (!org) throw std::logic_error("wall motion: no motion_origin field");
   auto& acc = P.vector(field::wall_acc);
   std::vector<Vec<D>> x(size()), u(size()), a(size());
+  // a flap: θ = atan(X/d) about its hinge (X the displacement at the still-water level), θ' and θ''
+  std::vector<double> th(size(), 0.0), dth(size(), 0.0), ddth(size(), 0.0);
+  bool flaps = false;
   for (std::size_t k = 0; k < size(); ++k) {
-    x[k] = displacement(k, t) * dir_[k];
-    u[k] = velocity(k, t) * dir_[k];
-    a[k] = laws_[k]->acceleration(t) * dir_[k];
+    const double X = displacement(k, t), U = velocity(k, t), A = laws_[k]->acceleration(t);
+    if (cfg_[k].paddle == "flap") {
+      flaps = true;
+      const double d = cfg_[k].hinge_depth, q = d * d + X * X;
+      th[k] = std::atan2(X, d);
+      dth[k] = U * d / q;
+      ddth[k] = A * d / q - 2.0 * X * U * U * d / (q * q);
+      continue;
+    }
+    x[k] = X * dir_[k];
+    u[k] = U * dir_[k];
+    a[k] = A * dir_[k];
   }
+  std::vector<Vec<D>>* to = flaps ? &P.vector(field::wall_to_surface) : nullptr;
+  const auto* to0 = flaps ? P.find(field::motion_surface0) : nullptr;
+  std::vector<Vec<D>>* nrm = flaps && P.has(field::wall_normal) ? &P.vector(field::wall_normal) : nullptr;
+  const auto* nrm0 = nrm ? P.find(field::motion_normal0) : nullptr;
+  if (flaps && !to0) throw std::logic_error("wall motion: a flap without motion_surface0");
   const std::size_t n = P.n_owned();
   for (std::size_t i = 0; i < n; ++i) {
     const double g = (*grp)[i];
     if (!(g > 0.0)) continue;
     const std::size_t k = static_cast<std::size_t>(g) - 1;
+    if (cfg_[k].paddle == "flap") {
+      const Vec<D>& e = dir_[k];
+      const double c = std::cos(th[k]), s = std::sin(th[k]);
+      const Vec<D> r = rotated<D>(e, (*org)[i] - hinge_[k], c, s);
+      const Vec<D> ar = axis_cross<D>(e, r);
+      P.pos[i] = hinge_[k] + r;
+      P.vel[i] = dth[k] * ar;
+      acc[i] = ddth[k] * ar + (dth[k] * dth[k]) * axis_cross<D>(e, ar);  // tangential and centripetal
+      (*to)[i] = rotated<D>(e, (*to0)[i], c, s);
+      if (nrm && nrm0) (*nrm)[i] = rotated<D>(e, (*nrm0)[i], c, s);
+      continue;
+    }
     P.pos[i] = (*org)[i] + x[k];
     P.vel[i] = u[k];
     acc[i] = a[k];

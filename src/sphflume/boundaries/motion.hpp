@@ -22,6 +22,11 @@
 // reflected amplitude a_r at ω adds ρ ω sqrt(g/h) a_r r to the dummy walls' pressure, r ≤ the wall's
 // depth (about 1 % of the hydrostatic pressure for a 2 cm reflection at T = 1.2 s, h = 0.4 m).
 // The state (x_c, u_c, ē, the last time) goes into restart points (state(), restore()).
+// A flap (`paddle: flap`) rotates rigidly about a horizontal hinge line through `hinge`, the axis
+// z × e, by θ = atan(X/d), X the law's displacement at the still-water level and d the hinge's
+// depth below it: x = x_h + R(θ)(x0 − x_h), u = θ' a × r, a_w = θ'' a × r − θ'² r; the vectors to the
+// wall's surface (and repulsive walls' normals) turn with it from their rest values
+// ("motion_surface0", "motion_normal0").
 // Store fields: "motion_group" (0 fixed, k + 1 the k-th motion), "motion_origin" (x at X = 0),
 // "wall_acc" (a_w, for the wall model); all follow the particles through sorts and restarts.
 #pragma once
@@ -81,6 +86,7 @@ class WallMotion {
   std::vector<MotionConfig> cfg_;
   std::vector<std::unique_ptr<PaddleLaw>> laws_;
   std::vector<Vec<D>> dir_;
+  std::vector<Vec<D>> hinge_;  // flaps: a point of the hinge line
   std::vector<Absorber> abs_;
 };
 

@@ -85,7 +85,7 @@ class Regular final : public PaddleLaw {
     omega_ = 2.0 * std::numbers::pi / m.period;
     const double k = wave_number(omega_, m.depth, m.gravity);
     const double kh = k * m.depth;
-    const double m1 = piston_transfer(kh);
+    const double m1 = paddle_transfer(m, kh);
     half_stroke_ = 0.5 * m.height / m1;
     amp_ = 0.5 * m.height;
     k_ = k;
@@ -166,7 +166,7 @@ class LinearSum final : public PaddleLaw {
  public:
   explicit LinearSum(const MotionConfig& m) : start_(m.start), ramp_(m.ramp), comps_(wave_components(m)) {
     for (const auto& c : comps_) {
-      gain_.push_back(1.0 / piston_transfer(c.k * m.depth));
+      gain_.push_back(1.0 / paddle_transfer(m, c.k * m.depth));
       stroke_ += 2.0 * c.amplitude * gain_.back();
     }
     if (m.law == "elevation") {
@@ -273,6 +273,21 @@ double wave_number(double omega, double depth, double g) {
 double piston_transfer(double kh) {
   if (kh > 20.0) return 2.0;  // deep water (the cosh/sinh ratio overflows beyond kh ≈ 177; 2 to 1e-16 here)
   return 2.0 * (std::cosh(2.0 * kh) - 1.0) / (std::sinh(2.0 * kh) + 2.0 * kh);
+}
+
+double flap_transfer(double kh, double d_over_h) {
+  if (kh > 20.0) {  // deep water (sinh, cosh of kh ~ e^{kh}/2 to 1e-17; the cosh ratios overflow beyond kh ≈ 350)
+    const double kd = kh * d_over_h;
+    return 2.0 * (1.0 - (1.0 - std::exp(-kd)) / kd);
+  }
+  const double kd = kh * d_over_h;
+  const double sh = std::sinh(kh);
+  return 4.0 * sh / (std::sinh(2.0 * kh) + 2.0 * kh) * (sh - (std::cosh(kh) - std::cosh(kh - kd)) / kd);
+}
+
+double paddle_transfer(const MotionConfig& m, double kh) {
+  if (m.paddle == "flap") return flap_transfer(kh, m.hinge_depth / m.depth);
+  return piston_transfer(kh);
 }
 
 std::unique_ptr<PaddleLaw> make_paddle_law(const MotionConfig& m, const std::string& file) {

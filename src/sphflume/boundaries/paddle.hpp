@@ -70,5 +70,13 @@ std::unique_ptr<PaddleLaw> make_paddle_law(const MotionConfig& m, const std::str
 double wave_number(double omega, double depth, double g);
 /// First-order piston transfer function H/S at relative depth kh.
 double piston_transfer(double kh);
+/// First-order flap transfer function H/S (S the stroke at the still-water level) for a flap hinged a
+/// depth d below the still-water level (d = h: at the bed; the wall below the hinge fixed): from the
+/// wavemaker theory's H/S = 4 k sinh kh ∫ f(z) cosh k(h + z) dz / (sinh 2kh + 2kh), f = (z + d)/d above
+/// the hinge (Dean & Dalrymple 1991 §6.3; Hughes 1993 §2.3):
+///   H/S = 4 sinh kh (sinh kh − (cosh kh − cosh k(h − d))/(kd)) / (sinh 2kh + 2kh).
+double flap_transfer(double kh, double d_over_h);
+/// The transfer function of the motion's paddle (piston or flap) at kh.
+double paddle_transfer(const MotionConfig& m, double kh);
 
 }  // namespace sph

@@ -209,6 +209,10 @@ struct MotionConfig {
   double focus_x = 0.0;             // focused: distance of the focus from the paddle's rest face [m]
   double focus_time = 0.0;          // focused: time of the focus after `start` [s]
   std::vector<double> elevation_t, elevation_eta;  // elevation: the target surface elevation at the paddle
+  // the paddle's kind: a piston translates; a flap rotates about a horizontal hinge (boundaries/motion.hpp)
+  std::string paddle = "piston";    // piston | flap
+  std::vector<double> hinge;        // flap: a point of the hinge line [m]
+  double hinge_depth = 0.0;         // flap: the hinge's depth below the still-water level, d (≤ depth) [m]
   // active absorption (Schäffer & Klopman 2000, boundaries/motion.hpp): the level measured at the
   // paddle's face, at the offset of the named water_level gauge, moving with the paddle
   bool absorb = false;

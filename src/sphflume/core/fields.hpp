@@ -39,6 +39,8 @@ inline constexpr VectorField wall_to_surface{"wall_to_surface"};  // wall partic
 inline constexpr VectorField wall_normal{"wall_normal"};          // repulsive walls' unit normal
 inline constexpr VectorField ghost_mirror{"ghost_mirror"};        // fixed ghosts' interpolation point
 inline constexpr VectorField motion_origin{"motion_origin"};      // a moving wall particle at X = 0
+inline constexpr VectorField motion_surface0{"motion_surface0"};  // a flap's wall_to_surface at rest
+inline constexpr VectorField motion_normal0{"motion_normal0"};    // a flap's wall_normal at rest (repulsive walls)
 inline constexpr VectorField wall_acc{"wall_acc"};                // a moving wall particle's acceleration
 inline constexpr VectorField xsph{"xsph"};                        // XSPH velocity correction
 inline constexpr VectorField x0{"x0"};                            // step-start position

@@ -82,6 +82,32 @@ void read_linear_waves(Reader& r, const Node& n, MotionConfig& m) {
   }
 }
 
+/// `paddle: flap`, `hinge: [x, z]` and the still-water level `level` (default: depth, the bed at z = 0).
+void read_flap(Reader& r, const Node& n, MotionConfig& m, const Case& c) {
+  m.paddle = r.choice("paddle", "piston", {"piston", "flap"});
+  if (m.paddle != "flap") {
+    for (const char* k : {"hinge", "level"})
+      if (r.has(k)) r.fail_at(r.get(k), r.key_path(k), "no hinge or level on a piston (add 'paddle: flap')");
+    return;
+  }
+  const std::size_t d = static_cast<std::size_t>(c.dimension);
+  if (m.law == "solitary" || m.law == "stokes2")
+    r.fail_at(r.get("paddle"), r.key_path("paddle"), fmt::format("a piston for law {} (its motion is a piston's: use regular, "
+                                                                 "irregular, focused, elevation, table or absorber with a flap)", m.law));
+  if (!(m.depth > 0.0)) r.fail_at(n, r.key_path("depth"), "the still-water depth at the flap [m] (its transfer function needs it)");
+  if (std::abs(m.direction[d - 1]) > 1e-12)
+    r.fail_at(r.get("direction"), r.key_path("direction"), "a horizontal direction for a flap (the way its top moves)");
+  m.hinge = r.vec("hinge", d);
+  if (m.hinge.empty()) r.fail_at(n, r.key_path("hinge"), fmt::format("the flap's hinge, a point [{}] of the hinge line [m]", d == 2 ? "x, z" : "x, y, z"));
+  const double level = r.scalar<double>("level", m.depth);
+  m.hinge_depth = level - m.hinge[d - 1];
+  if (m.hinge_depth > m.depth * (1.0 + 1e-9))
+    r.fail_at(r.get("hinge"), r.key_path("hinge"), fmt::format("a hinge at or above the bed: z = {} is {:.4g} m below the still-water level "
+                                                              "{} (level) but the water is {} m deep (depth)", m.hinge[d - 1], m.hinge_depth, level, m.depth));
+  if (!(m.hinge_depth > 0.0))
+    r.fail_at(r.get("hinge"), r.key_path("hinge"), fmt::format("a hinge below the still-water level {} m (level)", level));
+}
+
 /// `absorption: {gauge: NAME, drift_time: T}`: active absorption from the level at the paddle's face.
 void read_absorption(Reader& r, MotionConfig& m, const Case& c) {
   if (!r.has("absorption")) return;
@@ -114,7 +140,8 @@ void read_absorption(Reader& r, MotionConfig& m, const Case& c) {
 MotionConfig read_motion(const Node& n, const std::string& file, const std::string& path, const Case& c) {
   Reader r(n, file, path);
   r.valid({"name", "law", "direction", "theory", "height", "depth", "period", "start", "ramp", "file", "spectrum", "hm0",
-           "tp", "gamma", "seed", "components", "f_min", "f_max", "amplitude", "focus_x", "focus_time", "absorption"});
+           "tp", "gamma", "seed", "components", "f_min", "f_max", "amplitude", "focus_x", "focus_time", "absorption",
+           "paddle", "hinge", "level"});
   MotionConfig m;
   m.line = n.line();
   m.name = r.required<std::string>("name", "a motion name (shapes join it with 'motion: NAME')");
@@ -155,17 +182,18 @@ MotionConfig read_motion(const Node& n, const std::string& file, const std::stri
   } else if (m.law == "absorber") {
     if (!(m.gravity > 0.0)) r.fail_at(n, path, "gravity (absorption needs |g| > 0)");
     m.depth = r.positive("depth", 0.0, true);
-    if (r.has("period")) m.period = r.positive("period", 0.0);  // the gain's frequency (default: long waves)
+    if (r.has("period")) m.period = r.positive("period", 1.0);  // the gain's frequency (default: long waves)
     if (!r.has("absorption"))
       r.fail_at(n, r.key_path("absorption"), "an 'absorption: {gauge: NAME}' on an absorber (at rest without it, it is a wall)");
   } else if (m.law == "table") {
     m.file = r.required<std::string>("file", "a CSV file of time [s], displacement [m]");
     read_table(r, m);
-    m.depth = r.positive("depth", 0.0);  // (only active absorption reads it)
+    if (r.has("depth")) m.depth = r.positive("depth", 0.0);  // (only active absorption and a flap read it)
   } else {
     if (!(m.gravity > 0.0)) r.fail_at(n, path, "gravity (the wave laws need |g| > 0)");
     read_linear_waves(r, n, m);
   }
+  read_flap(r, n, m, c);
   read_absorption(r, m, c);
   r.finish();
   return m;

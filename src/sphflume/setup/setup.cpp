@@ -52,6 +52,12 @@ std::unique_ptr<Scheme<D>> setup_system(const Case& c, System<D>& S, BuildReport
     auto& to = S.particles.vector(field::wall_to_surface);
     for (std::size_t k = 0; k < surface.size(); ++k) to[rep.first_wall + k] = surface[k] - S.particles.pos[rep.first_wall + k];
   }
+  bool flap = false;
+  for (const auto& m : c.motions) flap |= m.paddle == "flap";
+  if (flap) {  // a flap turns its walls' surface vectors (and normals) from their rest values
+    S.particles.vector(field::motion_surface0) = S.particles.vector(field::wall_to_surface);
+    if (S.particles.has(field::wall_normal)) S.particles.vector(field::motion_normal0) = S.particles.vector(field::wall_normal);
+  }
   add_force_terms<D>(c.forces, c.file, S);
   if (!c.motions.empty()) S.motion = std::make_shared<WallMotion<D>>(c.motions, c.file);
   return scheme;
