@@ -43,8 +43,10 @@ WallMotion<D>::WallMotion(const std::vector<MotionConfig>& motions, const std::s
         a.c_h = w / paddle_transfer(m, wave_number(w, m.depth, m.gravity) * m.depth);
       }
       a.tau = m.drift_time;
+      a.start = m.absorb_start;
       // the speed at which the level's reading is carried to the face (the delay d/c below)
       const double T = one_period ? m.period : (m.law == "irregular" || m.law == "focused") ? m.tp : 0.0;
+      a.window = T;
       a.celerity = std::sqrt(m.gravity * m.depth);
       if (T > 0.0) {
         const double w = 2.0 * std::numbers::pi / T;
@@ -72,7 +74,14 @@ void WallMotion<D>::absorb(System<D>& S, std::size_t k, double t) {
     a.top = S.comm->max(top);
     face = S.comm->max(face) - displacement(k, t);
     a.offset = std::isfinite(face) ? std::max(0.0, dot(a.point, dir_[k]) - face) : 0.0;
+    // the reading's delay: the travel from the gauge to the face, d/c, and the phase lead of the two
+    // first-order high-passes (the mean ē and the drift correction, both over τ) at the law's
+    // frequency, 2 atan(1/(ωτ))/ω, so that the correction is in phase there
     a.delay = a.offset / a.celerity;
+    if (a.window > 0.0) {
+      const double w = 2.0 * std::numbers::pi / a.window;
+      a.delay += 2.0 * std::atan(1.0 / (w * a.tau)) / w;
+    }
   }
   const double dt = a.started ? t - a.t_last : 0.0;
   a.x += dt * a.u;
@@ -85,7 +94,19 @@ void WallMotion<D>::absorb(System<D>& S, std::size_t k, double t) {
   const double e = level - laws_[k]->elevation(t, a.offset);
   if (!a.started) {
     a.e_mean = e;
+    a.t_first = t;
     a.started = true;
+  } else if (t <= a.start) {
+    // the start-up (the ramp, the SPH level settling near the paddle): ē is the plain mean of e
+    // over its last window (the law's period: the near field's oscillation averages out)
+    const double w0 = a.start - (a.window > 0.0 ? a.window : 0.5 * (a.start - a.t_first));
+    if (t > w0) {
+      a.e_sum += dt * e;
+      a.e_time += dt;
+      a.e_mean = a.e_sum / a.e_time;
+    } else {
+      a.e_mean = e;
+    }
   } else {
     a.e_mean += std::min(1.0, dt / a.tau) * (e - a.e_mean);
   }
@@ -100,7 +121,7 @@ void WallMotion<D>::absorb(System<D>& S, std::size_t k, double t) {
     const auto& [t1, e1] = a.hist[1];
     ed = e0 + (e1 - e0) * std::min(1.0, (td - t0) / (t1 - t0));
   }
-  a.u = -a.c_h * (ed - a.e_mean) - a.x / a.tau;
+  a.u = t > a.start ? -a.c_h * (ed - a.e_mean) - a.x / a.tau : 0.0;
   a.t_last = t;
 }
 
@@ -123,6 +144,9 @@ std::map<std::string, double> WallMotion<D>::state() const {
     const std::string p = "motion." + cfg_[k].name + ".";
     s[p + "t_last"] = a.t_last;
     s[p + "e_mean"] = a.e_mean;
+    s[p + "t_first"] = a.t_first;
+    s[p + "e_sum"] = a.e_sum;
+    s[p + "e_time"] = a.e_time;
     s[p + "x"] = a.x;
     s[p + "u"] = a.u;
     s[p + "top"] = a.top;
@@ -147,6 +171,9 @@ void WallMotion<D>::restore(const std::map<std::string, double>& s) {
     a.started = true;
     a.t_last = it->second;
     a.e_mean = s.at(p + "e_mean");
+    a.t_first = s.at(p + "t_first");
+    a.e_sum = s.at(p + "e_sum");
+    a.e_time = s.at(p + "e_time");
     a.x = s.at(p + "x");
     a.u = s.at(p + "u");
     a.top = s.at(p + "top");

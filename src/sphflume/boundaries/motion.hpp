@@ -18,7 +18,12 @@
 // celerity at the law's period, or √(gh)): what reaches the face now passed the gauge then,
 // ē the mean of e over the drift time τ (an exponential average: the SPH level's offset from the
 // still level and the set-down do not drive the paddle), and the −x_c/τ drift correction that keeps
-// the paddle about its mean place. The correction's acceleration is left out of wall_acc: a
+// the paddle about its mean place. Together they high-pass the correction twice; their phase lead
+// at the law's frequency, 2 atan(1/(ωτ)), is taken out by delaying the reading further (τ = 4 T
+// by default: 9° at ω, and a 1 mm step of the level's mean moves the paddle by at most ~2 G τ/e mm). The correction starts after the law's ramp (at least 1 s: the SPH
+// level near the paddle settles over the first second, by up to half a dx); ē starts as the plain
+// mean of e over the start-up's last period (the near field's oscillation averages out over it), so
+// that neither the start-up's transient nor a constant offset of the SPH level drives the paddle. The correction's acceleration is left out of wall_acc: a
 // reflected amplitude a_r at ω adds ρ ω sqrt(g/h) a_r r to the dummy walls' pressure, r ≤ the wall's
 // depth (about 1 % of the hydrostatic pressure for a 2 cm reflection at T = 1.2 s, h = 0.4 m).
 // The state (x_c, u_c, ē, the last time) goes into restart points (state(), restore()).
@@ -79,7 +84,10 @@ class WallMotion {
     double celerity = 1.0; // the waves' speed (the law's period, else long waves) and the delay offset/celerity
     double delay = 0.0;
     std::deque<std::pair<double, double>> hist;  // (t, e) over the last delay
-    double t_last = 0.0, e_mean = 0.0, x = 0.0, u = 0.0;
+    double start = 0.0;    // the correction acts after it (before: ē is the plain mean of e over the last window)
+    double window = 0.0;   // the law's period (0: the start-up's second half)
+    double e_sum = 0.0, e_time = 0.0;
+    double t_first = 0.0, t_last = 0.0, e_mean = 0.0, x = 0.0, u = 0.0;
   };
   void absorb(System<D>& S, std::size_t k, double t);
 

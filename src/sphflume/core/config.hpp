@@ -220,6 +220,7 @@ struct MotionConfig {
   double absorb_offset = 0.0;       // its distance ahead of the paddle's rest face, along the motion [m]
   std::vector<double> absorb_point; // the gauge's point (z ignored)
   double drift_time = 0.0;          // the time constant of the drift correction [s] (0: the law's default)
+  double absorb_start = 0.0;        // the correction acts after this time [s] (default: start + ramp, at least 1 s)
   int line = 0;
 };
 

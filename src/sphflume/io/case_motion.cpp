@@ -1,5 +1,6 @@
 // The `motions:` section: prescribed wall motions (piston wave makers), each named and moved by a
 // paddle law (boundaries/paddle.hpp). Shapes join one with `motion: NAME`.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -113,12 +114,14 @@ void read_absorption(Reader& r, MotionConfig& m, const Case& c) {
   if (!r.has("absorption")) return;
   const Node& a = r.get("absorption");
   Reader ar(a, r.file(), r.key_path("absorption"));
-  ar.valid({"gauge", "drift_time"});
+  ar.valid({"gauge", "drift_time", "start"});
   m.absorb = true;
   m.absorb_gauge = ar.required<std::string>("gauge", "the name of a water_level gauge at the paddle's face (the level the absorption reads)");
+  m.absorb_start = ar.scalar<double>("start", std::max(m.start + m.ramp, 1.0));
+  if (!(m.absorb_start >= 0.0)) ar.fail_at(ar.get("start"), ar.key_path("start"), "a time >= 0 in s");
   m.drift_time = ar.scalar<double>("drift_time", 0.0);
   if (ar.has("drift_time") && !(m.drift_time > 0.0))
-    ar.fail_at(ar.get("drift_time"), ar.key_path("drift_time"), "a time > 0 in s (default: 10 wave periods)");
+    ar.fail_at(ar.get("drift_time"), ar.key_path("drift_time"), "a time > 0 in s (default: 4 wave periods)");
   ar.finish();
   const GaugeConfig* g = nullptr;
   for (const auto& gc : c.gauges)
@@ -132,8 +135,8 @@ void read_absorption(Reader& r, MotionConfig& m, const Case& c) {
   if (m.law == "table" && !(m.depth > 0.0)) r.fail_at(r.get("absorption"), r.key_path("absorption"), "a 'depth' on a table motion with absorption (the target level comes from long-wave theory)");
   if (m.drift_time == 0.0) {
     const double T = m.law == "regular" || m.law == "stokes2" || m.law == "absorber" ? m.period : m.tp;
-    if (!(T > 0.0)) r.fail_at(r.get("absorption"), r.key_path("absorption"), "a drift_time [s] (the law has no period to take 10 of)");
-    m.drift_time = 10.0 * T;
+    if (!(T > 0.0)) r.fail_at(r.get("absorption"), r.key_path("absorption"), "a drift_time [s] (the law has no period to take 4 of)");
+    m.drift_time = 4.0 * T;
   }
 }
 
