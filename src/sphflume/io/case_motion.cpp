@@ -129,7 +129,7 @@ void read_absorption(Reader& r, MotionConfig& m, const Case& c) {
   if (!g || g->type != "water_level")
     ar.fail_at(ar.get("gauge"), ar.key_path("gauge"),
                fmt::format("a water_level gauge at the paddle's face: '{}' is {}; add '- {{name: {}, type: water_level, x: X}}' "
-                           "under 'gauges' with X a few dx ahead of the paddle", m.absorb_gauge, g ? "a " + g->type + " gauge" : "not a gauge",
+                           "under 'gauges' with X about 4 dx (the kernel's support) ahead of the paddle", m.absorb_gauge, g ? "a " + g->type + " gauge" : "not a gauge",
                            m.absorb_gauge));
   m.absorb_point = g->point;
   if (m.law == "table" && !(m.depth > 0.0)) r.fail_at(r.get("absorption"), r.key_path("absorption"), "a 'depth' on a table motion with absorption (the target level comes from long-wave theory)");
