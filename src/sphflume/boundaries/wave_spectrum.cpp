@@ -11,13 +11,6 @@ namespace sph {
 namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-/// The default band [0.5 fp, 3 fp] where the case leaves it open.
-void band(const MotionConfig& m, double& f0, double& f1) {
-  const double fp = 1.0 / m.tp;
-  f0 = m.f_min > 0.0 ? m.f_min : 0.5 * fp;
-  f1 = m.f_max > 0.0 ? m.f_max : 3.0 * fp;
-}
-
 WaveComponent component(double a, double f, double phase, const MotionConfig& m) {
   WaveComponent c;
   c.amplitude = a;
@@ -29,7 +22,7 @@ WaveComponent component(double a, double f, double phase, const MotionConfig& m)
 
 std::vector<WaveComponent> spectral(const MotionConfig& m, bool focused) {
   double f0 = 0.0, f1 = 0.0;
-  band(m, f0, f1);
+  spectrum_band(m, f0, f1);
   const int n = m.components > 0 ? m.components : default_components(m);
   const double df = (f1 - f0) / n, fp = 1.0 / m.tp;
   std::vector<double> s(static_cast<std::size_t>(n));
@@ -101,6 +94,12 @@ std::vector<WaveComponent> from_elevation(const MotionConfig& m) {
 
 }  // namespace
 
+void spectrum_band(const MotionConfig& m, double& f0, double& f1) {
+  const double fp = 1.0 / m.tp;
+  f0 = m.f_min > 0.0 ? m.f_min : 0.5 * fp;
+  f1 = m.f_max > 0.0 ? m.f_max : 3.0 * fp;
+}
+
 double uniform01(std::uint64_t word) { return static_cast<double>(word >> 11) * 0x1.0p-53; }
 
 double jonswap_shape(double f, double fp, double gamma) {
@@ -115,7 +114,7 @@ double jonswap_shape(double f, double fp, double gamma) {
 
 int default_components(const MotionConfig& m) {
   double f0 = 0.0, f1 = 0.0;
-  band(m, f0, f1);
+  spectrum_band(m, f0, f1);
   return std::max(64, static_cast<int>(std::ceil((f1 - f0) * 200.0 * m.tp - 1e-9)));
 }
 

@@ -36,6 +36,9 @@ double jonswap_shape(double f, double fp, double gamma);
 /// The components of a motion of law irregular, focused or elevation (m.depth, m.gravity set).
 std::vector<WaveComponent> wave_components(const MotionConfig& m);
 
+/// The band [f_min, f_max] of irregular and focused (default [0.5, 3]/Tp where the case leaves it open).
+void spectrum_band(const MotionConfig& m, double& f0, double& f1);
+
 /// The number of components irregular and focused use by default: the sea repeats after 1/Δf =
 /// 200 Tp (500 components over the default band), at least 64. It does not depend on the run's
 /// length, so a restart with a later time.end goes on with the same sea.

@@ -78,7 +78,8 @@ void read_linear_waves(Reader& r, const Node& n, MotionConfig& m) {
       if (!(m.focus_x >= 0.0)) r.fail_at(r.get("focus_x"), r.key_path("focus_x"), "a distance >= 0 in m ahead of the paddle");
       if (!(m.focus_time > 0.0)) r.fail_at(r.get("focus_time"), r.key_path("focus_time"), "a time > 0 in s after 'start'");
     }
-    const double f0 = m.f_min > 0.0 ? m.f_min : 0.5 / m.tp, f1 = m.f_max > 0.0 ? m.f_max : 3.0 / m.tp;
+    double f0 = 0.0, f1 = 0.0;
+    spectrum_band(m, f0, f1);
     if (!(f1 > f0)) r.fail_at(r.get(r.has("f_max") ? "f_max" : "f_min"), r.key_path(r.has("f_max") ? "f_max" : "f_min"), fmt::format("f_max above f_min ({} Hz)", f0));
   }
 }
@@ -213,7 +214,8 @@ void read_motions(Reader& top, const std::string& file, Case& c) {
       c.motions.push_back(read_motion(ms[i], file, fmt::format("motions.{}", i), c));
       const MotionConfig& m = c.motions.back();
       if (m.law == "irregular" || m.law == "focused") {  // a sea repeats after 1/Δf
-        const double f0 = m.f_min > 0.0 ? m.f_min : 0.5 / m.tp, f1 = m.f_max > 0.0 ? m.f_max : 3.0 / m.tp;
+        double f0 = 0.0, f1 = 0.0;
+        spectrum_band(m, f0, f1);
         const int n = m.components > 0 ? m.components : default_components(m);
         const double repeat = n / (f1 - f0);
         if (c.t_end - m.start > repeat)
