@@ -88,6 +88,14 @@ def read_rows(path):
     return rows[0], np.array([[float(v) for v in r] for r in rows[1:]])
 
 
+def level_series(out, name):
+    """A water_level gauge of the run in OUT: (time, level relative to its own reading at t = 0: the lattice's offset
+    of the SPH level cancels)."""
+    hdr, rows = read_rows(os.path.join(out, "gauges", f"{name}.csv"))
+    lev = rows[:, hdr.index("level")]
+    return rows[:, 0], lev - lev[0]
+
+
 def run_metrics(rep, label, s, end, mass_tol=1e-12):
     """The two metrics every closed-flume run gates: it reached t_end, and its fluid mass balance is exact."""
     rep.metric(f"{label}run reached t_end (s)", f"{s['simulated_time']:.4f}", s["simulated_time"] >= end * (1 - 1e-6),

@@ -4,7 +4,7 @@ reflected waves from three gauges, overtopping discharge; figures and a JSON rep
     import sphflume.waves as W
     res = W.analyse("output/irregular", depth=0.5, reflection=["eta_1", "eta_2", "eta_3"])
 
-Every function takes plain numpy arrays too (times in s, elevations in m), so that lab records and
+jonswap(f, fp, gamma) is the target shape the paddle samples. Every function takes plain numpy arrays too (times in s, elevations in m), so that lab records and
 other codes' gauges go through the same analysis. Methods:
   spectrum         Welch's averaged periodogram (Hann windows, half overlap; Welch 1967) of the
                    elevation about its mean, one-sided, in m²/Hz, scaled so that Σ S Δf is the
@@ -54,6 +54,18 @@ def wave_number(f, depth, g=G):
         if np.all(np.abs(dk) <= 1e-14 * np.maximum(k, 1e-300)):
             break
     return k
+
+
+def jonswap(f, fp, gamma=3.3):
+    """The unscaled JONSWAP shape at f [Hz] for peak frequency fp (Goda 2000 §2.3; sigma 0.07/0.09; gamma = 1:
+    Pierson-Moskowitz), as the paddle's irregular law samples it (boundaries/wave_spectrum.cpp); 0 at f <= 0."""
+    f = np.asarray(f, float)
+    out = np.zeros_like(f)
+    ok = f > 0
+    r = fp / f[ok]
+    s = np.where(f[ok] <= fp, 0.07, 0.09)
+    out[ok] = f[ok] ** -5 * np.exp(-1.25 * r ** 4) * gamma ** np.exp(-0.5 * ((f[ok] - fp) / (s * fp)) ** 2)
+    return out
 
 
 def spectrum(t, eta, segment=None):

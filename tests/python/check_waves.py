@@ -27,12 +27,6 @@ sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))
 import sphflume.waves as W  # noqa: E402
 
 
-def jonswap(f, fp, gamma=3.3):
-    r = fp / f
-    s = np.where(f <= fp, 0.07, 0.09)
-    return f ** -5 * np.exp(-1.25 * r ** 4) * gamma ** np.exp(-0.5 * ((f - fp) / (s * fp)) ** 2)
-
-
 def sea(t, hm0, tp, x=0.0, depth=0.4, seed=3, kr=0.0, shift=0.7):
     """η at x of an incident sea travelling +x and its reflection (travelling −x) of ratio kr; the
     components at whole multiples of 1/(record's length), so the record's variance is Σ a²/2."""
@@ -42,7 +36,7 @@ def sea(t, hm0, tp, x=0.0, depth=0.4, seed=3, kr=0.0, shift=0.7):
     f = np.arange(np.ceil(0.5 * fp * span), np.floor(3 * fp * span) + 1) / span
     n = len(f)
     df = 1 / span
-    S = jonswap(f, fp)
+    S = W.jonswap(f, fp)
     S *= (hm0 / 4) ** 2 / np.sum(S * df)
     a = np.sqrt(2 * S * df)
     ph = rng.uniform(0, 2 * np.pi, n)

@@ -35,7 +35,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, info, level_series, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
 import sphflume.waves as W  # noqa: E402
 
 import matplotlib
@@ -51,12 +51,6 @@ MODES = {"coarse": {"dx": 0.03, "end": 24.0, "runs": ["on", "end"]},
          "fine": {"dx": 0.02, "end": 48.0, "runs": ["on", "off", "end"]}}
 FIRST, STEADY_TOL, DRIFT_TOL, KR_TOL = 10, 0.05, 0.02, 0.10
 XS = {"eta_1": 2.3, "eta_2": 2.49, "eta_3": 2.8}
-
-
-def level(out, g):
-    hdr, rows = read_rows(os.path.join(out, "gauges", f"{g}.csv"))
-    t, lev = rows[:, hdr.index("time")], rows[:, hdr.index("level")]
-    return t, lev - lev[0]
 
 
 def periods(t, eta, first, end):
@@ -110,7 +104,7 @@ def main():
     fig, axes = plt.subplots(3, 1, figsize=(11, 9))
     if "on" in runs:
         out = runs["on"][0]
-        t, eta = level(out, "eta_mid")
+        t, eta = level_series(out, "eta_mid")
         hs, ms, tc = periods(t, eta, FIRST, m["end"])
         dev = float(np.max(np.abs(hs / hs.mean() - 1)))
         rep.metric(f"on: eta_mid period heights from period {FIRST}: largest deviation from their mean "
@@ -129,7 +123,7 @@ def main():
         axes[0].plot(t, 1000 * eta, lw=0.7, label="with absorption")
         axes[1].plot(tp, 1000 * xp, lw=0.8, label="paddle, with absorption")
     if "off" in runs:
-        t, eta = level(runs["off"][0], "eta_mid")
+        t, eta = level_series(runs["off"][0], "eta_mid")
         hs_off, _, _ = periods(t, eta, 0, m["end"])
         info("off: eta_mid period heights (every 5th period)", " ".join(f"{1000 * h:.0f}" for h in hs_off[::5]) + " mm",
              True, "-", "without absorption the resonant flume piles the waves up")
@@ -138,7 +132,7 @@ def main():
         axes[1].plot(rp[:, 0], 1000 * rp[:, hp.index("displacement")], lw=0.8, alpha=0.7, label="paddle, without")
     if "end" in runs:
         out = runs["end"][0]
-        series = {g: level(out, g) for g in XS}
+        series = {g: level_series(out, g) for g in XS}
         t = series["eta_1"][0]
         w = t >= FIRST * T
         rr = W.reflection(t[w], [series[g][1][w] for g in XS], list(XS.values()), H0, fmin=0.5 / T, fmax=1.5 / T)

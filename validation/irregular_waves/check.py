@@ -31,7 +31,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, info, level_series, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
 import sphflume.waves as W  # noqa: E402
 
 import matplotlib
@@ -46,16 +46,6 @@ H0, HM0, TP, GAMMA, RAMP = 0.4, 0.04, 1.5, 3.3, 7.5
 XS = {"eta_a": 4.98, "eta_2L": 5.24, "eta_b": 5.63}
 MODES = {"coarse": {"dx": 0.03, "end": 25.0, "tol": 0.15, "min_periods": 0, "gauge": ("eta_1L", 2.62)},
          "fine": {"dx": 0.02, "end": 162.5, "tol": 0.05, "min_periods": 100, "gauge": ("eta_2L", 5.24)}}
-
-
-def jonswap(f, fp, gamma):
-    f = np.asarray(f, float)
-    out = np.zeros_like(f)
-    ok = f > 0
-    r = fp / f[ok]
-    s = np.where(f[ok] <= fp, 0.07, 0.09)
-    out[ok] = f[ok] ** -5 * np.exp(-1.25 * r ** 4) * gamma ** np.exp(-0.5 * ((f[ok] - fp) / (s * fp)) ** 2)
-    return out
 
 
 def main():
@@ -83,9 +73,7 @@ def main():
     GAUGE, XG = m["gauge"]
     t0 = RAMP + XG / cg
     print(f"gauge {GAUGE} (x = {XG} m): window from {t0:.2f} s")
-    hdr, rows = read_rows(os.path.join(out, "gauges", f"{GAUGE}.csv"))
-    t, lev = rows[:, 0], rows[:, hdr.index("level")]
-    eta = lev - lev[0]
+    t, eta = level_series(out, GAUGE)
     w = t >= t0
     npk = (t[w][-1] - t[w][0]) / TP
     if m["min_periods"]:
@@ -119,13 +107,11 @@ def main():
          f"{stT['Tm02']:.3f} s)", True, "-", "spectral periods")
     ser = {}
     for g in XS:
-        h, r = read_rows(os.path.join(out, "gauges", f"{g}.csv"))
-        ser[g] = r[:, h.index("level")] - r[0, h.index("level")]
+        ser[g] = level_series(out, g)[1]
     rr = W.reflection(t[w], [ser[g][w] for g in XS], list(XS.values()), H0, fmin=0.5 * fp, fmax=3 * fp)
     info("reflection coefficient at 5.24 m (Mansard & Funke, [0.5, 3] fp)", f"{100 * rr['Kr']:.1f} % (incident Hm0 "
          f"{1000 * rr['Hm0_I']:.2f} mm)", True, "-", "sponge and paddle")
-    h1, r1 = read_rows(os.path.join(out, "gauges", "eta_1L.csv"))
-    e1 = r1[:, h1.index("level")] - r1[0, h1.index("level")]
+    e1 = level_series(out, "eta_1L")[1]
     w1 = t >= RAMP + 2.62 / cg
     st1 = W.spectral_stats(*W.spectrum(t[w1], e1[w1]))
     info("eta_1L (x = 2.62 m): Hm0", f"{1000 * st1['Hm0']:.2f} mm ({100 * (st1['Hm0'] / HM0 - 1):+.1f} %)", True, "-",
@@ -134,7 +120,7 @@ def main():
     fig, ax = plt.subplots(3, 1, figsize=(11, 10))
     band = (cf.min() - 1e-9, cf.max() + 1e-9)
     fs = np.linspace(0.01, 3 * fp * 1.2, 600)
-    Sj = jonswap(fs, fp, GAMMA)
+    Sj = W.jonswap(fs, fp, GAMMA)
     inb = (fs >= band[0]) & (fs <= band[1])
     Sj *= (HM0 / 4) ** 2 / np.trapz(Sj[inb], fs[inb])
     Sj[~inb] = 0

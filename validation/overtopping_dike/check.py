@@ -29,7 +29,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, info, level_series, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
 import sphflume.waves as W  # noqa: E402
 
 import matplotlib
@@ -82,8 +82,7 @@ def main():
         run_metrics(rep, f"{label}: ", s, m["end"])
         series = {}
         for g in XS:
-            h, r = read_rows(os.path.join(out, "gauges", f"{g}.csv"))
-            series[g] = (r[:, 0], r[:, h.index("level")] - r[0, h.index("level")])
+            series[g] = level_series(out, g)
         t = series["eta_a"][0]
         w = t >= T0
         fp = 1 / TP

@@ -24,7 +24,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, info, level_series, parse_sets, run_case, run_metrics, save_figure, validation_args  # noqa: E402
 import sphflume.waves as W  # noqa: E402
 
 import matplotlib
@@ -77,9 +77,7 @@ def main():
             rep.metric(f"{paddle}, kh = {kh}: run exit code", rc, False, "0", "the run")
             continue
         run_metrics(rep, f"{paddle}, kh = {kh}: ", s, float(sets["time.end"]))
-        hdr, rows = read_rows(os.path.join(out, "gauges", "eta_L.csv"))
-        t, lev = rows[:, 0], rows[:, hdr.index("level")]
-        eta = lev - lev[0]
+        t, eta = level_series(out, "eta_L")
         seg = [(t >= t0 + i * T) & (t < t0 + (i + 1) * T) for i in range(PERIODS)]
         hs = np.array([eta[q].max() - eta[q].min() for q in seg])
         pm = np.array([eta[q].mean() for q in seg])

@@ -29,7 +29,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, info, level_series, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -48,12 +48,6 @@ HEIGHT_TOL, VOLUME_TOL = 0.05, 0.005
 
 def gauge_name(x):
     return f"u_x{x:+.2f}".replace("+", "p").replace("-", "m").replace(".", "")
-
-
-def level(out, name):
-    hdr, rows = read_rows(os.path.join(out, "gauges", f"{name}.csv"))
-    t, lev = rows[:, 0], rows[:, hdr.index("level")]
-    return t, lev - lev[0]
 
 
 def profile_at(out, x, t_abs):
@@ -79,7 +73,7 @@ def main():
         return 2
     rep = Report()
     run_metrics(rep, "", s, m["end"])
-    t1, e1 = level(out, "wg1")
+    t1, e1 = level_series(out, "wg1")
     k = int(np.argmax(e1))
     t_ref, crest = float(t1[k]), float(e1[k])
     rep.metric("crest height at WG1 (x = -1.8 m)", f"{100 * crest:.2f} cm ({100 * (crest / HW - 1):+.1f} %)",
@@ -90,7 +84,7 @@ def main():
     dv = float(np.max(np.abs(bulk / bulk[0] - 1)))
     rep.metric("water volume (sum m/rho) drift, max over the run", f"{100 * dv:.3f} %", dv <= VOLUME_TOL, "<= 0.5 %",
                "Kazemi §5.2 (volume check)")
-    t2, e2 = level(out, "wg2")
+    t2, e2 = level_series(out, "wg2")
     w = t2 < t_ref + 3.6 / np.sqrt(9.81 * (H0 + HW)) + 0.6   # before the far wall's reflection returns to WG2
     k2 = int(np.argmax(np.where(w, e2, -1)))
     info("transmitted crest at WG2 (x = 1.8 m)", f"{100 * e2[k2]:.2f} cm ({100 * e2[k2] / crest:.0f} % of WG1's) at t' = {t2[k2] - t_ref:.2f} s",
@@ -131,7 +125,7 @@ def main():
     ax2.plot(t1 - t_ref, 100 * e1, label="WG1, x = -1.8 m")
     ax2.plot(t2 - t_ref, 100 * e2, label="WG2, x = +1.8 m (transmitted)")
     for g, lab in (("wg_front", "x = -0.3 m"), ("wg_lee", "x = +0.5 m")):
-        tg, eg = level(out, g)
+        tg, eg = level_series(out, g)
         ax2.plot(tg - t_ref, 100 * eg, lw=0.8, label=lab)
     ax2.set_xlabel("t' [s] (0: crest at WG1)")
     ax2.set_ylabel("eta [cm]")
