@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <utility>
 
 namespace sph {
 
@@ -228,13 +229,16 @@ void OpenBoundaries<D>::setup(System<D>& S, OpenFlowCounters& k) const {
     // would stand that much above the fluid: a head difference that, in a short uniform-flow
     // channel, is as large as the whole bed-slope drop S0 L and sets the discharge. So the
     // inflow rows are stacked at the heights of the settled column, from the bottom row up.
-    std::map<long, std::vector<std::size_t>> cols;
+    // columns: one per lattice cell of the inlet plane (x in 2D; x and y in 3D)
+    std::map<std::pair<long, long>, std::vector<std::size_t>> cols;
     for (std::size_t i = 0; i < P.n_owned(); ++i)
-      if (P.kind[i] == Kind::Inflow) cols[std::lround(std::floor(P.pos[i][0] / dx_))].push_back(i);
+      if (P.kind[i] == Kind::Inflow)
+        cols[{std::lround(std::floor(P.pos[i][0] / dx_)), D == 3 ? std::lround(std::floor(P.pos[i][1] / dx_)) : 0L}].push_back(i);
+    const double base = D == 3 ? dx_ * dx_ : dx_;  // a particle's height is its volume m/rho over dx^(D-1)
     for (auto& [c, v] : cols) {
       std::sort(v.begin(), v.end(), [&](std::size_t a, std::size_t b) { return P.pos[a][D - 1] < P.pos[b][D - 1]; });
-      for (std::size_t r = 1; r < v.size(); ++r) {  // 2D: a particle's height is its area m/rho over dx
-        const double h0 = P.mass[v[r - 1]] / (P.rho[v[r - 1]] * dx_), h1 = P.mass[v[r]] / (P.rho[v[r]] * dx_);
+      for (std::size_t r = 1; r < v.size(); ++r) {
+        const double h0 = P.mass[v[r - 1]] / (P.rho[v[r - 1]] * base), h1 = P.mass[v[r]] / (P.rho[v[r]] * base);
         P.pos[v[r]][D - 1] = P.pos[v[r - 1]][D - 1] + 0.5 * (h0 + h1);
       }
     }

@@ -246,6 +246,10 @@ struct GaugeConfig {
   // after every step in the last `window` seconds before each output time
   double diameter = 0.0, window = 0.0;
   std::vector<double> normal;
+  // flux, scalar_flux in 3D: the section across y, [y0, y1], sampled by `columns` vertical lines
+  // (empty: the flux per metre of width at the line's y)
+  std::vector<double> span;
+  int columns = 0;
 };
 
 /// A velocity profile u(z) along the flow direction, z measured from the bed.

@@ -125,33 +125,37 @@ std::optional<double> interpolate_shepard(const System<D>& S, const Vec<D>& x, F
 }
 
 /// First-order consistent gradient of field f at x from fluid particles:
-/// (Σ V_b (x_b − x) ⊗ ∇W)⁻¹ Σ V_b (f_b − f̄) ∇W, f̄ the Shepard average (2D only; empty when
-/// the moment matrix is singular, e.g. too few neighbours).
+/// (Σ V_b (x_b − x) ⊗ ∇W)⁻¹ Σ V_b (f_b − f̄) ∇W, f̄ the Shepard average (empty when the moment
+/// matrix is singular, e.g. too few neighbours; its determinant is ~1 in a full support).
 template <int D, class Field>
 std::optional<Vec<D>> interpolate_gradient(const System<D>& S, const Vec<D>& x, Field&& f) {
-  static_assert(D == 2, "interpolate_gradient: 2D");
   const auto fbar = interpolate_shepard(S, x, f);
   if (!fbar) return std::nullopt;
   const auto& P = S.particles;
   return S.with_kernel([&](const auto& K) -> std::optional<Vec<D>> {
-    double m00 = 0, m01 = 0, m10 = 0, m11 = 0, g0 = 0, g1 = 0;
+    // M_ij = Σ V (x_b − x)_i ∂_j W; g_j = Σ V (f_b − f̄) ∂_j W ≈ Σ_i grad_i M_ij: solve Mᵀ grad = g
+    Eigen::Matrix<double, D, D> M = Eigen::Matrix<double, D, D>::Zero();
+    Eigen::Matrix<double, D, 1> g = Eigen::Matrix<double, D, 1>::Zero();
     S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
       if (!fluid_like(P.kind[b]) || r2 <= 0.0) return;
       const double V = P.mass[b] / P.rho[b], F = K.F(std::sqrt(r2));
       // ∇_x W(x − x_b) = F (x − x_b); x_b − x = −rxb
-      const double w0 = F * rxb[0], w1 = F * rxb[1];
-      m00 -= V * rxb[0] * w0; m01 -= V * rxb[0] * w1;
-      m10 -= V * rxb[1] * w0; m11 -= V * rxb[1] * w1;
-      const double df = V * (f(b) - *fbar);
-      g0 += df * w0;
-      g1 += df * w1;
+      Eigen::Matrix<double, D, 1> w, r;
+      for (int d = 0; d < D; ++d) { w[d] = F * rxb[d]; r[d] = rxb[d]; }
+      M.noalias() -= V * r * w.transpose();
+      g += V * (f(b) - *fbar) * w;
     });
-    const double det = m00 * m11 - m01 * m10;
-    if (!(std::abs(det) > 1e-6)) return std::nullopt;
-    // solve Mᵀ grad = g with M_ij = Σ V (x_b − x)_i ∂_j W: Σ V (f_b − f̄) ∂_j W ≈ Σ_i grad_i M_ij
     Vec<D> out{};
-    out[0] = (g0 * m11 - g1 * m10) / det;
-    out[1] = (g1 * m00 - g0 * m01) / det;
+    if constexpr (D == 2) {  // (Cramer's rule, as the 2D gauges have always been computed)
+      const double det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
+      if (!(std::abs(det) > 1e-6)) return std::nullopt;
+      out[0] = (g[0] * M(1, 1) - g[1] * M(1, 0)) / det;
+      out[1] = (g[1] * M(0, 0) - g[0] * M(0, 1)) / det;
+    } else {
+      if (!(std::abs(M.determinant()) > 1e-6)) return std::nullopt;
+      const Eigen::Matrix<double, D, 1> sol = M.transpose().partialPivLu().solve(g);
+      for (int d = 0; d < D; ++d) out[d] = sol[d];
+    }
     return out;
   });
 }

@@ -281,7 +281,27 @@ OpenBoundaryConfig read_open_boundary(const Node& n, const std::string& file, co
   b.line = n.line();
   (void)r.required<std::string>("type", "inflow or outflow");
   b.type = r.choice("type", "", {"inflow", "outflow"});
-  if (dim != 2) r.fail_at(n, path, "a 2D case (open boundaries are 2D in this version)");
+  // The zone is a slab x0 <= x < x1 across the whole channel (2D and 3D), its faces the planes
+  // x = const, the flow along +x. `normal` (optional) states the face's outward flow direction.
+  if (r.has("normal")) {
+    const std::vector<double> nv = r.vec("normal", static_cast<std::size_t>(dim));
+    double len = 0.0, off = 0.0;
+    for (std::size_t d = 0; d < nv.size(); ++d) len += nv[d] * nv[d];
+    for (std::size_t d = 1; d < nv.size(); ++d) off = std::max(off, std::abs(nv[d]));
+    len = std::sqrt(len);
+    const Node& nn = r.get("normal");
+    if (!(len > 0.0)) r.fail_at(nn, r.key_path("normal"), "a non-zero vector");
+    int axes = 0;
+    for (double v : nv) axes += std::abs(v) > 1e-9 * len ? 1 : 0;
+    if (axes != 1)
+      r.fail_at(nn, r.key_path("normal"), dim == 3 ? "an axis-aligned face: normal [1, 0, 0] (open boundaries are planes x = const with the flow along +x; "
+                                                     "a face at an angle is not supported: align the channel with x)"
+                                                   : "an axis-aligned face: normal [1, 0] (open boundaries are lines x = const with the flow along +x; "
+                                                     "a face at an angle is not supported: align the channel with x)");
+    if (!(nv[0] > 0.0) || off > 0.0)
+      r.fail_at(nn, r.key_path("normal"), dim == 3 ? "the flow along +x: normal [1, 0, 0] (turn the case so the channel runs along +x)"
+                                                   : "the flow along +x: normal [1, 0] (turn the case so the channel runs along +x)");
+  }
   const std::vector<double> zone = r.vec("zone", 2);
   if (zone.empty()) r.fail_at(n, r.key_path("zone"), "the zone along x, [x_start, x_end]");
   b.x0 = zone[0];

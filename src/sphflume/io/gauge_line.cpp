@@ -106,15 +106,15 @@ class ScalarProfileGauge final : public GaugeType<D> {
   }
 };
 
-/// flux: the volume flux through the line (per unit width, m2/s), u·n integrated over the wet
+/// flux: the volume flux through the line (per unit width, m2/s; in 3D with a span, through the
+/// section, m3/s), u·n integrated over the wet
 /// part (fluid fraction >= 0.5), n the line's normal (for a line going up, n = +x); in porous
 /// media the superficial velocity φu (the intrinsic velocity carries water through the pores only).
 template <int D>
 class FluxGauge final : public GaugeType<D> {
  public:
   void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override {
-    refuse_3d_flux(r, n, path, D);
-    read_line(r, g, n, path, D);
+    read_flux_section(r, g, n, path, D);
   }
   std::string columns(const GaugeConfig&) const override { return ",flux"; }
   std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
@@ -131,7 +131,8 @@ class FluxGauge final : public GaugeType<D> {
   }
 };
 
-/// scalar_flux: ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m in 2D], n the line's
+/// scalar_flux: ∫ (C u − D ∇C)·n ds through the line's wet part [kg/s per m; in 3D with a span, kg/s
+/// through the section], n the line's
 /// normal (for a line going up, +x); D the scalar's molecular diffusivity (the turbulent part is
 /// not included), ∇C the first-order consistent kernel gradient.
 template <int D>
@@ -139,8 +140,7 @@ class ScalarFluxGauge final : public GaugeType<D> {
  public:
   void read(Reader& r, GaugeConfig& g, const Node& n, const std::string& path) const override {
     read_scalar_field(r, g);
-    refuse_3d_flux(r, n, path, D);
-    read_line(r, g, n, path, D);
+    read_flux_section(r, g, n, path, D);
   }
   std::string columns(const GaugeConfig&) const override { return ",flux"; }
   std::vector<double> evaluate(const GaugeConfig& g, const System<D>& S, double) const override {
@@ -158,10 +158,9 @@ class ScalarFluxGauge final : public GaugeType<D> {
         auto v = interpolate_shepard(S, x, [&](std::uint32_t b) { return C[b] * P.vel[b][d]; });
         un += (v ? *v : 0.0) * nrm[d];
       }
-      if constexpr (D == 2)
-        if (diffusivity > 0.0)
-          if (auto gr = interpolate_gradient(S, x, [&](std::uint32_t b) { return C[b]; }))
-            un -= diffusivity * dot(*gr, nrm);
+      if (diffusivity > 0.0)
+        if (auto gr = interpolate_gradient(S, x, [&](std::uint32_t b) { return C[b]; }))
+          un -= diffusivity * dot(*gr, nrm);
       return un;
     })};
   }

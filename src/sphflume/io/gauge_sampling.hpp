@@ -60,16 +60,34 @@ template <int D, class Un>
 double wet_line_flux(const System<D>& S, const GaugeConfig& g, Un&& un) {
   double ds = 0.0;
   const Vec<D> nrm = line_normal<D>(g, ds);
-  const auto fu = at_held_points(S, line_points<D>(g), 2, [&](const Vec<D>& x, double* out) {
+  const std::vector<Vec<D>> line = line_points<D>(g);
+  // 3D with a span: the same line at `columns` y across the section
+  const std::size_t nc = (D == 3 && !g.span.empty()) ? static_cast<std::size_t>(g.columns) : 1, np = line.size();
+  const double dy = nc > 1 ? (g.span[1] - g.span[0]) / static_cast<double>(nc - 1) : 0.0;
+  std::vector<Vec<D>> pts;
+  pts.reserve(nc * np);
+  for (std::size_t c = 0; c < nc; ++c)
+    for (Vec<D> x : line) {
+      if (nc > 1) x[1] = g.span[0] + dy * static_cast<double>(c);
+      pts.push_back(x);
+    }
+  const auto fu = at_held_points(S, pts, 2, [&](const Vec<D>& x, double* out) {
     out[0] = fluid_fraction(S, x);
     out[1] = out[0] > 0.0 ? un(x, nrm) : 0.0;
   });
-  std::vector<double> f(static_cast<std::size_t>(g.points)), q(f.size());
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    f[i] = std::isfinite(fu[2 * i]) ? fu[2 * i] : 0.0;  // (a point outside every part: dry)
-    q[i] = std::isfinite(fu[2 * i + 1]) ? fu[2 * i + 1] : 0.0;
+  double total = 0.0;
+  std::vector<double> f(np), q(np);
+  for (std::size_t c = 0; c < nc; ++c) {
+    for (std::size_t i = 0; i < np; ++i) {
+      const std::size_t k = c * np + i;
+      f[i] = std::isfinite(fu[2 * k]) ? fu[2 * k] : 0.0;  // (a point outside every part: dry)
+      q[i] = std::isfinite(fu[2 * k + 1]) ? fu[2 * k + 1] : 0.0;
+    }
+    const double col = wet_integral(f, q, ds);
+    if (nc == 1) return col;
+    total += (c == 0 || c + 1 == nc ? 0.5 : 1.0) * dy * col;  // trapezoid across the section
   }
-  return wet_integral(f, q, ds);
+  return total;
 }
 
 /// A case's coordinate list as a point.

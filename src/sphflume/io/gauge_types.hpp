@@ -43,9 +43,25 @@ inline void read_line(Reader& r, GaugeConfig& g, const Node& n, const std::strin
   g.average_from = r.scalar<double>("average_from", g.average_from);
 }
 
-/// Flux gauges are 2D in this version.
-inline void refuse_3d_flux(Reader& r, const Node& n, const std::string& path, int dim) {
-  if (dim != 2) r.fail_at(n, path, "a 2D case (flux gauges are 2D in this version)");
+/// A flux gauge's section: its line (in 3D in a plane y = const, not along y), and in 3D an
+/// optional `span: [y0, y1]` across the channel with `columns` lines (default 21): the flux is
+/// then the discharge through the rectangle [m3/s], else per metre of width at the line's y.
+inline void read_flux_section(Reader& r, GaugeConfig& g, const Node& n, const std::string& path, int dim) {
+  read_line(r, g, n, path, static_cast<std::size_t>(dim));
+  if (dim == 2) {
+    if (r.has("span")) r.fail_at(r.get("span"), r.key_path("span"), "no span in 2D (the flux is per metre of width already)");
+    return;
+  }
+  if (g.start[1] != g.end[1]) r.fail_at(r.get("end"), r.key_path("end"), "a line in a plane y = const (the same y as 'start'; 'span' sets the section's width)");
+  if (g.start[0] == g.end[0] && g.start[2] == g.end[2]) r.fail_at(r.get("end"), r.key_path("end"), "an end apart from the start");
+  if (r.has("span")) {
+    g.span = r.vec("span", 2);
+    if (!(g.span[1] > g.span[0])) r.fail_at(r.get("span"), r.key_path("span"), "[y0, y1] with y1 > y0 (the section across the channel)");
+    g.columns = r.scalar<int>("columns", 21);
+    if (g.columns < 2 || g.columns > 10000) r.fail_at(r.get("columns"), r.key_path("columns"), "an integer in [2, 10000]");
+  } else if (r.has("columns")) {
+    r.fail_at(r.get("columns"), r.key_path("columns"), "'span' too (the section's extent across y)");
+  }
 }
 
 /// An optional box [start, end] (default: everywhere).
