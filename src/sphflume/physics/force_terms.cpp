@@ -132,13 +132,21 @@ class RoughBed final : public ForceTerm<D> {
 /// level. They act only on the pressure gradient of the fluid within one kernel support
 /// upstream of X_o:  O_a = - Σ_o F_o V_o (p_a + p_o)/ρ_a ∇_a W_ao,  F_o = (X_o - x_a)/(support)
 /// (Kazemi: falls linearly to 0 at X_o; relax: false keeps F_o = 1), and in no other sum. Fluid reaching X_o leaves through the
-/// domain's face there (set domain.max x = X_o; the run removes and counts it). 2D.
+/// domain's face there (set domain.max x = X_o; the run removes and counts it). In 3D the columns
+/// stand at every lattice y of `span` [y0, y1] (volume dx^3): the channel's width, or one support
+/// beyond each side where the sides are periodic.
 template <int D>
 class ImaginaryWall final : public ForceTerm<D> {
  public:
   ImaginaryWall(Reader& r, const Node& n) {
-    r.valid({"x", "bed", "height", "layers", "relax"});
-    if constexpr (D != 2) r.fail_at(n, r.key_path("type"), "a 2D case (imaginary_wall is 2D in this version)");
+    r.valid({"x", "bed", "height", "layers", "relax", "span"});
+    if constexpr (D == 3) {
+      if (!r.has("span")) r.fail_at(n, r.key_path("span"), "the outlet's extent across the channel in 3D, span: [y0, y1] (the width; with periodic sides one kernel support beyond each)");
+      span_ = r.vec("span", 2);
+      if (!(span_[1] > span_[0])) r.fail_at(r.get("span"), r.key_path("span"), "[y0, y1] with y1 > y0");
+    } else if (r.has("span")) {
+      r.fail_at(r.get("span"), r.key_path("span"), "no span in 2D (the outlet spans the plane)");
+    }
     xo_ = r.required<double>("x", "the outlet line X_o in m");
     bed_ = r.scalar<double>("bed", 0.0);
     how_ = r.positive("height", 0.0, true);
@@ -150,16 +158,21 @@ class ImaginaryWall final : public ForceTerm<D> {
   const char* name() const override { return "imaginary_wall"; }
   void add(System<D>& S) override {
     auto& P = S.particles;
-    const double dx = S.dx, vol = dx * dx, g = std::abs(S.gravity[D - 1]), rho0 = S.eos.rho0;
-    if (xo_pos_.empty())
-      for (int k = 0; k < layers_; ++k)
-        for (double z = bed_ + 0.5 * dx; z < bed_ + how_; z += dx) {
-          Vec<D> x{};
-          x[0] = xo_ + (k + 0.5) * dx;
-          x[D - 1] = z;
-          xo_pos_.push_back(x);
-          xo_p_.push_back(rho0 * g * (bed_ + how_ - z));
-        }
+    const double dx = S.dx, vol = D == 3 ? dx * dx * dx : dx * dx, g = std::abs(S.gravity[D - 1]), rho0 = S.eos.rho0;
+    if (xo_pos_.empty()) {
+      // 2D: one y; 3D: the lattice across the span
+      const int ny = D == 3 ? std::max(1, static_cast<int>(std::floor((span_[1] - span_[0]) / dx + 1e-9))) : 1;
+      for (int j = 0; j < ny; ++j)
+        for (int k = 0; k < layers_; ++k)
+          for (double z = bed_ + 0.5 * dx; z < bed_ + how_; z += dx) {
+            Vec<D> x{};
+            x[0] = xo_ + (k + 0.5) * dx;
+            if constexpr (D == 3) x[1] = span_[0] + (j + 0.5) * dx;
+            x[D - 1] = z;
+            xo_pos_.push_back(x);
+            xo_p_.push_back(rho0 * g * (bed_ + how_ - z));
+          }
+    }
     const std::size_t n = P.n_owned();
     S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
@@ -184,6 +197,7 @@ class ImaginaryWall final : public ForceTerm<D> {
   double xo_ = 0.0, bed_ = 0.0, how_ = 0.0;
   int layers_ = 3;
   bool relax_ = true;  // Kazemi's linear relaxation of the wall's volume towards X_o (false: full volume)
+  std::vector<double> span_;  // 3D: [y0, y1]
   std::vector<Vec<D>> xo_pos_;
   std::vector<double> xo_p_;
 };
