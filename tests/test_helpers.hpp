@@ -104,4 +104,34 @@ std::pair<double, double> momentum_balance(const ParticleStore<D>& P) {
   return {norm(sum), scale};
 }
 
+/// A 2D open channel 0.4 m long, 0.1 m deep (dx 0.01): an inflow zone [0, 0.05) imposing 0.2 m/s and an
+/// outflow zone [0.35, 0.4) imposing 0.1 m/s (tests/test_open_boundary*.cpp).
+inline constexpr const char* kOpenChannel2D = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01}
+fluid: {density: 1000.0, viscosity: 1.0e-3}
+geometry:
+  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.45, 0.0]}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.1]}
+open_boundaries:
+  - {type: inflow, zone: [0.0, 0.05], depth: 0.1, profile: {type: uniform, u: 0.2}}
+  - {type: outflow, zone: [0.35, 0.4], depth: 0.1, profile: {type: uniform, u: 0.1}}
+time: {end: 1.0}
+)";
+
+/// A 2D block of still water 0.3 m long, 0.1 m deep, with Kazemi's imaginary-wall outlet at x = 0.3
+/// (tests/test_porous.cpp, tests/test_open_boundary_3d.cpp).
+inline constexpr const char* kImaginaryWall2D = R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 10.0}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
+forces:
+  - {type: imaginary_wall, x: 0.3, bed: 0.0, height: 0.1}
+time: {end: 1.0}
+)";
+
 }  // namespace sph::test

@@ -38,19 +38,7 @@ TEST(OpenBoundary, ProfilesMatchTheirFormulas) {
 }
 
 namespace {
-const char* kChannel = R"(
-dimension: 2
-gravity: [0.0, -9.81]
-particles: {dx: 0.01}
-fluid: {density: 1000.0, viscosity: 1.0e-3}
-geometry:
-  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.45, 0.0]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.1]}
-open_boundaries:
-  - {type: inflow, zone: [0.0, 0.05], depth: 0.1, profile: {type: uniform, u: 0.2}}
-  - {type: outflow, zone: [0.35, 0.4], depth: 0.1, profile: {type: uniform, u: 0.1}}
-time: {end: 1.0}
-)";
+const char* kChannel = test::kOpenChannel2D;
 
 std::size_t count(const ParticleStore<2>& P, Kind k) { return P.count(k); }
 }  // namespace

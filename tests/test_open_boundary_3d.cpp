@@ -19,21 +19,9 @@
 using namespace sph;
 
 namespace {
-// A 2D channel and the same channel 6 dx wide with periodic sides (the least width the default
-// support, 3 dx, allows).
-const char* kChannel2 = R"(
-dimension: 2
-gravity: [0.0, -9.81]
-particles: {dx: 0.01}
-fluid: {density: 1000.0, viscosity: 1.0e-3}
-geometry:
-  - {type: plane, point: [0.0, 0.0], normal: [0.0, 1.0], min: [-0.05, -0.05], max: [0.45, 0.0]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.4, 0.1]}
-open_boundaries:
-  - {type: inflow, zone: [0.0, 0.05], depth: 0.1, profile: {type: uniform, u: 0.2}}
-  - {type: outflow, zone: [0.35, 0.4], depth: 0.1, profile: {type: uniform, u: 0.1}}
-time: {end: 1.0}
-)";
+// The 2D channel of tests/test_helpers.hpp and the same channel 6 dx wide with periodic sides (the
+// least width the default support, 3 dx, allows).
+const char* kChannel2 = test::kOpenChannel2D;
 const char* kChannel3 = R"(
 dimension: 3
 gravity: [0.0, 0.0, -9.81]
@@ -217,17 +205,7 @@ TEST(OpenBoundary3D, UnsupportedFacesAndSectionsAreRefused) {
 // column next to X_o, 7-9 % one column upstream, where the push is half as large). A wrong volume
 // (dx² in 3D) would be 100 times off, a span short of the periodic sides uneven across y.
 TEST(OpenBoundary3D, ImaginaryWallPushesAsIn2D) {
-  const char* y2 = R"(
-dimension: 2
-gravity: [0.0, -9.81]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 10.0}
-geometry:
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
-forces:
-  - {type: imaginary_wall, x: 0.3, bed: 0.0, height: 0.1}
-time: {end: 1.0}
-)";
+  const char* y2 = test::kImaginaryWall2D;
   const char* y3 = R"(
 dimension: 3
 gravity: [0.0, 0.0, -9.81]

@@ -317,17 +317,7 @@ TEST(Porous, PointImplicitDragReachesTheErgunBalance) {
 // within one kernel support upstream of X_o back upstream, weighted by F_o = (X_o - x)/support
 // (0 at X_o), and nothing farther upstream.
 TEST(ImaginaryWall, PushesUpstreamWithinOneSupportOnly) {
-  const char* yaml = R"(
-dimension: 2
-gravity: [0.0, -9.81]
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 1.5}
-fluid: {density: 1000.0, viscosity: 1.0e-6, sound_speed: 10.0}
-geometry:
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.3, 0.1]}
-forces:
-  - {type: imaginary_wall, x: 0.3, bed: 0.0, height: 0.1}
-time: {end: 1.0}
-)";
+  const char* yaml = test::kImaginaryWall2D;
   test::Setup<2> s(yaml);
   s.scheme->initialise(s.S);  // pressures, neighbours
   auto& P = s.S.particles;
