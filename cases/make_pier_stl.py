@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """Writes cases/pier_cylinder.stl, the bridge pier of cases/channel_pier_3d.yaml: a closed circular cylinder,
-diameter 0.04 m, height 0.2 m, axis vertical through the origin, base at z = 0 (the case places it with `offset`).
+diameter 0.08 m, height 0.2 m, axis vertical through the origin, base at z = 0 (the case places it with `offset`).
 The side is 64 flat facets (the polygon's area is 0.16 % below the circle's); ASCII STL in metres.
 Usage: /usr/bin/python3 cases/make_pier_stl.py"""
 import math
 import os
 
-R, H, N = 0.02, 0.2, 64
+R, H, N = 0.04, 0.2, 64
 
 
 def facet(f, a, b, c):
