@@ -27,8 +27,8 @@ unknown-discharge outlet, in 3D as in 2D.
    Over the balance window (fine: t = 12..22 s, 10 s; coarse: 1..3 s):
      - volume balance: the water in the channel (gauge `water`, sum m/rho of the fluid) against the volumes that
        crossed the zones (gauge `boundaries`, m/rho0): |dV - (V_in - V_out - V_back)| <= 0.5 % of V_in;
-     - steady flow (fine): the volume leaving over the window within 2 % of the volume entering (coarse: printed;
-       1..3 s is still the backwater's settling); the section discharges upstream (x = 0.15 m) and downstream
+     - steady flow (fine; coarse: printed, 1..3 s is still the backwater's settling): the volume leaving over the
+       window within 2 % of the volume entering, and the section discharges upstream (x = 0.15 m) and downstream
        (x = 0.6 m) of the pier within 2 % of each other;
      - information: the discharges against U h W, the levels in front of and behind the pier.
 Modes: coarse (CTest): laminar at h/10 to t sqrt(g/h) = 10 in 2D and 3D (depth, fluxes, mass; the profile printed),
@@ -227,9 +227,12 @@ def pier(a, rep, m, figs):
     win = (qu["time"] >= t0 - 1e-9) & (qu["time"] <= t1 + 1e-9)
     mu, md = qu["flux"][win].mean(), qd["flux"][win].mean()
     q0 = PIER_U * PIER_H * PIER_W
-    rep.metric("pier: section discharge downstream / upstream of the pier - 1", f"{100 * (md / mu - 1):+.3f} % "
-               f"(up {mu:.5f}, down {md:.5f} m3/s; U h W = {q0:.5f}: {100 * (mu / q0 - 1):+.2f} %)",
-               abs(md / mu - 1) <= 0.02, "within 2 %", SRC)
+    name = "pier: section discharge downstream / upstream of the pier - 1"
+    value = f"{100 * (md / mu - 1):+.3f} % (up {mu:.5f}, down {md:.5f} m3/s; U h W = {q0:.5f}: {100 * (mu / q0 - 1):+.2f} %)"
+    if a.mode == "fine":
+        rep.metric(name, value, abs(md / mu - 1) <= 0.02, "within 2 %", SRC)
+    else:  # coarse: the backwater still settling between the sections (+1.8 % over 1..3 s, +3.1 % over 1..2 s)
+        info(name, value, abs(md / mu - 1) <= 0.02, "within 2 % (fine mode)", "information")
     levels = {g: rows(out, g) for g in ("level_up", "level_front", "level_wake", "level_down")}
     info("pier: mean levels over the window (m)", ", ".join(f"{g} {r['level'][win].mean():.4f}" for g, r in levels.items()),
          True, "-", "information")

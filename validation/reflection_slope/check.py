@@ -85,7 +85,7 @@ def main():
         sa = seelig_ahrens(xi0, 1.0, 5.5) if smooth else seelig_ahrens(xi0, 0.6, 6.6)
         zv = zanuttigh(xi0, 1.0 if smooth else 0.45)
         info(f"{label}: formulas at xi0 = {xi0:.2f} (coefficients from memory, unverified; not gated)",
-             f"Seelig & Ahrens {sa:.3f}, Zanuttigh & van der Meer {zv:.3f}", True, "their published scatter",
+             f"Seelig & Ahrens {sa:.3f}, Zanuttigh & van der Meer {zv:.3f}", True, "- (not gated)",
              "BLOCKED: the papers")
     if len(kr) == 2:
         ki, kp = kr["impermeable"][0], kr["porous Dc 10 mm"][0]

@@ -246,8 +246,8 @@ struct GaugeConfig {
   // after every step in the last `window` seconds before each output time
   double diameter = 0.0, window = 0.0;
   std::vector<double> normal;
-  // flux, scalar_flux in 3D: the section across y, [y0, y1], sampled by `columns` vertical lines
-  // (empty: the flux per metre of width at the line's y)
+  // flux, scalar_flux in 3D: the section across y, [y0, y1], cut into `columns` strips, a line at
+  // the middle of each (empty: the flux per metre of width at the line's y)
   std::vector<double> span;
   int columns = 0;
 };

@@ -61,14 +61,17 @@ double wet_line_flux(const System<D>& S, const GaugeConfig& g, Un&& un) {
   double ds = 0.0;
   const Vec<D> nrm = line_normal<D>(g, ds);
   const std::vector<Vec<D>> line = line_points<D>(g);
-  // 3D with a span: the same line at `columns` y across the section
-  const std::size_t nc = (D == 3 && !g.span.empty()) ? static_cast<std::size_t>(g.columns) : 1, np = line.size();
-  const double dy = nc > 1 ? (g.span[1] - g.span[0]) / static_cast<double>(nc - 1) : 0.0;
+  // 3D with a span: the same line at the midpoints of `columns` equal strips across the section (the
+  // midpoint rule: no line on a wall face, where the fluid fraction is ~0.5 and a whole strip would
+  // read dry; exact for a periodic span)
+  const bool section = D == 3 && !g.span.empty();
+  const std::size_t nc = section ? static_cast<std::size_t>(g.columns) : 1, np = line.size();
+  const double dy = section ? (g.span[1] - g.span[0]) / static_cast<double>(nc) : 0.0;
   std::vector<Vec<D>> pts;
   pts.reserve(nc * np);
   for (std::size_t c = 0; c < nc; ++c)
     for (Vec<D> x : line) {
-      if (nc > 1) x[1] = g.span[0] + dy * static_cast<double>(c);
+      if (section) x[1] = g.span[0] + dy * (static_cast<double>(c) + 0.5);
       pts.push_back(x);
     }
   const auto fu = at_held_points(S, pts, 2, [&](const Vec<D>& x, double* out) {
@@ -84,8 +87,8 @@ double wet_line_flux(const System<D>& S, const GaugeConfig& g, Un&& un) {
       q[i] = std::isfinite(fu[2 * k + 1]) ? fu[2 * k + 1] : 0.0;
     }
     const double col = wet_integral(f, q, ds);
-    if (nc == 1) return col;
-    total += (c == 0 || c + 1 == nc ? 0.5 : 1.0) * dy * col;  // trapezoid across the section
+    if (!section) return col;
+    total += dy * col;
   }
   return total;
 }

@@ -44,8 +44,9 @@ inline void read_line(Reader& r, GaugeConfig& g, const Node& n, const std::strin
 }
 
 /// A flux gauge's section: its line (in 3D in a plane y = const, not along y), and in 3D an
-/// optional `span: [y0, y1]` across the channel with `columns` lines (default 21): the flux is
-/// then the discharge through the rectangle [m3/s], else per metre of width at the line's y.
+/// optional `span: [y0, y1]` across the channel cut into `columns` strips (default 20), the line at
+/// each strip's middle: the flux is then the discharge through the rectangle [m3/s], else per metre
+/// of width at the line's y.
 inline void read_flux_section(Reader& r, GaugeConfig& g, const Node& n, const std::string& path, int dim) {
   read_line(r, g, n, path, static_cast<std::size_t>(dim));
   if (dim == 2) {
@@ -57,8 +58,8 @@ inline void read_flux_section(Reader& r, GaugeConfig& g, const Node& n, const st
   if (r.has("span")) {
     g.span = r.vec("span", 2);
     if (!(g.span[1] > g.span[0])) r.fail_at(r.get("span"), r.key_path("span"), "[y0, y1] with y1 > y0 (the section across the channel)");
-    g.columns = r.scalar<int>("columns", 21);
-    if (g.columns < 2 || g.columns > 10000) r.fail_at(r.get("columns"), r.key_path("columns"), "an integer in [2, 10000]");
+    g.columns = r.scalar<int>("columns", 20);
+    if (g.columns < 1 || g.columns > 10000) r.fail_at(r.get("columns"), r.key_path("columns"), "an integer in [1, 10000]");
   } else if (r.has("columns")) {
     r.fail_at(r.get("columns"), r.key_path("columns"), "'span' too (the section's extent across y)");
   }
