@@ -240,6 +240,16 @@ motions:
              "a drift_time");
   EXPECT_HAS(parse_error(base, {{"law: irregular, hm0: 0.05, tp: 1.5, depth: 0.5, ramp: 3.0", "law: absorber, depth: 0.5"}}),
              "'motions.0.absorption': expected an 'absorption: {gauge: NAME}' on an absorber");
+  // the second-order correction: on a law made of linear waves only; its modes only with it
+  EXPECT_EQ(with(", second_order: true, evanescent_modes: 10"), "");
+  EXPECT_HAS(with(", evanescent_modes: 10"), "line 15: 'motions.0.evanescent_modes': expected second_order: true");
+  EXPECT_HAS(with(", second_order: true, evanescent_modes: 500"), "expected an integer in [0, 200]");
+  EXPECT_HAS(parse_error(base, {{"law: irregular, hm0: 0.05, tp: 1.5, depth: 0.5, ramp: 3.0",
+                                 "law: stokes2, height: 0.03, depth: 0.5, period: 1.2, second_order: true"}}),
+             "'motions.0.second_order': expected law regular with second_order: true");
+  EXPECT_HAS(parse_error(base, {{"law: irregular, hm0: 0.05, tp: 1.5, depth: 0.5, ramp: 3.0",
+                                 "law: solitary, height: 0.1, depth: 0.5, second_order: true"}}),
+             "expected a law made of linear waves for the second-order correction");
   // the overtopping gauge: its width in 3D, none in 2D
   EXPECT_HAS(parse_error(base, {{"  - {name: pressure,", "  - {name: over, type: overtopping, x: 3.0, width: 1.0}\n  - {name: pressure,"}}),
              "line 13: 'gauges.1.width': expected no width in 2D");

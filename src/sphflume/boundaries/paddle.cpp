@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "sphflume/boundaries/paddle_order2.hpp"
 #include "sphflume/boundaries/wave_spectrum.hpp"
 #include "sphflume/core/errors.hpp"
 
@@ -18,6 +19,28 @@ double ramp(double tau, double tr) {
   if (tau <= 0.0) return 0.0;
   if (!(tr > 0.0) || tau >= tr) return 1.0;
   return 0.5 * (1.0 - std::cos(std::numbers::pi * tau / tr));
+}
+
+/// d/dτ of the ramp.
+double ramp_rate(double tau, double tr) {
+  if (tau <= 0.0 || !(tr > 0.0) || tau >= tr) return 0.0;
+  return 0.5 * std::numbers::pi / tr * std::sin(std::numbers::pi * tau / tr);
+}
+
+WavemakerShape wavemaker_shape(const MotionConfig& m) {
+  WavemakerShape p;
+  p.depth = m.depth;
+  p.gravity = m.gravity;
+  if (m.paddle == "flap") p.hinge_depth = m.hinge_depth;
+  return p;
+}
+
+/// Schäffer's second-order part of a sum of components, or null without `second_order`.
+std::unique_ptr<SecondOrderPaddle> second_order_part(const MotionConfig& m, const std::vector<WaveComponent>& comps) {
+  if (!m.second_order || comps.empty()) return nullptr;
+  std::vector<double> c;
+  for (const auto& w : comps) c.push_back(paddle_transfer(m, w.k * m.depth));
+  return std::make_unique<SecondOrderPaddle>(comps, c, wavemaker_shape(m), m.evanescent_modes);
 }
 
 class Solitary final : public PaddleLaw {
@@ -90,6 +113,9 @@ class Regular final : public PaddleLaw {
     amp_ = 0.5 * m.height;
     k_ = k;
     celerity_ = omega_ / k;
+    // Schäffer's correction (second_order: true): the wave (H/2) cos ωτ as one component, its X2 and bound
+    // harmonic ramped by r² (second order in the amplitude)
+    schaffer_ = second_order_part(m, {WaveComponent{amp_, omega_, k, 0.0}});
     if (second_order) {
       const double sh = std::sinh(kh);
       second_ = m.height * m.height / (32.0 * m.depth) * (3.0 * std::cosh(kh) / (sh * sh * sh) - 2.0 / m1);
@@ -101,17 +127,29 @@ class Regular final : public PaddleLaw {
     const double tau = t - start_ - x / celerity_;  // (the ramp's front travels at c: a first-order estimate)
     if (tau <= 0.0) return 0.0;
     const double ph = omega_ * (t - start_) - k_ * x;
-    return ramp(tau, ramp_) * (amp_ * std::cos(ph) + bound_ * std::cos(2.0 * ph));
+    const double r = ramp(tau, ramp_);
+    return r * (amp_ * std::cos(ph) + bound_ * std::cos(2.0 * ph)) + (schaffer_ ? r * r * schaffer_->elevation(t - start_, x) : 0.0);
   }
   double displacement(double t) const override {
     const double tau = t - start_;
     if (tau <= 0.0) return 0.0;
-    return ramp(tau, ramp_) * (half_stroke_ * std::sin(omega_ * tau) + second_ * std::sin(2.0 * omega_ * tau));
+    const double r = ramp(tau, ramp_);
+    return r * (half_stroke_ * std::sin(omega_ * tau) + second_ * std::sin(2.0 * omega_ * tau)) + (schaffer_ ? r * r * schaffer_->displacement(tau) : 0.0);
   }
-  double stroke() const override { return 2.0 * half_stroke_; }
+  double velocity(double t) const override {
+    if (!schaffer_) return PaddleLaw::velocity(t);  // (the first-order laws as they have always been)
+    const double tau = t - start_;
+    if (tau <= 0.0) return 0.0;
+    const double r = ramp(tau, ramp_), dr = ramp_rate(tau, ramp_);
+    const double x1 = half_stroke_ * std::sin(omega_ * tau) + second_ * std::sin(2.0 * omega_ * tau);
+    const double v1 = omega_ * (half_stroke_ * std::cos(omega_ * tau) + 2.0 * second_ * std::cos(2.0 * omega_ * tau));
+    return r * v1 + dr * x1 + r * r * schaffer_->velocity(tau) + 2.0 * r * dr * schaffer_->displacement(tau);
+  }
+  double stroke() const override { return 2.0 * half_stroke_ + (schaffer_ ? 2.0 * schaffer_->excursion() : 0.0); }
 
  private:
   double start_, ramp_, omega_ = 0.0, half_stroke_ = 0.0, second_ = 0.0, amp_ = 0.0, bound_ = 0.0, k_ = 0.0, celerity_ = 1.0;
+  std::unique_ptr<SecondOrderPaddle> schaffer_;
 };
 
 class Table final : public PaddleLaw {
@@ -169,6 +207,8 @@ class LinearSum final : public PaddleLaw {
       gain_.push_back(1.0 / paddle_transfer(m, c.k * m.depth));
       stroke_ += 2.0 * c.amplitude * gain_.back();
     }
+    schaffer_ = second_order_part(m, comps_);
+    if (schaffer_) stroke_ += 2.0 * schaffer_->excursion();
     if (m.law == "elevation") {
       t0_ = m.elevation_t.front();
       t1_ = m.elevation_t.back();
@@ -184,14 +224,18 @@ class LinearSum final : public PaddleLaw {
       v += c.amplitude * gain_[n] * c.omega * std::cos(c.omega * tau + c.phase);
     }
     const double r = envelope(tau), dr = envelope_rate(tau);
-    return r * v + (dr != 0.0 ? dr * raw(tau, true) : 0.0);
+    v = r * v + (dr != 0.0 ? dr * raw(tau, true) : 0.0);
+    // the second-order part, ramped by r² (second order in the amplitude)
+    if (schaffer_) v += r * r * schaffer_->velocity(tau) + (dr != 0.0 ? 2.0 * r * dr * schaffer_->displacement(tau) : 0.0);
+    return v;
   }
   double elevation(double t, double x) const override {
     const double tau = t - start_;
     if (tau <= t0_ || tau >= t1_) return 0.0;
     double e = 0.0;
     for (const auto& c : comps_) e += c.amplitude * std::cos(c.omega * tau + c.phase - c.k * x);
-    return envelope(tau) * e;  // (the envelope at the paddle: the ramp's front is not delayed)
+    const double r = envelope(tau);  // (the envelope at the paddle: the ramp's front is not delayed)
+    return r * e + (schaffer_ ? r * r * schaffer_->elevation(tau, x) : 0.0);
   }
   double stroke() const override { return stroke_; }
   std::vector<WaveComponent> components() const override { return comps_; }
@@ -208,7 +252,8 @@ class LinearSum final : public PaddleLaw {
   double sum(double t, bool paddle) const {
     const double tau = t - start_;
     if (tau <= t0_ || tau >= t1_) return 0.0;
-    return envelope(tau) * raw(tau, paddle);
+    const double r = envelope(tau);
+    return r * raw(tau, paddle) + (paddle && schaffer_ ? r * r * schaffer_->displacement(tau) : 0.0);
   }
   double envelope(double tau) const {
     double r = ramp(tau - t0_, ramp_);
@@ -231,6 +276,7 @@ class LinearSum final : public PaddleLaw {
   std::vector<WaveComponent> comps_;
   std::vector<double> gain_;
   double t0_ = 0.0, t1_ = std::numeric_limits<double>::infinity(), stroke_ = 0.0;
+  std::unique_ptr<SecondOrderPaddle> schaffer_;
 };
 
 /// absorber: a paddle at rest that makes no wave (η = 0): with `absorption`, an active absorber

@@ -30,6 +30,11 @@
 //            (boundaries/wave_spectrum.hpp): a JONSWAP or Pierson–Moskowitz sea with seeded random
 //            phases, a NewWave group focused at a given place and time, a user's elevation series.
 //  absorber  at rest, no wave: with `absorption`, an active absorber at the flume's end.
+// second_order: true (regular, irregular, focused, elevation; piston or flap): Schäffer's (1996)
+//            sub- and super-harmonic correction X2 with the evanescent modes added to the first-order
+//            motion, and the bound second-order waves added to the law's elevation (the absorption's
+//            target), both ramped by r² (boundaries/paddle_order2.hpp). `stokes2` is Madsen's (1971)
+//            long-wave form of the regular wave's superharmonic (0.60 of Schäffer's at kh = 0.96).
 // The ramp: r = (1 − cos(π τ/T_r))/2 for τ = t − start < T_r, 1 after (0: no ramp).
 #pragma once
 #include <limits>

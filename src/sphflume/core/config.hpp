@@ -209,6 +209,10 @@ struct MotionConfig {
   double focus_x = 0.0;             // focused: distance of the focus from the paddle's rest face [m]
   double focus_time = 0.0;          // focused: time of the focus after `start` [s]
   std::vector<double> elevation_t, elevation_eta;  // elevation: the target surface elevation at the paddle
+  // regular, irregular, focused, elevation: Schäffer's (1996) second-order correction of the paddle's
+  // motion (boundaries/paddle_order2.hpp) with this many evanescent modes (extrapolated from half of them)
+  bool second_order = false;
+  int evanescent_modes = 20;
   // the paddle's kind: a piston translates; a flap rotates about a horizontal hinge (boundaries/motion.hpp)
   std::string paddle = "piston";    // piston | flap
   std::vector<double> hinge;        // flap: a point of the hinge line [m]

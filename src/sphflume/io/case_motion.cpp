@@ -84,6 +84,21 @@ void read_linear_waves(Reader& r, const Node& n, MotionConfig& m) {
   }
 }
 
+/// `second_order: true` and `evanescent_modes: J` (boundaries/paddle_order2.hpp).
+void read_second_order(Reader& r, MotionConfig& m) {
+  m.second_order = r.scalar<bool>("second_order", false);
+  if (m.second_order && m.law != "regular" && m.law != "irregular" && m.law != "focused" && m.law != "elevation")
+    r.fail_at(r.get("second_order"), r.key_path("second_order"),
+              m.law == "stokes2" ? std::string("law regular with second_order: true for Schäffer's correction (stokes2 is already second order: Madsen's long-wave form)")
+                                 : fmt::format("a law made of linear waves for the second-order correction (regular, irregular, focused or elevation; not {})", m.law));
+  if (r.has("evanescent_modes")) {
+    if (!m.second_order) r.fail_at(r.get("evanescent_modes"), r.key_path("evanescent_modes"), "second_order: true (the evanescent modes are the second-order correction's)");
+    m.evanescent_modes = r.scalar<int>("evanescent_modes", 20);
+    if (m.evanescent_modes < 0 || m.evanescent_modes > 200)
+      r.fail_at(r.get("evanescent_modes"), r.key_path("evanescent_modes"), "an integer in [0, 200] (default 20, extrapolated from 10)");
+  }
+}
+
 /// `paddle: flap`, `hinge: [x, z]` and the still-water level `level` (default: depth, the bed at z = 0).
 void read_flap(Reader& r, const Node& n, MotionConfig& m, const Case& c) {
   m.paddle = r.choice("paddle", "piston", {"piston", "flap"});
@@ -145,7 +160,7 @@ MotionConfig read_motion(const Node& n, const std::string& file, const std::stri
   Reader r(n, file, path);
   r.valid({"name", "law", "direction", "theory", "height", "depth", "period", "start", "ramp", "file", "spectrum", "hm0",
            "tp", "gamma", "seed", "components", "f_min", "f_max", "amplitude", "focus_x", "focus_time", "absorption",
-           "paddle", "hinge", "level"});
+           "paddle", "hinge", "level", "second_order", "evanescent_modes"});
   MotionConfig m;
   m.line = n.line();
   m.name = r.required<std::string>("name", "a motion name (shapes join it with 'motion: NAME')");
@@ -197,6 +212,7 @@ MotionConfig read_motion(const Node& n, const std::string& file, const std::stri
     if (!(m.gravity > 0.0)) r.fail_at(n, path, "gravity (the wave laws need |g| > 0)");
     read_linear_waves(r, n, m);
   }
+  read_second_order(r, m);
   read_flap(r, n, m, c);
   read_absorption(r, m, c);
   r.finish();
