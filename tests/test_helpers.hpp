@@ -134,4 +134,14 @@ forces:
 time: {end: 1.0}
 )";
 
+/// A wave-maker motion named "paddle" of `law` in still water `depth` deep (the wave tests fill in the rest).
+inline MotionConfig wave_motion(const std::string& law, double depth, double gravity = 9.81) {
+  MotionConfig m;
+  m.name = "paddle";
+  m.law = law;
+  m.depth = depth;
+  m.gravity = gravity;
+  return m;
+}
+
 }  // namespace sph::test

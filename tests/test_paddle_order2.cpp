@@ -11,6 +11,7 @@
 
 #include "sphflume/boundaries/paddle.hpp"
 #include "sphflume/boundaries/paddle_order2.hpp"
+#include "test_helpers.hpp"
 
 using namespace sph;
 
@@ -144,13 +145,9 @@ TEST(PaddleOrder2, BoundWavesAreStokesAndLonguetHiggins) {
 // its velocity is the derivative of its displacement; the regular law's correction is the same
 // SecondOrderPaddle's for one component; the bound harmonic joins the law's elevation.
 TEST(PaddleOrder2, LawsCarryTheCorrection) {
-  MotionConfig m;
-  m.name = "paddle";
-  m.law = "irregular";
+  MotionConfig m = test::wave_motion("irregular", kH, kG);
   m.hm0 = 0.03;
   m.tp = 1.5;
-  m.depth = kH;
-  m.gravity = kG;
   m.components = 64;
   m.ramp = 3.0;
   const auto first = make_paddle_law(m, "t.yaml");
@@ -170,13 +167,9 @@ TEST(PaddleOrder2, LawsCarryTheCorrection) {
   EXPECT_GT(second->stroke(), first->stroke());
   // regular: the bound harmonic of the elevation is Stokes' (as stokes2's) and the stroke's second harmonic
   // Schäffer's (0.3957 mm for H = 0.04, T = 1.5 in 0.4 m, against Madsen's 0.140 in stokes2)
-  MotionConfig r;
-  r.name = "paddle";
-  r.law = "regular";
+  MotionConfig r = test::wave_motion("regular", kH, kG);
   r.height = 0.04;
   r.period = 1.5;
-  r.depth = kH;
-  r.gravity = kG;
   const auto lin = make_paddle_law(r, "t.yaml");
   r.second_order = true;
   const auto sch = make_paddle_law(r, "t.yaml");

@@ -23,13 +23,9 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 MotionConfig sea(double hm0 = 0.05, double tp = 1.5) {
-  MotionConfig m;
-  m.name = "paddle";
-  m.law = "irregular";
+  MotionConfig m = test::wave_motion("irregular", 0.5);
   m.hm0 = hm0;
   m.tp = tp;
-  m.depth = 0.5;
-  m.gravity = 9.81;
   return m;
 }
 
@@ -185,11 +181,7 @@ TEST(Waves, FocusedGroupCrestsAtTheFocus) {
 // the law's elevation reproduces a periodic series of three harmonics to round-off between its
 // ends, and the paddle moves each through the transfer function.
 TEST(Waves, ElevationSeriesIsDecomposedExactly) {
-  MotionConfig m;
-  m.name = "paddle";
-  m.law = "elevation";
-  m.depth = 0.5;
-  m.gravity = 9.81;
+  MotionConfig m = test::wave_motion("elevation", 0.5);
   const double T = 20.0;
   const int n = 2000;
   auto series = [&](double t) {
