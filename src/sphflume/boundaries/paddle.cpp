@@ -24,7 +24,8 @@ double ramp(double tau, double tr) {
 /// d/dτ of the ramp.
 double ramp_rate(double tau, double tr) {
   if (tau <= 0.0 || !(tr > 0.0) || tau >= tr) return 0.0;
-  return 0.5 * std::numbers::pi / tr * std::sin(std::numbers::pi * tau / tr);
+  const double w = std::numbers::pi / tr;
+  return 0.5 * w * std::sin(w * tau);
 }
 
 WavemakerShape wavemaker_shape(const MotionConfig& m) {
@@ -263,14 +264,9 @@ class LinearSum final : public PaddleLaw {
   /// d(envelope)/dτ (0 outside the ramps).
   double envelope_rate(double tau) const {
     if (!(ramp_ > 0.0)) return 0.0;
-    const double w = std::numbers::pi / ramp_;
-    double r1 = ramp(tau - t0_, ramp_), d1 = 0.0;
-    if (tau - t0_ < ramp_) d1 = 0.5 * w * std::sin(w * (tau - t0_));
+    const double r1 = ramp(tau - t0_, ramp_), d1 = ramp_rate(tau - t0_, ramp_);
     if (!std::isfinite(t1_)) return d1;
-    const double r2 = ramp(t1_ - tau, ramp_);
-    double d2 = 0.0;
-    if (t1_ - tau < ramp_) d2 = -0.5 * w * std::sin(w * (t1_ - tau));
-    return d1 * r2 + r1 * d2;
+    return d1 * ramp(t1_ - tau, ramp_) - r1 * ramp_rate(t1_ - tau, ramp_);
   }
   double start_, ramp_;
   std::vector<WaveComponent> comps_;
