@@ -24,11 +24,21 @@ def add_set_option(ap):
                     help="extra case overrides passed to sphflume (e.g. scheme.integrator=verlet)")
 
 
+CHECKPOINT_EVERY = 600  # wall seconds between a run's checkpoints (a run killed outright resumes from the last)
+
+
 def run_case(sphflume, case, out, sets, threads, reuse):
-    """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc)."""
+    """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc).
+
+    With reuse: a finished run of the same dx and end is read back; an unfinished one (stopped by a signal, or killed
+    outright: the session ended) goes on from out/checkpoint.h5 when out/run.json shows the same case and overrides.
+    Runs write a checkpoint every CHECKPOINT_EVERY wall seconds, so a long one loses at most that much."""
     summary_path = os.path.join(out, "summary.json")
     checkpoint = os.path.join(out, "checkpoint.h5")
+    started = os.path.join(out, "run.json")
+    this_run = {"case": os.path.abspath(case), "sets": {k: str(v) for k, v in sets.items()}}
     resume = False
+    s = None
     if reuse and os.path.exists(summary_path):
         with open(summary_path) as f:
             s = json.load(f)
@@ -39,12 +49,22 @@ def run_case(sphflume, case, out, sets, threads, reuse):
             return s, float(s.get("wall_seconds", float("nan"))), 0
         # A run stopped by a signal (the session ended) wrote checkpoint.h5: go on from there (issue 40).
         resume = same and s.get("exit_status") == "interrupted" and os.path.exists(checkpoint)
+    if reuse and not resume and os.path.exists(checkpoint) and os.path.exists(started) \
+            and (s is None or s.get("exit_code") != 0):
+        # killed outright (no summary written at the end): its periodic checkpoint, if the run was this one
+        with open(started) as f:
+            resume = json.load(f) == this_run
     if os.path.isdir(out) and not resume:
         shutil.rmtree(out)
-    cmd = [sphflume, "run", case, "--output", out, "-q", "--threads", str(threads)]
+    os.makedirs(out, exist_ok=True)
+    if not resume:
+        with open(started, "w") as f:
+            json.dump(this_run, f)
+    cmd = [sphflume, "run", case, "--output", out, "-q", "--threads", str(threads),
+           "--checkpoint-every", str(CHECKPOINT_EVERY)]
     if resume:
         cmd += ["--restart", checkpoint]
-        print(f"resuming {out} from its checkpoint (t = {s['simulated_time']:.4g} s)")
+        print(f"resuming {out} from its checkpoint" + (f" (t = {s['simulated_time']:.4g} s)" if s else ""))
     for k, v in sets.items():
         cmd += ["--set", f"{k}={v}"]
     print("running:", " ".join(cmd), flush=True)

@@ -17,10 +17,11 @@ has passed the gauge at the peak's group velocity (t0 = ramp + x/cg_p) and runs 
      the reflection coefficient from the three gauges at 4.98, 5.24, 5.63 m, and eta_1L (one wavelength).
 The figure draws the measured spectrum over the target's (and the target record's), the record, and the paddle.
 Modes: fine dx = 0.02 (h0/dx = 20) to 162.5 s (100 Tp at the gauge); coarse (CTest) dx = 0.03 (h0/dx = 13; the paddle
-box is 4 dx thick) to 25 s, read at eta_1L (one wavelength, x = 2.62 m, about 11 Tp): a short record's Hm0 scatters by
+box is 5 dx thick) to 25 s, read at eta_1L (one wavelength, x = 2.62 m, about 11 Tp): a short record's Hm0 scatters by
 several per cent about the spectrum's, so the coarse mode gates Hm0 against the linear target's record over the same
-window, within 15 %: at h0/dx = 13 the sea's tail (2-3 fp, wavelengths 0.3-0.7 m) has 10-23 dx per wavelength and
-is damped (session 32: -9.5 % at one wavelength, -14.5 % at two).
+window, within 8 %: the fine gate's 5 % widened by the spacing's ratio 1.5 (the numerical damping falls about first order
+in dx; validation/irregular_waves/README.md). Measured at h = 2.5 dx: -4.1 % (session 35); at the old h = 2 dx it was
+-8.3 to -9.5 %, which this gate would catch.
 Usage: /usr/bin/python3 validation/irregular_waves/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR] [--reuse]
 """
 import math
@@ -44,7 +45,7 @@ CASE = os.path.normpath(os.path.join(HERE, "..", "..", "cases", "irregular_waves
 NAME = "irregular_waves"
 H0, HM0, TP, GAMMA, RAMP = 0.4, 0.04, 1.5, 3.3, 7.5
 XS = {"eta_a": 4.98, "eta_2L": 5.24, "eta_b": 5.63}
-MODES = {"coarse": {"dx": 0.03, "end": 25.0, "tol": 0.15, "min_periods": 0, "gauge": ("eta_1L", 2.62)},
+MODES = {"coarse": {"dx": 0.03, "end": 25.0, "tol": 0.08, "min_periods": 0, "gauge": ("eta_1L", 2.62)},
          "fine": {"dx": 0.02, "end": 162.5, "tol": 0.05, "min_periods": 100, "gauge": ("eta_2L", 5.24)}}
 
 

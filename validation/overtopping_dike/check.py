@@ -19,7 +19,7 @@ Metrics (each freeboard), over the window from t0 = 10 s (the sea's ramp and tra
      the number of waves, the wall time; with --mode fine the dx = 0.02 runs beside (the convergence).
 Modes: fine dx = 0.01 (h0/dx = 40, Hm0/dx = 6) and dx = 0.02 for the convergence, 212.8 s (150 Tp); coarse dx = 0.02 to
 60 s (a smoke run of the whole chain, about 40 waves: gated against the band all the same). Not in CTest (hours).
-Usage: /usr/bin/python3 validation/overtopping_dike/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR] [--reuse]
+Usage: /usr/bin/python3 validation/overtopping_dike/check.py [--mode coarse|fine] [--dx DX] [--sphflume PATH] [--out DIR] [--reuse]
 """
 import math
 import os
@@ -61,12 +61,17 @@ def eurotop(hm0, tm, rc, shift=0.0):
 
 
 def main():
-    a = validation_args(NAME, __doc__, MODES)
+    a = validation_args(NAME, __doc__, MODES, lambda ap: ap.add_argument(
+        "--dx", type=float, action="append", default=[],
+        help="only the mode's runs at this spacing (repeatable; the runs are hours long: one spacing per session)"))
     m = MODES[a.mode]
     rep = Report()
     fig, ax = plt.subplots(2, 1, figsize=(10, 8))
     results = {}
-    for dx, ratio in m["runs"]:
+    runs = [r for r in m["runs"] if not a.dx or any(math.isclose(r[0], d) for d in a.dx)]
+    if not runs:
+        raise SystemExit(f"--dx {a.dx}: no run of mode {a.mode} at that spacing ({sorted({r[0] for r in m['runs']})})")
+    for dx, ratio in runs:
         rc = ratio * HM0
         top = H0 + rc
         back = TOE + top / TAN_A + CREST_W
