@@ -1,4 +1,5 @@
 """Shared helpers of the validation scripts (validation/*/check.py)."""
+import hashlib
 import json
 import math
 import os
@@ -31,12 +32,14 @@ def run_case(sphflume, case, out, sets, threads, reuse):
     """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc).
 
     With reuse: a finished run of the same dx and end is read back; an unfinished one (stopped by a signal, or killed
-    outright: the session ended) goes on from out/checkpoint.h5 when out/run.json shows the same case and overrides.
+    outright: the session ended) goes on from out/checkpoint.h5 when out/run.json shows the same case file (path and text) and overrides.
     Runs write a checkpoint every CHECKPOINT_EVERY wall seconds, so a long one loses at most that much."""
     summary_path = os.path.join(out, "summary.json")
     checkpoint = os.path.join(out, "checkpoint.h5")
     started = os.path.join(out, "run.json")
-    this_run = {"case": os.path.abspath(case), "sets": {k: str(v) for k, v in sets.items()}}
+    with open(case, "rb") as f:  # the case's text too: an edited case file starts afresh
+        case_hash = hashlib.sha256(f.read()).hexdigest()
+    this_run = {"case": os.path.abspath(case), "case_sha256": case_hash, "sets": {k: str(v) for k, v in sets.items()}}
     resume = False
     s = None
     if reuse and os.path.exists(summary_path):
