@@ -31,9 +31,10 @@ CHECKPOINT_EVERY = 600  # wall seconds between a run's checkpoints (a run killed
 def run_case(sphflume, case, out, sets, threads, reuse):
     """Runs sphflume into out (a folder this script owns); returns (summary or None, wall seconds, rc).
 
-    With reuse: a finished run of the same dx and end is read back; an unfinished one (stopped by a signal, or killed
-    outright: the session ended) goes on from out/checkpoint.h5 when out/run.json shows the same case file (path and text) and overrides.
-    Runs write a checkpoint every CHECKPOINT_EVERY wall seconds, so a long one loses at most that much."""
+    With reuse: a finished run of the same dx and end is read back; an unfinished one goes on from out/checkpoint.h5:
+    one stopped by a signal (its summary says interrupted), or one killed outright (no summary) whose out/run.json
+    shows the same case file (path and text) and overrides. A run that failed starts afresh. Runs write a checkpoint
+    every CHECKPOINT_EVERY wall seconds, so a long one loses at most that much."""
     summary_path = os.path.join(out, "summary.json")
     checkpoint = os.path.join(out, "checkpoint.h5")
     started = os.path.join(out, "run.json")
@@ -52,8 +53,7 @@ def run_case(sphflume, case, out, sets, threads, reuse):
             return s, float(s.get("wall_seconds", float("nan"))), 0
         # A run stopped by a signal (the session ended) wrote checkpoint.h5: go on from there (issue 40).
         resume = same and s.get("exit_status") == "interrupted" and os.path.exists(checkpoint)
-    if reuse and not resume and os.path.exists(checkpoint) and os.path.exists(started) \
-            and (s is None or s.get("exit_code") != 0):
+    if reuse and s is None and os.path.exists(checkpoint) and os.path.exists(started):
         # killed outright (no summary written at the end): its periodic checkpoint, if the run was this one
         with open(started) as f:
             resume = json.load(f) == this_run

@@ -63,7 +63,7 @@ def eurotop(hm0, tm, rc, shift=0.0):
 def main():
     a = validation_args(NAME, __doc__, MODES, lambda ap: ap.add_argument(
         "--dx", type=float, action="append", default=[],
-        help="only the mode's runs at this spacing (repeatable; the runs are hours long: one spacing per session)"))
+        help="only the mode's runs at this spacing, the finest of them gated (repeatable; the runs are hours long)"))
     m = MODES[a.mode]
     rep = Report()
     fig, ax = plt.subplots(2, 1, figsize=(10, 8))
@@ -103,7 +103,7 @@ def main():
         q_mean, xi = eurotop(hm0_i, tm, rc)
         q_lo, _ = eurotop(hm0_i, tm, rc, -1.645)
         q_hi, _ = eurotop(hm0_i, tm, rc, +1.645)
-        gate = dx == min(d for d, _ in m["runs"])
+        gate = dx == min(d for d, _ in runs)  # the finest spacing run (with --dx, the one asked for)
         (rep.metric if gate else info)(f"{label}: mean overtopping discharge q", f"{1000 * q:.4f} l/s/m (EurOtop mean "
                                        f"{1000 * q_mean:.4f}, {q / q_mean:.2f} x)", q_lo <= q <= q_hi,
                                        f"in EurOtop's 90 % band [{1000 * q_lo:.4f}, {1000 * q_hi:.4f}] l/s/m",
