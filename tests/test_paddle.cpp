@@ -355,6 +355,63 @@ time: {end: 1.0}
   }
 }
 
+// A wall slope with a crest (`back` beyond its top: a dike) is closed along its crest and down its back
+// face, not only along its face: water that comes over the crest (issue 59's overtopping dike) must
+// meet a wall, not the wedge's hollow. Every point under the crest and behind the back face, to
+// 4 dx deep, lies within dx of a wall particle (without these rows the crest's middle is 0.15 m
+// from the nearest); no two of the slope's wall particles are closer than dx/2 where the rows turn
+// its corners; no fluid lies inside the wedge or within dx/2 of its outline, with water on both
+// sides of it.
+TEST(Geometry, WallSlopeWithACrestIsClosedOverItAndDownItsBack) {
+  const double dx = 0.02, toe = 1.0, top = 0.3, x1 = toe + 3.0 * top, back = 2.2;
+  test::Setup<2> T(R"(
+dimension: 2
+gravity: [0.0, -9.81]
+particles: {dx: 0.02, kernel: wendland_c2, h_over_dx: 2.0}
+fluid: {density: 1000.0, viscosity: 1.0e-6}
+walls: {type: dummy}
+geometry:
+  - {type: tank, fill: wall, min: [0.0, 0.0], max: [3.0, 1.0]}
+  - {type: slope, toe: [1.0, 0.0], gradient: '1:3', top: 0.3, back: 2.2}
+  - {type: box, fill: fluid, min: [0.0, 0.0], max: [3.0, 0.36]}
+time: {end: 1.0}
+)");
+  const auto& P = T.S.particles;
+  auto nearest_wall = [&](double x, double z) {
+    double best = 1e9;
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.kind[i] == Kind::Wall) best = std::min(best, std::hypot(P.pos[i][0] - x, P.pos[i][1] - z));
+    return best;
+  };
+  double worst = 0.0;
+  for (double d = 0.25 * dx; d <= 4.0 * dx; d += 0.25 * dx) {
+    for (double x = x1; x <= back; x += 0.25 * dx) worst = std::max(worst, nearest_wall(x, top - d));  // the crest
+    for (double z = 0.25 * dx; z <= top; z += 0.25 * dx) worst = std::max(worst, nearest_wall(back - d, z));  // the back
+  }
+  EXPECT_LE(worst, dx);
+  double closest = 1.0;
+  std::vector<Vec<2>> rows;
+  for (std::size_t i = 0; i < P.n_owned(); ++i)
+    if (P.kind[i] == Kind::Wall && P.pos[i][1] > 0.0 && P.pos[i][0] > toe && P.pos[i][0] < back) rows.push_back(P.pos[i]);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t j = i + 1; j < rows.size(); ++j) closest = std::min(closest, norm(rows[i] - rows[j]));
+  EXPECT_GE(closest, 0.5 * dx * 0.999);
+  const double line[4][2] = {{toe, 0.0}, {x1, top}, {back, top}, {back, 0.0}};
+  std::size_t behind = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    const double x = P.pos[i][0], z = P.pos[i][1];
+    behind += x > back ? 1 : 0;
+    EXPECT_FALSE(x > toe && x < back && z < std::min(top, (x - toe) / 3.0)) << "fluid particle " << i << " inside the dike";
+    for (int s = 0; s < 3; ++s) {
+      const Vec<2> a{{line[s][0], line[s][1]}}, b{{line[s + 1][0], line[s + 1][1]}};
+      const double t = std::clamp(dot(P.pos[i] - a, b - a) / dot(b - a, b - a), 0.0, 1.0);
+      ASSERT_GE(norm(P.pos[i] - (a + t * (b - a))), 0.5 * dx * 0.998) << "fluid particle " << i;
+    }
+  }
+  EXPECT_GT(behind, 100u);  // (the box fills the reservoir behind the dike too)
+}
+
 // The sponge: inside [start, end] the acceleration is −rate s² u, s the fraction of the way in
 // (quadratic, so a wave meets no sudden change); nothing outside.
 TEST(Gauges, DampingZoneIsQuadraticInTheZone) {

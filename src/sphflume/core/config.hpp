@@ -175,7 +175,10 @@ struct ShapeConfig {
   std::vector<double> velocity;                 // initial velocity
   bool slope = false;  // made from `type: slope` (vertices computed by the reader)
   std::vector<std::array<double, 2>> solid;  // slope walls: the whole wedge under the surface, kept free of fluid
-  std::vector<std::array<double, 2>> surface;  // slopes: the surface line from the toe (the wall rows follow it)
+  std::vector<std::array<double, 2>> surface;  // slopes: the surface line (the face) from the toe to the top
+  // slope walls: the line their wall rows follow: the face and, where `back` leaves a crest, the crest and the
+  // back face down to the toe's level (water that comes over the crest meets a wall, not the wedge's hollow)
+  std::vector<std::array<double, 2>> outline;
   std::string motion;  // wall shapes: the name of the prescribed motion that moves them (`motions:`); empty = fixed
   std::shared_ptr<const SolidMesh> mesh;  // mesh (3D): the solid, read, transformed and checked by the reader
   int line = 0;

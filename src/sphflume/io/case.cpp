@@ -81,7 +81,7 @@ ShapeConfig read_shape(const Node& n, const std::string& file, const std::string
   if (s.type == "slope") {  // a beach: the polygon of its wedge or layer
     if (dim != 2) r.fail_at(n, path, "a plane (slopes are 2D only; a 3D beach is a plane shape)");
     std::vector<std::array<double, 2>> wedge;
-    s.vertices = caseio::read_slope(r, n, s.fill == "wall" ? wall_depth : 0.0, &wedge, &s.surface);
+    s.vertices = caseio::read_slope(r, n, s.fill == "wall" ? wall_depth : 0.0, &wedge, &s.surface, &s.outline);
     if (s.fill == "wall") s.solid = wedge;  // the wedge under the surface line, to its back: no fluid there
     s.type = "polygon";
     s.slope = true;

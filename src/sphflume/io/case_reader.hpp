@@ -77,10 +77,13 @@ void read_resolution(const Node& root, const std::string& file, Case& c);
 /// wedge: when given, set to the wedge under the surface line to its `back`, whatever the thickness
 /// (a wall slope keeps it free of fluid). Or `survey: {file: F.csv}`: the surface line from a survey
 /// (x strictly increasing, every z above the first point's, the toe), the wedge under it.
-/// surface: when given, set to the surface line from the toe (its wall rows follow it).
+/// surface: when given, set to the surface line from the toe to the top (a band follows it).
+/// outline: when given, set to the wedge's exposed line: the surface and, when `back` lies beyond the top, the
+/// crest to `back` and the back face down to the toe's level (a wall slope's rows follow it).
 std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness = 0.0,
                                               std::vector<std::array<double, 2>>* wedge = nullptr,
-                                              std::vector<std::array<double, 2>>* surface = nullptr);
+                                              std::vector<std::array<double, 2>>* surface = nullptr,
+                                              std::vector<std::array<double, 2>>* outline = nullptr);
 /// Every slope shape lies inside the case's tanks (with dx of slack): an InputError naming its line otherwise.
 void check_slopes(const Case& c);
 /// The `motions:` section (prescribed wall motions, io/case_motion.cpp), and the check that every

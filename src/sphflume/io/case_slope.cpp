@@ -14,7 +14,8 @@ namespace {
 /// `survey: {file: F.csv}`: the slope's surface line from a survey (chainage x strictly increasing,
 /// elevation z at or above the first point's, the toe's), closed down to the toe's level to `back`.
 std::vector<std::array<double, 2>> read_survey_slope(Reader& r, std::vector<std::array<double, 2>>* wedge,
-                                                     std::vector<std::array<double, 2>>* surface) {
+                                                     std::vector<std::array<double, 2>>* surface,
+                                                     std::vector<std::array<double, 2>>* outline) {
   for (const char* k : {"toe", "gradient", "top", "thickness"})
     if (r.has(k))
       r.fail_at(r.get(k), r.key_path(k), "no '" + std::string(k) + "' beside 'survey' (the survey line is the slope's surface; "
@@ -46,14 +47,16 @@ std::vector<std::array<double, 2>> read_survey_slope(Reader& r, std::vector<std:
   if (back > line.back()[0]) v.push_back({back, line.back()[1]});
   v.push_back({back, z0});
   if (wedge) *wedge = v;
+  if (outline) *outline = back > line.back()[0] ? v : line;  // (a crest: over it and down the back face)
   return v;
 }
 }  // namespace
 
 std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double default_thickness,
                                               std::vector<std::array<double, 2>>* wedge,
-                                              std::vector<std::array<double, 2>>* surface) {
-  if (r.has("survey")) return read_survey_slope(r, wedge, surface);
+                                              std::vector<std::array<double, 2>>* surface,
+                                              std::vector<std::array<double, 2>>* outline) {
+  if (r.has("survey")) return read_survey_slope(r, wedge, surface, outline);
   for (const char* k : {"toe", "gradient", "top"})
     if (!r.has(k)) r.misspelt(k);
   if (!r.has("toe") || !r.has("gradient") || !r.has("top"))
@@ -85,6 +88,7 @@ std::vector<std::array<double, 2>> read_slope(Reader& r, const Node& n, double d
   v.push_back({back, toe[1]});
   if (wedge) *wedge = v;
   if (surface) *surface = {{toe[0], toe[1]}, {x1, top}};
+  if (outline) *outline = back > x1 ? v : std::vector<std::array<double, 2>>{{toe[0], toe[1]}, {x1, top}};
   if (t == 0.0) return v;
   // a layer of normal thickness t under the surface line (an armour layer), cut along the toe's
   // level and normal to the slope at its top: width t / sin(alpha) along the bed

@@ -13,15 +13,16 @@ namespace sph {
 using namespace setup_detail;
 namespace {
 
-/// A wall slope (2D): rows of particles parallel to its surface line (s.surface, from the toe;
-/// one segment for a typed slope, a survey's polyline otherwise), dx apart along it, at depths
+/// A wall slope (2D): rows of particles parallel to its outline (s.outline, from the toe: its face,
+/// one segment for a typed slope, a survey's polyline otherwise, then the crest and the back face
+/// when `back` lies beyond the top), dx apart along it, at depths
 /// (k + 1/2) dx, k < layers (as a flat wall's lattice, turned with the slope); none below the
 /// toe's level (the bed's walls are there; the rows reach down to it); and the toe's seal below them. Along a polyline the
 /// positions run on the arc length, each row point offset along its segment's normal; where
 /// rows of two segments crowd at a concave bend, a point closer than dx/2 to an earlier one is
 /// left out.
 void slope_wall_rows(const ShapeConfig& s, std::uint32_t si, double dx, int layers, FillPoints<2>& f) {
-  const auto& sf = s.surface;
+  const auto& sf = s.outline;
   const double ax = sf[0][0], az = sf[0][1];
   std::vector<double> cum(sf.size(), 0.0);  // the arc length at each point
   for (std::size_t j = 1; j < sf.size(); ++j) {
@@ -62,6 +63,9 @@ void slope_wall_rows(const ShapeConfig& s, std::uint32_t si, double dx, int laye
       f.wall_s.push_back(sp);
       f.wall_shape.push_back(si);
     }
+  const auto& face = s.surface;  // (the seal is the face's: the crest and the back face meet nothing at an angle)
+  double face_len = 0.0;
+  for (std::size_t j = 1; j < face.size(); ++j) face_len += std::hypot(face[j][0] - face[j - 1][0], face[j][1] - face[j - 1][1]);
   const double tx = sf[1][0] - ax, tz = sf[1][1] - az, len = std::sqrt(tx * tx + tz * tz);
   const double ux = tx / len, uz = tz / len;  // the first segment's direction (the toe's)
   // the toe's seal: where the rows meet the bed they are cut at an angle and leave the hollow under
@@ -73,14 +77,14 @@ void slope_wall_rows(const ShapeConfig& s, std::uint32_t si, double dx, int laye
   const double a_cut = ((0.5 + layers * ux) / std::max(uz, 1e-12) + 2.0 * layers) * dx;
   Vec<2> blo, bhi;
   blo[0] = ax;
-  bhi[0] = ax + (sf.back()[0] - ax) + 2.0 * layers * dx;
+  bhi[0] = ax + (face.back()[0] - ax) + 2.0 * layers * dx;
   blo[1] = az;
-  bhi[1] = std::min(top_z, az + (sf.back()[1] - az));
+  bhi[1] = std::min(top_z, az + (face.back()[1] - az));
   lattice<2>(blo, bhi, dx, [&](const Vec<2>& x) {
     if (x[1] < az + 0.5 * dx * 0.999 || !inside_polygon(s.solid, x[0], x[1])) return;
     const double px = x[0] - ax, pz = x[1] - az;
     const double along = px * ux + pz * uz, depth = px * uz - pz * ux;  // below the surface line
-    if (depth < layers * dx * 0.999 || along < 0.0 || along > std::min(total, a_cut)) return;
+    if (depth < layers * dx * 0.999 || along < 0.0 || along > std::min(face_len, a_cut)) return;
     Vec<2> sp;
     sp[0] = ax + along * ux;
     sp[1] = az + along * uz;
@@ -379,8 +383,9 @@ void drop_inside_walls(const Case& c, FillPoints<D>& f) {
       for (std::size_t i = 0; i < f.fluid_x.size(); ++i) {
         if (drop[i]) continue;
         bool near = false;
-        for (std::size_t j = 0; j + 1 < s.surface.size() && !near; ++j) {  // each segment of the surface line
-          const double ax = s.surface[j][0], az = s.surface[j][1], tx = s.surface[j + 1][0] - ax, tz = s.surface[j + 1][1] - az;
+        const auto& ol = s.outline;
+        for (std::size_t j = 0; j + 1 < ol.size() && !near; ++j) {  // each segment of the outline (face, crest, back)
+          const double ax = ol[j][0], az = ol[j][1], tx = ol[j + 1][0] - ax, tz = ol[j + 1][1] - az;
           const double len2 = tx * tx + tz * tz;
           const double px = f.fluid_x[i][0] - ax, pz = f.fluid_x[i][1] - az;
           const double u = std::clamp((px * tx + pz * tz) / len2, 0.0, 1.0);
