@@ -16,7 +16,8 @@ Metrics, the same rules applied to the run and to the measurement:
   d. (information) the point gauge `p_wall`, the change with dp (convergence), the pressure's scatter.
 Modes: fine dp = 0.025, 0.0125, 0.00625 (the finest gated; about 2 min on 2 threads in all); coarse dp = 0.025.
 Not in CTest while (b) fails (validation/dambreak_buchner/README.md).
-Usage: /usr/bin/python3 validation/dambreak_buchner/check.py [--mode coarse|fine] [--sphflume PATH] [--out DIR] [--reuse]
+Usage: /usr/bin/python3 validation/dambreak_buchner/check.py [--mode coarse|fine] [--dp DP] [--set KEY=VALUE] [--sphflume PATH]
+       [--out DIR] [--reuse]
 """
 import os
 import sys
@@ -69,8 +70,12 @@ def measurement():
 
 
 def main():
-    a = validation_args(NAME, __doc__, MODES)
-    dps = MODES[a.mode]["dps"]
+    a = validation_args(NAME, __doc__, MODES, lambda ap: ap.add_argument(
+        "--dp", type=float, action="append", default=[],
+        help="only the fine mode's runs at this spacing, the finest of them gated (repeatable; with --set, a variant)"))
+    dps = [d for d in MODES[a.mode]["dps"] if not a.dp or any(abs(d - x) < 1e-12 for x in a.dp)]
+    if not dps:
+        raise SystemExit(f"--dp {a.dp}: no run of mode {a.mode} at that spacing ({MODES[a.mode]['dps']})")
     rep = Report()
     exp = measurement()
     print(f"Buchner (2002): impact {exp['impact']:.3f}, rise to the post-impact mean {exp['rise']:.3f}, "
