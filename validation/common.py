@@ -198,6 +198,22 @@ def default_binary():
     return os.environ.get("SPHFLUME") or os.path.join(REPO, "build", "sphflume")
 
 
+def add_spacing_option(ap, flag="--dx"):
+    """`--dx DX` (or `--dp`), repeatable: only the mode's runs at these spacings (a check whose runs are long runs one
+    spacing per call; with --set, a variant at one spacing). Read it with select_spacings."""
+    ap.add_argument(flag, type=float, action="append", default=[], dest="only_spacings",
+                    help="only the mode's runs at this spacing, the finest of them gated (repeatable)")
+
+
+def select_spacings(runs, only, flag="--dx", key=lambda r: r):
+    """The runs (spacings, or tuples whose spacing key() gives) at the spacings `only` names (all of them when it names
+    none); a SystemExit naming the spacings there are when it names none of them."""
+    chosen = [r for r in runs if not only or any(math.isclose(key(r), d, rel_tol=1e-9) for d in only)]
+    if not chosen:
+        raise SystemExit(f"{flag} {only}: no run at that spacing (the mode's: {sorted({key(r) for r in runs})})")
+    return chosen
+
+
 def validation_args(name, doc, modes, extra=None):
     """The options every check.py takes: --sphflume, --mode, --out, --threads, --set, --reuse; extra(ap) adds a
     check's own options."""

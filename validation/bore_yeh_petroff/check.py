@@ -25,7 +25,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, add_spacing_option, info, parse_sets, read_rows, run_case, run_metrics, save_figure, select_spacings, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -64,11 +64,8 @@ def measured(name):
 
 
 def main():
-    a = validation_args(NAME, __doc__, MODES, lambda ap: ap.add_argument(
-        "--dx", type=float, action="append", default=[], help="only the mode's runs at this spacing (repeatable)"))
-    dxs = [d for d in MODES[a.mode]["dxs"] if not a.dx or any(abs(d - x) < 1e-9 for x in a.dx)]
-    if not dxs:
-        raise SystemExit(f"--dx {a.dx}: no run of mode {a.mode} at that spacing ({MODES[a.mode]['dxs']})")
+    a = validation_args(NAME, __doc__, MODES, add_spacing_option)
+    dxs = select_spacings(MODES[a.mode]["dxs"], a.only_spacings)
     rep = Report()
     vt, v = measured("velocity")
     ft, f = measured("force")

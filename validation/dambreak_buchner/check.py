@@ -25,7 +25,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from common import Report, info, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, add_spacing_option, info, parse_sets, read_rows, run_case, run_metrics, save_figure, select_spacings, validation_args  # noqa: E402
 
 import matplotlib
 
@@ -70,12 +70,8 @@ def measurement():
 
 
 def main():
-    a = validation_args(NAME, __doc__, MODES, lambda ap: ap.add_argument(
-        "--dp", type=float, action="append", default=[],
-        help="only the fine mode's runs at this spacing, the finest of them gated (repeatable; with --set, a variant)"))
-    dps = [d for d in MODES[a.mode]["dps"] if not a.dp or any(abs(d - x) < 1e-12 for x in a.dp)]
-    if not dps:
-        raise SystemExit(f"--dp {a.dp}: no run of mode {a.mode} at that spacing ({MODES[a.mode]['dps']})")
+    a = validation_args(NAME, __doc__, MODES, lambda ap: add_spacing_option(ap, "--dp"))
+    dps = select_spacings(MODES[a.mode]["dps"], a.only_spacings, "--dp")
     rep = Report()
     exp = measurement()
     print(f"Buchner (2002): impact {exp['impact']:.3f}, rise to the post-impact mean {exp['rise']:.3f}, "

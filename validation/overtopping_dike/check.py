@@ -29,7 +29,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from common import Report, info, level_series, parse_sets, read_rows, run_case, run_metrics, save_figure, validation_args  # noqa: E402
+from common import Report, add_spacing_option, info, level_series, parse_sets, read_rows, run_case, run_metrics, save_figure, select_spacings, validation_args  # noqa: E402
 import sphflume.waves as W  # noqa: E402
 
 import matplotlib
@@ -61,16 +61,12 @@ def eurotop(hm0, tm, rc, shift=0.0):
 
 
 def main():
-    a = validation_args(NAME, __doc__, MODES, lambda ap: ap.add_argument(
-        "--dx", type=float, action="append", default=[],
-        help="only the mode's runs at this spacing, the finest of them gated (repeatable; the runs are hours long)"))
+    a = validation_args(NAME, __doc__, MODES, add_spacing_option)  # (the runs are hours long: one spacing per call)
     m = MODES[a.mode]
     rep = Report()
     fig, ax = plt.subplots(2, 1, figsize=(10, 8))
     results = {}
-    runs = [r for r in m["runs"] if not a.dx or any(math.isclose(r[0], d) for d in a.dx)]
-    if not runs:
-        raise SystemExit(f"--dx {a.dx}: no run of mode {a.mode} at that spacing ({sorted({r[0] for r in m['runs']})})")
+    runs = select_spacings(m["runs"], a.only_spacings, key=lambda r: r[0])
     for dx, ratio in runs:
         rc = ratio * HM0
         top = H0 + rc
