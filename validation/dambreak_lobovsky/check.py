@@ -14,7 +14,8 @@ Metrics for each sensor, the same rule applied to the run and to the measurement
   d. the mean over t in [3.5, 5.5] (after the impact's transient, before the wave that comes back from the upstream
      wall), with the scatter of the measured points there;
   e. (information) convergence over the spacings.
-Thresholds (set in session 36 from these runs' first look, README): not yet gated beyond (a); the metrics are printed.
+Thresholds: none yet beyond (a): the metrics are printed (the paper's repetition statistics, the bands to use, are not in
+the project; README).
 Modes: fine dx = H/20 and H/40 (about 1 and 8 min on 2 threads); coarse H/20.
 Usage: /usr/bin/python3 validation/dambreak_lobovsky/check.py [--mode coarse|fine] [--dx DX] [--sphflume PATH] [--out DIR]
        [--reuse]
