@@ -2,8 +2,9 @@
 """Wave overtopping of a smooth 1:3 dike (issue 59, check 5; cases/overtopping_dike.yaml).
 
 JONSWAP sea (gamma = 3.3, Hm0 = 0.06 m, Tp = 1.4 s) in h0 = 0.4 m from an absorbing piston; a smooth impermeable 1:3 dike
-(toe 5 m from the paddle), freeboards Rc/Hm0 = 1.0 and 1.5 (crest at 0.46 and 0.49 m), a 0.1 m crest and a reservoir
-behind. The `overtopping` gauge gives the volume past the crest's landward edge; its slope over the window is the mean
+(toe 5 m from the paddle), freeboards Rc/Hm0 = 1.0 and 1.5 (crest at 0.46 and 0.49 m), a 0.1 m crest; the domain
+ends at the crest's landward edge (a catch tank). The `overtopping` gauge gives the volume past that edge (including
+what left the domain there); its slope over the window is the mean
 discharge q (sphflume.waves.overtopping). The incident sea is separated at 2.5, 2.74, 3.13 m (Mansard & Funke 1980):
 its Hm0 and spectral period Tm-1,0 enter the formula, as EurOtop prescribes (the incident wave at the toe).
 
@@ -72,7 +73,7 @@ def main():
         top = H0 + rc
         back = TOE + top / TAN_A + CREST_W
         sets = {"particles.dx": dx, "time.end": m["end"], "geometry.2.top": f"{top:.4f}", "geometry.2.back": f"{back:.4f}",
-                "gauges.6.x": f"{back:.4f}", **parse_sets(a.set)}
+                "gauges.6.x": f"{back:.4f}", "domain.max": f"[{back:.4f}, 1.6]", **parse_sets(a.set)}
         out = os.path.join(a.out, f"rc{ratio:g}_dx{dx:g}")
         print(f"\nRc/Hm0 = {ratio}: crest z = {top:.3f} m, landward edge x = {back:.3f} m, dx = {dx}")
         s, wall, rc_ = run_case(a.sphflume, CASE, out, sets, a.threads, a.reuse)

@@ -88,9 +88,10 @@ class WaterVolumeGauge final : public GaugeType<D> {
 };
 
 /// overtopping: the volume of water beyond the crest line x = x_c on the side `direction` points to
-/// (+1: x > x_c), Σ m/ρ0 over the fluid there, per metre of crest (2D: as is; 3D: over `width`).
-/// Water reaches the lee side only over the crest, so the overtopped volume is the rise of this
-/// column since t = 0 and the mean discharge q its slope (python: sphflume.waves.overtopping).
+/// (+1: x > x_c), Σ m/ρ0 over the fluid there plus what left the domain through its face on that
+/// side (x+ or x−: a catch tank), per metre of crest (2D: as is; 3D: over `width`). Water reaches
+/// the lee side only over the crest, so the overtopped volume is the rise of this column since
+/// t = 0 and the mean discharge q its slope (python: sphflume.waves.overtopping).
 template <int D>
 class OvertoppingGauge final : public GaugeType<D> {
  public:
@@ -113,7 +114,8 @@ class OvertoppingGauge final : public GaugeType<D> {
     double v = 0.0;
     for (std::size_t i = 0; i < P.n_owned(); ++i)
       if (P.kind[i] == Kind::Fluid && g.direction * (P.pos[i][0] - g.x) > 0.0) v += P.mass[i];
-    v = S.comm->sum(v) / S.eos.rho0;
+    const auto gone = S.counters.find(g.direction > 0.0 ? "removed_mass.x+" : "removed_mass.x-");  // (over the ranks)
+    v = (S.comm->sum(v) + (gone == S.counters.end() ? 0.0 : gone->second)) / S.eos.rho0;
     return {D == 3 ? v / g.level : v};
   }
 };

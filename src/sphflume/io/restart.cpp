@@ -24,6 +24,7 @@ std::string counters_text(const RunState& rs) {
   t += "initial_mass=" + hexd(rs.initial_mass) + "\n";
   t += "removed_mass=" + hexd(rs.removed_mass) + "\n";
   for (const auto& [f, n] : rs.removed_by_face) t += fmt::format("removed.{}={}\n", f, n);
+  for (const auto& [f, m] : rs.removed_mass_by_face) t += "removed_mass." + f + "=" + hexd(m) + "\n";
   t += "inflow_mass=" + hexd(rs.open.inflow_mass) + "\n";
   t += "outflow_mass=" + hexd(rs.open.outflow_mass) + "\n";
   t += fmt::format("backflow={}\nnext_id={}\n", rs.open.backflow, rs.open.next_id);
@@ -53,6 +54,7 @@ void parse_counters(const std::string& text, RunState& rs, const std::string& pa
     else if (k == "splits") rs.splits = std::strtol(v.c_str(), nullptr, 10);
     else if (k == "merges") rs.merges = std::strtol(v.c_str(), nullptr, 10);
     else if (k == "next_id") rs.open.next_id = static_cast<std::uint32_t>(std::strtoul(v.c_str(), nullptr, 10));
+    else if (k.rfind("removed_mass.", 0) == 0) rs.removed_mass_by_face[k.substr(13)] = parse_d(v);
     else if (k.rfind("removed.", 0) == 0) rs.removed_by_face[k.substr(8)] = std::strtol(v.c_str(), nullptr, 10);
     else if (k.rfind("scheme.", 0) == 0) rs.scheme[k.substr(7)] = parse_d(v);
   }

@@ -35,6 +35,7 @@ struct RunState {
   double initial_mass = 0.0;  // fluid mass at t = 0 (the mass balance covers the whole run)
   double removed_mass = 0.0;
   std::map<std::string, long> removed_by_face;
+  std::map<std::string, double> removed_mass_by_face;  // the same faces' masses (the overtopping gauge's lee face)
   OpenFlowCounters open;                  // inflow/outflow masses, backflow count, next particle id
   long splits = 0, merges = 0;            // resolution levels: particles split, groups merged (physics/resolution)
   std::map<std::string, double> scheme;   // the scheme's own state (Scheme::state)

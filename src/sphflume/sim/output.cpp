@@ -105,6 +105,7 @@ RunState RunOutput<D>::global_state() const {
     const Totals<D> tot(S, R_.rs);
     st.removed_mass = tot.removed_mass;
     st.removed_by_face = tot.removed_by_face;
+    st.removed_mass_by_face = tot.removed_mass_by_face;
     st.open.inflow_mass = tot.inflow;
     st.open.outflow_mass = tot.outflow;
     st.open.backflow_mass = tot.backflow_mass;
@@ -145,6 +146,16 @@ void RunOutput<D>::output(bool always) {
     S.counters["inflow_mass"] = tot.inflow;
     S.counters["outflow_mass"] = tot.outflow;
     S.counters["backflow_mass"] = tot.backflow_mass;
+  }
+  {  // the mass that left the domain through each face (summed over the ranks): the overtopping gauge's
+    static constexpr const char* faces[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+    double m[6];
+    for (int f = 0; f < 6; ++f) {
+      const auto it = R_.rs.removed_mass_by_face.find(faces[f]);
+      m[f] = it == R_.rs.removed_mass_by_face.end() ? 0.0 : it->second;
+    }
+    S.comm->sum(m, 6);
+    for (int f = 0; f < 6; ++f) S.counters[std::string("removed_mass.") + faces[f]] = m[f];
   }
   if (S.transport)
     for (std::size_t q = 0; q < S.transport->count(); ++q)  // (summed over the ranks)

@@ -198,7 +198,9 @@ struct Run {
           if (flag.empty()) flag.assign(P.n_owned(), 0);
           flag[i] = 1;
           rs.removed_mass += P.mass[i];
-          ++rs.removed_by_face[fmt::format("{}{}", "xyz"[D == 2 && d == 1 ? 2 : d], P.pos[i][d] < lo[d] ? "-" : "+")];
+          const std::string face = fmt::format("{}{}", "xyz"[D == 2 && d == 1 ? 2 : d], P.pos[i][d] < lo[d] ? "-" : "+");
+          ++rs.removed_by_face[face];
+          rs.removed_mass_by_face[face] += P.mass[i];
           break;
         }
       }

@@ -85,6 +85,7 @@ void load_and_distribute(Run<D>& R, const Case& c, const RunOptions& o, const Co
   if (distributed && restart && !comm.root()) {  // the restart point's counters are global: the first rank keeps them
     R.rs.removed_mass = 0.0;
     R.rs.removed_by_face.clear();
+    R.rs.removed_mass_by_face.clear();
     const std::uint32_t next_id = R.rs.open.next_id;  // (the next new particle's id is the same on every rank)
     R.rs.open = OpenFlowCounters{};
     R.rs.open.next_id = next_id;

@@ -26,6 +26,7 @@ struct Totals {
   double removed_mass = 0.0, inflow = 0.0, outflow = 0.0, backflow_mass = 0.0, final_mass = 0.0;
   std::uint64_t backflow = 0;
   std::map<std::string, long> removed_by_face;
+  std::map<std::string, double> removed_mass_by_face;
   Totals(const System<D>& S, const RunState& rs) {
     for (int k = 0; k < kKindCount; ++k) kind[k] = S.particles.count(static_cast<Kind>(k));
     S.comm->sum(kind, kKindCount);
@@ -37,6 +38,9 @@ struct Totals {
       auto it = rs.removed_by_face.find(f);
       const std::uint64_t n = S.comm->sum(static_cast<std::uint64_t>(it == rs.removed_by_face.end() ? 0 : it->second));
       if (n > 0) removed_by_face[f] = static_cast<long>(n);
+      auto im = rs.removed_mass_by_face.find(f);
+      const double mf = S.comm->sum(im == rs.removed_mass_by_face.end() ? 0.0 : im->second);
+      if (n > 0) removed_mass_by_face[f] = mf;
     }
   }
   std::uint64_t operator[](Kind k) const { return kind[static_cast<int>(k)]; }
