@@ -94,6 +94,45 @@ class DummyWalls final : public WallModel<D> {
     if (p.gv) S.refresh_halos(p.gv, D);  // images carry their source's correction (the sweep reads it for any wall candidate)
   }
 
+  bool prepare_from_pairs(System<D>& S, const WallPairs& wp) override {
+    // Adami et al.'s rule as wall_states below, over the kept pairs: p_w = (Σ p_a W + (g − a_w)·Σ ρ_a r W)/Σ W,
+    // the no-slip ghost velocity 2 v_w − Σ u_a W/Σ W; no fluid partner: the background state
+    auto& P = S.particles;
+    const std::size_t n = P.n_owned();
+    if (this->cfg.no_slip) corr_.resize(P.size() * D);
+    const Vec<D>* aw = P.find(field::wall_acc) ? P.find(field::wall_acc)->data() : nullptr;
+    const bool clamp = this->cfg.clamp_negative_pressure, no_slip = this->cfg.no_slip;
+    const double rho_bg = S.eos.density(S.eos.background);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (P.kind[i] != Kind::Wall) continue;
+      double sw = 0.0, sp = 0.0;
+      Vec<D> srr{}, sv{};
+      for (std::uint32_t k = wp.begin[i]; k < wp.end[i]; ++k) {
+        const std::uint32_t a = wp.fluid[k];
+        const double w = wp.w[k];
+        sw += w;
+        sp += P.p[a] * w;
+        const double rw = P.rho[a] * w;
+        for (int d = 0; d < D; ++d) srr[d] += rw * wp.r[std::size_t(k) * D + d];
+        if (no_slip) sv += w * P.vel[a];
+      }
+      double pw = S.eos.background;
+      Vec<D> g = P.vel[i];
+      if (sw > 0.0) {
+        pw = (sp + dot(aw ? S.gravity - aw[i] : S.gravity, srr)) / sw;
+        g = 2.0 * P.vel[i] - (1.0 / sw) * sv;
+      }
+      if (clamp) pw = std::max(pw, S.eos.background);
+      P.p[i] = pw;
+      P.rho[i] = sw > 0.0 ? S.eos.density(pw) : rho_bg;
+      if (no_slip)
+        for (int d = 0; d < D; ++d) corr_[i * D + d] = float(P.vel[i][d] - g[d]);
+    }
+    S.refresh_halos();
+    return true;
+  }
+
  private:
   using F32 = float;
   static constexpr std::size_t L = 16;  // the lanes of the sums

@@ -34,6 +34,15 @@
 
 namespace sph {
 
+/// The (wall, fluid) pairs a scheme keeps through several steps (scheme.pairs: advection, schemes/dual_pairs.cpp):
+/// wall particle w's fluid partners are entries [begin[w], end[w]) (store indices; other particles' rows empty),
+/// each with its fluid particle, the kernel W(r) and the separation r = x_w − x_a (D per entry) when they were found.
+struct WallPairs {
+  std::vector<std::uint32_t> begin, end, fluid;
+  std::vector<float> w, r;
+  std::size_t bytes() const { return (begin.capacity() + end.capacity() + fluid.capacity() + w.capacity() + r.capacity()) * 4; }
+};
+
 template <int D>
 class WallModel {
  public:
@@ -46,6 +55,9 @@ class WallModel {
   /// particles, schemes/multirate.cpp: their flags, the store field "_fast"): only the walls near a flagged
   /// fluid particle; null: near any fluid.
   virtual void prepare(System<D>& S, const double* near_only) = 0;
+  /// The same from kept pairs (their kernel values and separations as found, the fluid's state now): true where the
+  /// model has that form (dummy walls); false: the scheme calls prepare().
+  virtual bool prepare_from_pairs(System<D>&, const WallPairs&) { return false; }
   /// The no-slip ghost correction of the viscous term: D floats per particle, v_j − v_ghost,j
   /// of wall particle j (what the viscous term subtracts from the wall's velocity); entries of
   /// other particles are not read. nullptr: no correction (free-slip dummy walls, and the other

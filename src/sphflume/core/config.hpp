@@ -57,6 +57,7 @@ struct SchemeConfig {
   double advection_cfl = 0.25;
   double riemann_limiter = 3.0;   // slope of the low-dissipation limiter min(k U/c0, 1)
   bool density_reinit = true;     // density by summation (>= rho0) at every advection step
+  bool pairs_per_advection = false;  // pairs: advection — each advection step's pairs and kernel gradients kept (SPHinXsys)
   int verlet_steps = 40;  // verlet: an Euler step every N steps (DualSPHysics VerletSteps)
   DensityDiffusion density_diffusion = DensityDiffusion::Fourtakas;
   double delta = 0.1;

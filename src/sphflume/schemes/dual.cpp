@@ -37,8 +37,12 @@ void DualWCSPH<D>::step(System<D>& S, double dt) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
   const double hdt = 0.5 * dt;
+  const bool kept = cfg_.pairs_per_advection;
   if (adv_left_ <= 0.0) {  // a new advection step: summation density, its length
-    if (cfg_.density_reinit) {
+    if (kept) {  // pairs: advection — the cells at the step's start, its pairs and their summation density
+      S.update_neighbours();
+      find_pairs(S, true);
+    } else if (cfg_.density_reinit) {
       S.refresh_halos();  // (images at the positions the last step ended with)
       reinit_density(S);
     }
@@ -61,10 +65,20 @@ void DualWCSPH<D>::step(System<D>& S, double dt) {
     P.p[i] = S.eos_of(i).pressure(P.rho[i]);
   }
   // pass A: pressure force and acoustic density dissipation; the kick
-  S.update_neighbours();
-  if (S.resolution) S.resolution->smooth_h(S);  // (levels: h at the new places; pass B and the next summation keep it)
-  S.walls->prepare(S, nullptr);
-  riemann_pass(S, 0);
+  if (kept) {
+    // the pairs of the advection step's start (a restart or an output's re-sort in between: found or followed);
+    // the cell list stays that of the step's start, for the walls' extrapolation (W < 3e-4 of its peak where a
+    // particle that moved 0.25 h into a support from beyond its stencil would count)
+    if (!kept_.valid) find_pairs(S, false);
+    else if (P.layout() != kept_.layout) follow_resort(S);
+    if (!S.walls->prepare_from_pairs(S, kept_.walls)) S.walls->prepare(S, nullptr);
+    kept_pass_dispatch(S, 0);
+  } else {
+    S.update_neighbours();
+    if (S.resolution) S.resolution->smooth_h(S);  // (levels: h at the new places; pass B and the next summation keep it)
+    S.walls->prepare(S, nullptr);
+    riemann_pass(S, 0);
+  }
   S.walls->add_forces(S);
   for (auto& f : S.forces) f->add(S);
   // the owned particles after the re-sort: in a distributed run it also handed the particles
@@ -87,7 +101,8 @@ void DualWCSPH<D>::step(System<D>& S, double dt) {
   // (the stencils are symmetric and the distance test uses the same positions): momentum stays
   // exact. (Rebuilding here would cost a second, partly serial, re-sort per step.)
   S.refresh_halos();  // images (periodic, other ranks') at the kicked velocities and drifted positions
-  riemann_pass(S, 1);
+  if (kept) kept_pass_dispatch(S, 1);
+  else riemann_pass(S, 1);
   // the second half of Dρ; gauges and output see the pressure of the step's end
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < na; ++i) {

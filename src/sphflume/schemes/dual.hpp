@@ -8,8 +8,11 @@
 // It shares the equation of state, the time-step rule and the finite check with WCSPH
 // (schemes/wcsph_common.hpp).
 #pragma once
+#include <cstdint>
+#include <string>
 #include <vector>
 
+#include "sphflume/boundaries/walls.hpp"
 #include "sphflume/schemes/scheme.hpp"
 
 namespace sph {
@@ -25,7 +28,14 @@ class DualWCSPH final : public Scheme<D> {
   void step(System<D>& S, double dt) override;
   bool needs_wall_surface() const override { return true; }  // Riemann dissipation at walls
   int passes_per_step() const override { return 2; }
-  std::size_t bytes() const override { return pack_.capacity() * sizeof(float); }  // the packed columns
+  std::string distributed_refusal() const override {
+    return cfg_.pairs_per_advection
+               ? "scheme.pairs: advection (the kept pairs hold one process's store indices; pairs: acoustic runs on ranks)"
+               : "";
+  }
+  std::size_t bytes() const override {  // the packed columns and the kept pairs
+    return pack_.capacity() * sizeof(float) + kept_.bytes();
+  }
   std::map<std::string, double> state() const override {
     return {{"max_acc", max_acc_}, {"advection_left", adv_left_}};
   }
@@ -40,6 +50,32 @@ class DualWCSPH final : public Scheme<D> {
   template <class K, int Pass, bool VarH>
   void riemann_sweep(System<D>& S, const K& kernel);
   void reinit_density(System<D>& S);
+
+  /// `pairs: advection` (SPHinXsys's configuration): each fluid particle's pairs found at the start of an advection
+  /// step, with the kernel's W'(r) and the direction e = (x_a − x_b)/r there, kept through its acoustic steps
+  /// (dual_pairs.cpp). Rows of a multiple of the lanes (padding: the particle itself with W' = 0), in store order.
+  struct KeptPairs {
+    std::vector<std::uint32_t> begin, mid, end;  // each store index's row: fluid partners [begin, mid), walls [mid, end)
+    std::vector<std::uint32_t> j;           // the partner's store index
+    std::vector<float> dw;                  // W'(r_ab) (≤ 0)
+    std::vector<float> e;                   // D components per pair
+    std::vector<std::uint32_t> ids;         // the store's ids when they were found (to follow a re-sort)
+    std::uint64_t layout = 0;               // the store's layout then
+    std::size_t cap = 0;                    // each thread's region of j, dw, e (the rows of its cells)
+    bool valid = false;
+    WallPairs walls;                        // the same pairs from the walls' side, for their extrapolation
+    std::size_t bytes() const {
+      return (begin.capacity() + mid.capacity() + end.capacity() + j.capacity() + ids.capacity()) * 4 +
+             (dw.capacity() + e.capacity()) * 4 + walls.bytes();
+    }
+  };
+  /// density: also the summation density of the advection step's start (Σ W over the pairs found, scheme.density_reinit)
+  void find_pairs(System<D>& S, bool density);
+  void follow_resort(System<D>& S);
+  template <class K, int Pass>
+  void kept_pass(System<D>& S, const K& kernel);
+  void kept_pass_dispatch(System<D>& S, int pass);
+  KeptPairs kept_;
 
   SchemeConfig cfg_;
   double max_acc_ = 0.0;

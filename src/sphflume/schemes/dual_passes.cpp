@@ -33,42 +33,6 @@ namespace {
 constexpr std::size_t kLanes = 16;  // the pair loops' vector width (16 floats: AVX-512; 2 x AVX2)
 using namespace dual;
 
-/// Pack the per-particle values the candidates of pass `Pass` need, once per pass in store order
-/// (a division per particle, not one per particle per stencil it falls in), so that the per-cell
-/// gathers only move floats; the pair sums are bitwise those of gathering from the particle
-/// arrays. Pass A: p (sym: p/ρ²) and V = m/ρ (sym: m); pass B: u, V, the wall normal (unit,
-/// walls only) and the fluid flag.
-template <int D, int Pass>
-void pack_columns(ParticleStore<D>& P, bool sym, std::vector<float>& pack) {
-  const double* __restrict rho = P.rho.data();
-  const double* __restrict prs = P.p.data();
-  const double* __restrict mass = P.mass.data();
-  const Vec<D>* __restrict vel = P.vel.data();
-  const Kind* __restrict kind = P.kind.data();
-  const std::size_t np = P.size();
-  const int npack = Pass == 0 ? 2 : Pass == 1 ? 2 * D + 2 : 0;
-  pack.resize(static_cast<std::size_t>(npack) * np);
-  F32* __restrict pk = pack.data();
-  if constexpr (Pass == 0) {
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < np; ++i) {
-      pk[i] = F32(sym ? prs[i] / (rho[i] * rho[i]) : prs[i]);
-      pk[np + i] = F32(sym ? mass[i] : mass[i] / rho[i]);
-    }
-  } else if constexpr (Pass == 1) {
-    const Vec<D>* __restrict wn = P.vector(field::wall_to_surface).data();
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < np; ++i) {
-      for (int d = 0; d < D; ++d) pk[d * np + i] = F32(vel[i][d]);
-      pk[D * np + i] = F32(mass[i] / rho[i]);
-      const bool fl = fluid_like(kind[i]);
-      const double len = fl ? 0.0 : std::sqrt(dot(wn[i], wn[i]));
-      for (int d = 0; d < D; ++d) pk[(D + 1 + d) * np + i] = len > 0.0 ? F32(wn[i][d] / len) : F32(0);
-      pk[(2 * D + 1) * np + i] = fl ? F32(1) : F32(0);
-    }
-  }
-}
-
 /// What one Riemann pass reads and writes, and its constants.
 template <int D>
 struct RiemannPass {

@@ -30,6 +30,11 @@ void check_dual(Reader& top, const Case& c) {
     top.fail_at(top.get("scheme"), "scheme.integrator: dual",
                 fmt::format("a case without {} (the dual integrator's Riemann passes have dummy walls, one inviscid "
                             "phase and no other model yet): use integrator: symplectic or verlet", other));
+  // pairs kept through an advection step hold store indices: no images (periodic axes) and one h
+  if (c.scheme.pairs_per_advection && (c.resolution.on() || !c.periodic.empty()))
+    top.fail_at(top.get("scheme"), "scheme.pairs: advection",
+                fmt::format("a case without {} (the kept pairs hold one resolution and no periodic images): use "
+                            "pairs: acoustic", c.resolution.on() ? "resolution levels" : "periodic axes"));
 }
 
 }  // namespace
@@ -49,8 +54,9 @@ void read_wcsph_options(Reader& r, Case& c) {
   c.scheme.advection_cfl = r.in_range("advection_cfl", 0.25, 1e-3, 1.0);
   c.scheme.riemann_limiter = r.in_range("riemann_limiter", 3.0, 0.0, 1e3);
   c.scheme.density_reinit = r.scalar<bool>("density_reinit", true);
+  c.scheme.pairs_per_advection = r.choice("pairs", "acoustic", {"acoustic", "advection"}) == "advection";
   if (!dual)
-    for (const char* k : {"advection_cfl", "riemann_limiter", "density_reinit"})
+    for (const char* k : {"advection_cfl", "riemann_limiter", "density_reinit", "pairs"})
       if (r.has(k)) c.warnings.push_back(fmt::format("{}: scheme.{}: only used by integrator: dual (ignored)", r.file(), k));
   c.scheme.verlet_steps = r.scalar<int>("verlet_steps", 40);
   if (c.scheme.verlet_steps < 0) r.fail_at(r.get("verlet_steps"), "scheme.verlet_steps", "an integer >= 0 (0 = no Euler steps)");

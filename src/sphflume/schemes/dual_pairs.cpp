@@ -1,0 +1,443 @@
+// The dual-criteria Riemann scheme with `scheme.pairs: advection` (schemes/dual.hpp): each fluid particle's pairs,
+// with the kernel's W'(r) and the direction e = (x_a − x_b)/r, found once at the start of an advection step and kept
+// through its acoustic steps, as SPHinXsys updates its configuration (cell lists, neighbours and their kernel
+// gradients) once per advection step (Zhang, Zhang & Hu 2020, J. Comput. Phys. 404, §3). The acoustic passes then
+// run over the kept rows: the same terms as the cell passes (dual_terms.hpp, docs/numerics.md), each pair's kernel
+// gradient W'(r) e taken at the advection step's start and the states (p, u, V) at the pass's time:
+//   pass A:  Σ (pa + pb) W' Vb e,  Σ (pa − pb) W' Vb
+//   pass B:  Σ ((ua − ub)·e) W' Vb,  Σ β U W' Vb d   (U = −(ua − ub)·e; against a wall U = −2 (ua − ub)·d, d = ±n)
+// (the cell passes' F r = W' e). The particles move meanwhile by at most advection_cfl h: a partner entering the
+// support within the step is missed, where W' is below 1e-3 of its peak at the default 0.25.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "sphflume/core/pair_pass.hpp"
+#include "sphflume/schemes/dual.hpp"
+#include "sphflume/schemes/dual_terms.hpp"
+
+namespace sph {
+
+namespace {
+constexpr std::size_t kLanes = 16;
+using namespace dual;
+
+/// One thread's (wall, fluid) pairs while they are found: their W and r = x_w − x_a.
+struct Rows {
+  std::vector<std::uint32_t> wall, wfluid;
+  std::vector<float> ww, wr;
+  void clear() {
+    wall.clear();
+    wfluid.clear();
+    ww.clear();
+    wr.clear();
+  }
+};
+
+/// One cell's stencil gathered for the search (positions in float relative to the cell's first particle, as the
+/// passes; each candidate's store index and whether it is a wall) and one particle's scratch. Thread-local.
+template <int D>
+struct CellSearch {
+  std::vector<std::uint32_t> idx, sel;
+  std::vector<F32> r2s, wq;
+  std::vector<std::uint8_t> isw, fl;
+  const F32* x[3] = {nullptr, nullptr, nullptr};
+  std::size_t count = 0, padded = 0, nf = 0, nw = 0;
+
+  void gather(const CellStencil<D>& st, ScratchColumns<F32>& B, const Vec<D>* pos, const Vec<D>& origin, const Kind* kind) {
+    gather_columns(st, B, pos, origin);
+    count = st.count;
+    padded = st.padded;  // (a multiple of the lanes: the flags are read eight at a time)
+    idx.resize(padded);
+    r2s.resize(padded);
+    isw.resize(padded);
+    fl.resize(padded);
+    wq.resize(padded);
+    sel.resize(2 * padded + 2);
+    st.for_each([&](std::size_t m, std::uint32_t b) {
+      idx[m] = b;
+      isw[m] = fluid_like(kind[b]) ? 0 : 1;
+    });
+    for (int d = 0; d < 3; ++d) x[d] = B[std::min(d, D - 1)];
+  }
+  std::uint32_t* fluid_sel() { return sel.data(); }
+  std::uint32_t* wall_sel() { return sel.data() + padded + 1; }
+
+  /// The partners of a particle at xa within the support, in the stencil's order, fluid (nf) and walls (nw) apart:
+  /// r² in vector lanes with a flag per candidate (1 fluid, 2 wall, 0 outside, a itself or padding), then the set
+  /// flags eight at a time (a sixth of the candidates lie within the support in 3D).
+  void select(const F32 xa[3], F32 sup2) {
+    const F32* __restrict x0 = x[0];
+    const F32* __restrict x1 = x[1];
+    const F32* __restrict x2 = x[2];
+    F32* __restrict rs = r2s.data();
+    const std::uint8_t* __restrict wl = isw.data();
+    std::uint8_t* __restrict flag = fl.data();
+    const F32 xa0 = xa[0], xa1 = xa[1], xa2 = xa[2];
+#pragma omp simd
+    for (std::size_t m = 0; m < padded; ++m) {
+      const F32 r0 = xa0 - x0[m], r1 = xa1 - x1[m], r2c = D == 3 ? xa2 - x2[m] : F32(0);
+      const F32 r2 = D == 3 ? r0 * r0 + r1 * r1 + r2c * r2c : r0 * r0 + r1 * r1;
+      rs[m] = r2;
+      flag[m] = static_cast<std::uint8_t>(((r2 < sup2) & (r2 > F32(0))) << wl[m]);
+    }
+    std::uint32_t* __restrict fsel = fluid_sel();
+    std::uint32_t* __restrict wsel = wall_sel();
+    nf = nw = 0;
+    for (std::size_t m0 = 0; m0 < padded; m0 += 8) {
+      std::uint64_t w;
+      std::memcpy(&w, flag + m0, 8);
+      if (w == 0) continue;
+      for (std::uint64_t f = w & 0x0101010101010101ull; f != 0; f &= f - 1)
+        fsel[nf++] = static_cast<std::uint32_t>(m0 + (std::countr_zero(f) >> 3));
+      for (std::uint64_t g = (w >> 1) & 0x0101010101010101ull; g != 0; g &= g - 1)
+        wsel[nw++] = static_cast<std::uint32_t>(m0 + (std::countr_zero(g) >> 3));
+    }
+  }
+
+  /// The kept entries of one part of a's row from k0 (a multiple of the lanes): the partners `which` (cnt of them),
+  /// their W'(r) and e (each block's components apart), W(r) into wq; padded to `to` with a itself at W' = 0 and
+  /// e = 0 (it adds zeros). Returns Σ W in the entries' order.
+  template <class K>
+  F32 fill(const K& ker, const F32 xa[3], std::uint32_t a, const std::uint32_t* __restrict which, std::size_t cnt,
+           std::size_t to, std::uint32_t* __restrict jo, F32* __restrict wo, F32* __restrict eo) {
+    const F32* __restrict x0 = x[0];
+    const F32* __restrict x1 = x[1];
+    const F32* __restrict x2 = x[2];
+    const F32* __restrict rs = r2s.data();
+    const std::uint32_t* __restrict ix = idx.data();
+    F32* __restrict wk = wq.data();
+    const F32 xa0 = xa[0], xa1 = xa[1], xa2 = xa[2];
+#pragma omp simd
+    for (std::size_t q = 0; q < cnt; ++q) {
+      const std::uint32_t m = which[q];
+      const F32 r0 = xa0 - x0[m], r1 = xa1 - x1[m], r2c = D == 3 ? xa2 - x2[m] : F32(0);
+      const F32 rr = std::sqrt(rs[m]), inv = F32(1) / rr;
+      jo[q] = ix[m];
+      wo[q] = ker.F(rr) * rr;
+      wk[q] = ker.W(rr);
+      const std::size_t b = (q / kLanes) * kLanes * D + q % kLanes;
+      eo[b] = r0 * inv;
+      eo[b + kLanes] = r1 * inv;
+      if constexpr (D == 3) eo[b + 2 * kLanes] = r2c * inv;
+    }
+    for (std::size_t q = cnt; q < to; ++q) {
+      jo[q] = a;
+      wo[q] = F32(0);
+      const std::size_t b = (q / kLanes) * kLanes * D + q % kLanes;
+      for (int d = 0; d < D; ++d) eo[b + std::size_t(d) * kLanes] = F32(0);
+    }
+    F32 s = 0;
+    for (std::size_t q = 0; q < cnt; ++q) s += wk[q];
+    return s;
+  }
+
+  /// The wall side of a's wall partners just filled (their W in wq): (wall, a, W, x_w − x_a) into R.
+  void wall_side(const F32 xa[3], std::uint32_t a, Rows& R) {
+    const std::uint32_t* wsel = wall_sel();
+    for (std::size_t q = 0; q < nw; ++q) {
+      const std::uint32_t m = wsel[q];
+      R.wall.push_back(idx[m]);
+      R.wfluid.push_back(a);
+      R.ww.push_back(wq[q]);
+      for (int d = 0; d < D; ++d) R.wr.push_back(x[d][m] - xa[d]);
+    }
+  }
+};
+
+/// Each wall particle's fluid partners from the threads' (wall, fluid) pairs, in the order found (a counting sort by
+/// wall over the threads in order).
+template <int D>
+void wall_rows(const std::vector<Rows>& rows, std::size_t np, WallPairs& W) {
+  W.begin.assign(np + 1, 0);
+  std::size_t nwp = 0;
+  for (const Rows& R : rows) {
+    nwp += R.wall.size();
+    for (const std::uint32_t w : R.wall) ++W.begin[w + 1];
+  }
+  for (std::size_t i = 0; i < np; ++i) W.begin[i + 1] += W.begin[i];
+  W.end.assign(W.begin.begin(), W.begin.end() - 1);  // (the fill's cursor; each row's end when done)
+  W.fluid.resize(nwp);
+  W.w.resize(nwp);
+  W.r.resize(nwp * D);
+  for (const Rows& R : rows)
+    for (std::size_t q = 0; q < R.wall.size(); ++q) {
+      const std::uint32_t k = W.end[R.wall[q]]++;
+      W.fluid[k] = R.wfluid[q];
+      W.w[k] = R.ww[q];
+      for (int d = 0; d < D; ++d) W.r[std::size_t(k) * D + d] = R.wr[q * D + d];
+    }
+  W.begin.resize(np);
+}
+}  // namespace
+
+template <int D>
+void DualWCSPH<D>::find_pairs(System<D>& S, bool density) {
+  auto& P = S.particles;
+  const std::size_t np = P.size(), n_owned = P.n_owned();
+  const Kind* __restrict kind = P.kind.data();
+  const Vec<D>* __restrict pos = P.pos.data();
+  const std::uint32_t* __restrict sorted = S.cells.sorted().data();
+  const auto& cells = S.cells;
+  int nthreads = 1;
+#ifdef _OPENMP
+  nthreads = omp_get_max_threads();
+#endif
+  // each thread writes its rows into its own region of the kept arrays (cap entries, gaps between regions); a region
+  // too small for its thread's rows is found by the counts and the search runs again with larger ones
+  const std::size_t nt = static_cast<std::size_t>(nthreads);
+  std::vector<Rows> rows(nt);
+  std::vector<std::size_t> need(nt, 0);
+  if (kept_.cap == 0) kept_.cap = 64 * kLanes;
+  auto needs = [&](std::size_t cell) {
+    std::size_t m = 0;
+    for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
+      m += sorted[k] < n_owned && kind[sorted[k]] == Kind::Fluid ? 1 : 0;
+    return m;
+  };
+  const bool reinit = density && cfg_.density_reinit;
+  const double rho0 = S.eos.rho0;
+  for (;;) {
+    const std::size_t cap = kept_.cap;
+    kept_.begin.assign(np, 0);
+    kept_.mid.assign(np, 0);
+    kept_.end.assign(np, 0);
+    kept_.j.resize(nt * cap);
+    kept_.dw.resize(nt * cap);
+    kept_.e.resize(nt * cap * D);
+    std::fill(need.begin(), need.end(), 0);
+    for (auto& R : rows) R.clear();
+    S.with_kernel([&](const auto& K) {
+      const F32 sup2 = F32(K.support2);
+      if (sigma0_ <= 0.0) sigma0_ = lattice_kernel_sum<D>(K, S.dx);  // (after a restart too)
+      const double sigma_inv = rho0 / sigma0_, w_self = K.W(0.0);
+      sweep_cells<F32>(cells, D, kLanes, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<F32>& B) {
+        std::size_t ut = 0;
+#ifdef _OPENMP
+        ut = static_cast<std::size_t>(omp_get_thread_num());
+#endif
+        thread_local CellSearch<D> cs;
+        const std::uint32_t c0k = cells.cell_begin(cell), c1k = cells.cell_end(cell);
+        const Vec<D> origin = pos[sorted[c0k]];
+        cs.gather(st, B, pos, origin, kind);
+        for (std::uint32_t kk = c0k; kk < c1k; ++kk) {
+          const std::uint32_t a = sorted[kk];
+          if (a >= n_owned || kind[a] != Kind::Fluid) continue;
+          F32 xa[3];
+          for (int d = 0; d < 3; ++d) xa[d] = F32(pos[a][std::min(d, D - 1)] - origin[std::min(d, D - 1)]);
+          cs.select(xa, sup2);
+          const std::size_t pf = (cs.nf + kLanes - 1) / kLanes * kLanes, pw = (cs.nw + kLanes - 1) / kLanes * kLanes;
+          const std::size_t first = ut * cap + need[ut];
+          need[ut] += pf + pw;
+          if (first + pf + pw > (ut + 1) * cap) continue;  // (counted: the next attempt has room)
+          std::uint32_t* jj = kept_.j.data();
+          F32* dw = kept_.dw.data();
+          F32* ee = kept_.e.data();
+          F32 sw = cs.fill(K, xa, a, cs.fluid_sel(), cs.nf, pf, jj + first, dw + first, ee + first * D);
+          sw += cs.fill(K, xa, a, cs.wall_sel(), cs.nw, pw, jj + first + pf, dw + first + pf, ee + (first + pf) * D);
+          cs.wall_side(xa, a, rows[ut]);
+          // the summation density (walls count as lattice particles; a free-surface particle's truncated sum: ρ0)
+          if (reinit) P.rho[a] = std::max(sigma_inv * (w_self + double(sw)), rho0);
+          kept_.begin[a] = static_cast<std::uint32_t>(first);
+          kept_.mid[a] = static_cast<std::uint32_t>(first + pf);
+          kept_.end[a] = static_cast<std::uint32_t>(first + pf + pw);
+        }
+        return std::uint64_t(0);
+      });
+    });
+    const std::size_t most = *std::max_element(need.begin(), need.end());
+    const std::size_t fit = (most + most / 4 + kLanes) / kLanes * kLanes;  // (room for the share to move)
+    if (most <= cap) {
+      if (fit < cap / 2) kept_.cap = fit;  // (shrink once the flow has settled into less)
+      break;
+    }
+    kept_.cap = fit;  // (a thread's rows did not fit: again with room for them; the density is the same)
+  }
+  wall_rows<D>(rows, np, kept_.walls);
+  kept_.ids.assign(P.id.begin(), P.id.begin() + static_cast<std::ptrdiff_t>(np));
+  kept_.layout = P.layout();
+  kept_.valid = true;
+}
+
+template <int D>
+void DualWCSPH<D>::follow_resort(System<D>& S) {
+  // an output re-sorted the store (gauges and snapshots sort it): the rows move with their
+  // particles and the partners' indices follow, by id; the pairs and their order stay
+  auto& P = S.particles;
+  const std::size_t np = P.size();
+  if (np != kept_.ids.size()) {  // (particles removed at the domain's faces: find them afresh)
+    find_pairs(S, false);
+    return;
+  }
+  std::uint32_t max_id = 0;
+  for (std::size_t i = 0; i < np; ++i) max_id = std::max(max_id, P.id[i]);
+  std::vector<std::uint32_t> now(static_cast<std::size_t>(max_id) + 1, 0);
+  for (std::size_t i = 0; i < np; ++i) now[P.id[i]] = static_cast<std::uint32_t>(i);
+  std::vector<std::uint32_t> to(np);  // old store index → new
+  for (std::size_t i = 0; i < np; ++i) to[i] = kept_.ids[i] <= max_id ? now[kept_.ids[i]] : 0;
+  std::vector<std::uint32_t> begin(np, 0), mid(np, 0), end(np, 0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < np; ++i) {
+    begin[to[i]] = kept_.begin[i];
+    mid[to[i]] = kept_.mid[i];
+    end[to[i]] = kept_.end[i];
+  }
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < kept_.j.size(); ++k) kept_.j[k] = to[kept_.j[k]];
+  kept_.begin.swap(begin);
+  kept_.mid.swap(mid);
+  kept_.end.swap(end);
+  WallPairs& W = kept_.walls;  // (rows follow their walls, entries their fluid)
+  std::vector<std::uint32_t> wb(np, 0), we(np, 0);
+  for (std::size_t i = 0; i < np; ++i) {
+    wb[to[i]] = W.begin[i];
+    we[to[i]] = W.end[i];
+  }
+  for (auto& f : W.fluid) f = to[f];
+  W.begin.swap(wb);
+  W.end.swap(we);
+  kept_.ids.assign(P.id.begin(), P.id.begin() + static_cast<std::ptrdiff_t>(np));
+  kept_.layout = P.layout();
+}
+
+template <int D>
+template <class K, int Pass>
+void DualWCSPH<D>::kept_pass(System<D>& S, const K&) {
+  static_assert(Pass == 0 || Pass == 1);
+  auto& P = S.particles;
+  const double rho0 = S.eos.rho0, c0 = S.eos.c0;
+  const bool sym = cfg_.pressure_gradient == PressureGradient::Symmetric;
+  pack_columns<D, Pass>(P, sym, pack_);
+  const F32* __restrict pk = pack_.data();
+  const std::size_t np = P.size(), n = P.n_owned();
+  const Kind* __restrict kind = P.kind.data();
+  const std::uint32_t* __restrict kb = kept_.begin.data();
+  const std::uint32_t* __restrict km = kept_.mid.data();
+  const std::uint32_t* __restrict ke = kept_.end.data();
+  const std::uint32_t* __restrict jj = kept_.j.data();
+  const F32* __restrict dw = kept_.dw.data();
+  const F32* __restrict ee = kept_.e.data();
+  const F32 fk = F32(cfg_.riemann_limiter / c0);
+  double g[3] = {0.0, 0.0, 0.0};
+  for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
+  std::uint64_t pairs = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : pairs)
+  for (std::size_t a = 0; a < n; ++a) {
+    if (kind[a] != Kind::Fluid) continue;
+    const double rhoa = P.rho[a];
+    if constexpr (Pass == 0) {
+      const F32* __restrict pp = pk;
+      const F32* __restrict vv = pk + np;
+      const F32 pa = pp[a];
+      LaneSums<kLanes, D + 2> v;
+      for (std::uint32_t k0 = kb[a]; k0 < ke[a]; k0 += kLanes) {
+        const std::uint32_t* __restrict j = jj + k0;
+        const F32* __restrict w = dw + k0;
+        const F32* __restrict e = ee + std::size_t(k0) * D;
+        v.add([&](std::size_t l, auto&& acc) {
+          const F32 pb = pp[j[l]], wv = w[l] * vv[j[l]];
+          const F32 s = (pa + pb) * wv;
+          acc[0][l] += s * e[l];
+          acc[1][l] += s * e[kLanes + l];
+          if constexpr (D == 3) acc[2][l] += s * e[2 * kLanes + l];
+          acc[D][l] += (pa - pb) * wv;
+          acc[D + 1][l] += w[l] != F32(0) ? F32(1) : F32(0);
+        });
+      }
+      const auto s = v.sums();
+      const double f = sym ? -1.0 : -1.0 / rhoa;
+      Vec<D> ac = P.acc[a];  // the dissipation of the last continuity pass
+      for (int d = 0; d < D; ++d) ac[d] += f * double(s[d]) + g[d];
+      P.acc[a] = ac;
+      P.drho[a] = rhoa / (rho0 * c0) * double(s[D]);
+      pairs += static_cast<std::uint64_t>(s[D + 1] + F32(0.5));
+    } else {
+      const F32* __restrict u0 = pk;
+      const F32* __restrict u1 = pk + np;
+      const F32* __restrict u2 = pk + (D - 1) * np;
+      const F32* __restrict vv = pk + D * np;
+      const F32* __restrict n0 = pk + (D + 1) * np;
+      const F32* __restrict n1 = pk + (D + 2) * np;
+      const F32* __restrict n2 = pk + (2 * D) * np;
+      const F32 ua0 = u0[a], ua1 = u1[a], ua2 = u2[a];
+      LaneSums<kLanes, D + 1> v;
+      for (std::uint32_t k0 = kb[a]; k0 < km[a]; k0 += kLanes) {  // fluid partners
+        const std::uint32_t* __restrict j = jj + k0;
+        const F32* __restrict w = dw + k0;
+        const F32* __restrict e = ee + std::size_t(k0) * D;
+        v.add([&](std::size_t l, auto&& acc) {
+          const std::uint32_t b = j[l];
+          const F32 wv = w[l] * vv[b];
+          const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
+          const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
+          const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;  // (ua − ub)·e
+          acc[D][l] += ue * wv;
+          const F32 U = -ue;
+          const F32 bu = fk * F32(0.5) * (U + std::abs(U));
+          const F32 beta = bu < F32(1) ? bu : F32(1);
+          const F32 q = beta * U * wv;
+          acc[0][l] += q * e0;
+          acc[1][l] += q * e1;
+          if constexpr (D == 3) acc[2][l] += q * e2;
+        });
+      }
+      for (std::uint32_t k0 = km[a]; k0 < ke[a]; k0 += kLanes) {  // walls: along the normal turned towards a, twice the speed
+        const std::uint32_t* __restrict j = jj + k0;
+        const F32* __restrict w = dw + k0;
+        const F32* __restrict e = ee + std::size_t(k0) * D;
+        v.add([&](std::size_t l, auto&& acc) {
+          const std::uint32_t b = j[l];
+          const F32 wv = w[l] * vv[b];
+          const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
+          const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
+          const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;
+          acc[D][l] += ue * wv;
+          const F32 m0 = n0[b], m1 = n1[b], m2 = D == 3 ? n2[b] : F32(0);
+          const F32 en = D == 3 ? e0 * m0 + e1 * m1 + e2 * m2 : e0 * m0 + e1 * m1;
+          const F32 sn = en < F32(0) ? F32(-1) : F32(1);
+          const F32 d0 = sn * m0, d1 = sn * m1, d2 = D == 3 ? sn * m2 : F32(0);
+          const F32 ud = D == 3 ? du0 * d0 + du1 * d1 + du2 * d2 : du0 * d0 + du1 * d1;
+          const F32 U = F32(-2) * ud;
+          const F32 bu = fk * F32(0.5) * (U + std::abs(U));
+          const F32 beta = bu < F32(1) ? bu : F32(1);
+          const F32 q = beta * U * wv;
+          acc[0][l] += q * d0;
+          acc[1][l] += q * d1;
+          if constexpr (D == 3) acc[2][l] += q * d2;
+        });
+      }
+      const auto s = v.sums();
+      P.drho[a] += rhoa * double(s[D]);
+      const double f = -rho0 * c0 / rhoa;
+      Vec<D> ac;
+      for (int d = 0; d < D; ++d) ac[d] = f * double(s[d]);
+      P.acc[a] = ac;
+    }
+  }
+  if constexpr (Pass == 0) S.pairs_last_pass = pairs;
+}
+
+template <int D>
+void DualWCSPH<D>::kept_pass_dispatch(System<D>& S, int pass) {
+  S.with_kernel([&](const auto& K) {
+    using Ker = std::decay_t<decltype(K)>;
+    if (pass == 0) this->template kept_pass<Ker, 0>(S, K);
+    else this->template kept_pass<Ker, 1>(S, K);
+  });
+}
+
+template void DualWCSPH<2>::find_pairs(System<2>&, bool);
+template void DualWCSPH<3>::find_pairs(System<3>&, bool);
+template void DualWCSPH<2>::follow_resort(System<2>&);
+template void DualWCSPH<3>::follow_resort(System<3>&);
+template void DualWCSPH<2>::kept_pass_dispatch(System<2>&, int);
+template void DualWCSPH<3>::kept_pass_dispatch(System<3>&, int);
+
+}  // namespace sph
