@@ -368,51 +368,40 @@ void DualWCSPH<D>::kept_pass(System<D>& S, const K&) {
       const F32* __restrict n2 = pk + (2 * D) * np;
       const F32 ua0 = u0[a], ua1 = u1[a], ua2 = u2[a];
       LaneSums<kLanes, D + 1> v;
-      for (std::uint32_t k0 = kb[a]; k0 < km[a]; k0 += kLanes) {  // fluid partners
-        const std::uint32_t* __restrict j = jj + k0;
-        const F32* __restrict w = dw + k0;
-        const F32* __restrict e = ee + std::size_t(k0) * D;
-        v.add([&](std::size_t l, auto&& acc) {
-          const std::uint32_t b = j[l];
-          const F32 wv = w[l] * vv[b];
-          const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
-          const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
-          const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;  // (ua − ub)·e
-          acc[D][l] += ue * wv;
-          const F32 U = -ue;
-          const F32 bu = fk * F32(0.5) * (U + std::abs(U));
-          const F32 beta = bu < F32(1) ? bu : F32(1);
-          const F32 q = beta * U * wv;
-          acc[0][l] += q * e0;
-          acc[1][l] += q * e1;
-          if constexpr (D == 3) acc[2][l] += q * e2;
-        });
-      }
-      for (std::uint32_t k0 = km[a]; k0 < ke[a]; k0 += kLanes) {  // walls: along the normal turned towards a, twice the speed
-        const std::uint32_t* __restrict j = jj + k0;
-        const F32* __restrict w = dw + k0;
-        const F32* __restrict e = ee + std::size_t(k0) * D;
-        v.add([&](std::size_t l, auto&& acc) {
-          const std::uint32_t b = j[l];
-          const F32 wv = w[l] * vv[b];
-          const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
-          const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
-          const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;
-          acc[D][l] += ue * wv;
-          const F32 m0 = n0[b], m1 = n1[b], m2 = D == 3 ? n2[b] : F32(0);
-          const F32 en = D == 3 ? e0 * m0 + e1 * m1 + e2 * m2 : e0 * m0 + e1 * m1;
-          const F32 sn = en < F32(0) ? F32(-1) : F32(1);
-          const F32 d0 = sn * m0, d1 = sn * m1, d2 = D == 3 ? sn * m2 : F32(0);
-          const F32 ud = D == 3 ? du0 * d0 + du1 * d1 + du2 * d2 : du0 * d0 + du1 * d1;
-          const F32 U = F32(-2) * ud;
-          const F32 bu = fk * F32(0.5) * (U + std::abs(U));
-          const F32 beta = bu < F32(1) ? bu : F32(1);
-          const F32 q = beta * U * wv;
-          acc[0][l] += q * d0;
-          acc[1][l] += q * d1;
-          if constexpr (D == 3) acc[2][l] += q * d2;
-        });
-      }
+      // the fluid partners [kb, km), then the walls [km, ke): against a wall the dissipation acts along its normal
+      // turned towards a, on twice the speed along it (the mirror state)
+      auto part = [&](auto wall, std::uint32_t from, std::uint32_t to) {
+        constexpr bool Wall = decltype(wall)::value;
+        for (std::uint32_t k0 = from; k0 < to; k0 += kLanes) {
+          const std::uint32_t* __restrict j = jj + k0;
+          const F32* __restrict w = dw + k0;
+          const F32* __restrict e = ee + std::size_t(k0) * D;
+          v.add([&](std::size_t l, auto&& acc) {
+            const std::uint32_t b = j[l];
+            const F32 wv = w[l] * vv[b];
+            const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
+            const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
+            const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;  // (ua − ub)·e
+            acc[D][l] += ue * wv;
+            F32 d0 = e0, d1 = e1, d2 = e2, U = -ue;
+            if constexpr (Wall) {
+              const F32 m0 = n0[b], m1 = n1[b], m2 = D == 3 ? n2[b] : F32(0);
+              const F32 en = D == 3 ? e0 * m0 + e1 * m1 + e2 * m2 : e0 * m0 + e1 * m1;
+              const F32 sn = en < F32(0) ? F32(-1) : F32(1);
+              d0 = sn * m0;
+              d1 = sn * m1;
+              d2 = D == 3 ? sn * m2 : F32(0);
+              U = F32(-2) * (D == 3 ? du0 * d0 + du1 * d1 + du2 * d2 : du0 * d0 + du1 * d1);
+            }
+            const F32 q = limited_dissipation(fk, U, wv);
+            acc[0][l] += q * d0;
+            acc[1][l] += q * d1;
+            if constexpr (D == 3) acc[2][l] += q * d2;
+          });
+        }
+      };
+      part(std::false_type{}, kb[a], km[a]);
+      part(std::true_type{}, km[a], ke[a]);
       const auto s = v.sums();
       P.drho[a] += rhoa * double(s[D]);
       const double f = -rho0 * c0 / rhoa;

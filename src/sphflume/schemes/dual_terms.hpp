@@ -112,6 +112,14 @@ template <int D, class K, bool VarH = false, class Acc>
   if constexpr (D == 3) acc[2][l] += pp * r2c;
   acc[D][l] += (a.pa - b.p[l]) * Fv * r;  // W'(r) V_b (pa − pb)
 }
+/// The Riemann dissipation's factor β U (the pair's weight): β = min(k max(U, 0)/c0, 1), fk = k/c0. max(U, 0) as
+/// (U + |U|)/2 (exact in float) and min as a value select: GCC 12 left the pass's loop scalar on AVX2 with std::max
+/// or a select here (AVX-512 was fine).
+[[gnu::always_inline]] inline F32 limited_dissipation(F32 fk, F32 U, F32 weight) {
+  const F32 bu = fk * F32(0.5) * (U + std::abs(U));
+  const F32 beta = bu < F32(1) ? bu : F32(1);
+  return beta * U * weight;
+}
 /// Pass B, continuity and dissipation: (ua − ub)·r F V_b and β U F V_b d, U = −(ua − ub)·e the
 /// approach speed and d the dissipation's direction times r: r itself for fluid b; against a wall
 /// (WallBlock) twice the speed along n', its normal turned towards a, and d = r n' (the
@@ -137,11 +145,7 @@ template <int D, bool WallBlock, class K, bool VarH = false, class Acc>
   } else {
     U = -ur / (r + F32(1e-30));
   }
-  // max(U, 0) as (U + |U|)/2 (exact in float) and min as a value select: GCC 12 left this loop
-  // scalar on AVX2 with std::max or a select here (AVX-512 was fine)
-  const F32 bu = fk * F32(0.5) * (U + std::abs(U));
-  const F32 beta = bu < F32(1) ? bu : F32(1);
-  const F32 q = beta * U * Fv;
+  const F32 q = limited_dissipation(fk, U, Fv);
   acc[0][l] += q * d0;
   acc[1][l] += q * d1;
   if constexpr (D == 3) acc[2][l] += q * d2;
