@@ -9,6 +9,7 @@
 // (the cell passes' F r = W' e). The particles move meanwhile by at most advection_cfl h: a partner entering the
 // support within the step is missed, where W' is below 1e-3 of its peak at the default 0.25.
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -151,6 +152,95 @@ struct CellSearch {
     }
   }
 };
+
+/// The kept rows as the acoustic passes read them: each particle's fluid partners [kb, km) and walls [km, ke), the
+/// partner, W' and e (each block's components apart).
+struct KeptRows {
+  const std::uint32_t *kb, *km, *ke, *jj;
+  const F32 *dw, *ee;
+};
+
+/// Pass A over particle a's kept row: Σ (pa + pb) W' Vb e (D), Σ (pa − pb) W' Vb, the pair count (pk: p, V columns).
+template <int D>
+std::array<F32, D + 2> pressure_row(const KeptRows& R, const F32* __restrict pk, std::size_t np, std::uint32_t a) {
+  const std::uint32_t *kb = R.kb, *ke = R.ke;
+  const std::uint32_t* __restrict jj = R.jj;
+  const F32* __restrict dw = R.dw;
+  const F32* __restrict ee = R.ee;
+  const F32* __restrict pp = pk;
+  const F32* __restrict vv = pk + np;
+  const F32 pa = pp[a];
+  LaneSums<kLanes, D + 2> v;
+  for (std::uint32_t k0 = kb[a]; k0 < ke[a]; k0 += kLanes) {
+    const std::uint32_t* __restrict j = jj + k0;
+    const F32* __restrict w = dw + k0;
+    const F32* __restrict e = ee + std::size_t(k0) * D;
+    v.add([&](std::size_t l, auto&& acc) {
+      const F32 pb = pp[j[l]], wv = w[l] * vv[j[l]];
+      const F32 s = (pa + pb) * wv;
+      acc[0][l] += s * e[l];
+      acc[1][l] += s * e[kLanes + l];
+      if constexpr (D == 3) acc[2][l] += s * e[2 * kLanes + l];
+      acc[D][l] += (pa - pb) * wv;
+      acc[D + 1][l] += w[l] != F32(0) ? F32(1) : F32(0);
+    });
+  }
+  return v.sums();
+}
+
+/// Pass B over particle a's kept row: the Riemann dissipation Σ β U W' Vb d (D) and Σ ((ua − ub)·e) W' Vb (pk: u, V,
+/// wall normal columns; fk = k/c0).
+template <int D>
+std::array<F32, D + 1> continuity_row(const KeptRows& R, const F32* __restrict pk, std::size_t np, F32 fk, std::uint32_t a) {
+  const std::uint32_t *kb = R.kb, *km = R.km, *ke = R.ke;
+  const std::uint32_t* __restrict jj = R.jj;
+  const F32* __restrict dw = R.dw;
+  const F32* __restrict ee = R.ee;
+  const F32* __restrict u0 = pk;
+  const F32* __restrict u1 = pk + np;
+  const F32* __restrict u2 = pk + (D - 1) * np;
+  const F32* __restrict vv = pk + D * np;
+  const F32* __restrict n0 = pk + (D + 1) * np;
+  const F32* __restrict n1 = pk + (D + 2) * np;
+  const F32* __restrict n2 = pk + (2 * D) * np;
+  const F32 ua0 = u0[a], ua1 = u1[a], ua2 = u2[a];
+  LaneSums<kLanes, D + 1> v;
+  // the fluid partners [kb, km), then the walls [km, ke): against a wall the dissipation acts along its normal
+  // turned towards a, on twice the speed along it (the mirror state)
+  auto part = [&](auto wall, std::uint32_t from, std::uint32_t to) {
+    constexpr bool Wall = decltype(wall)::value;
+    for (std::uint32_t k0 = from; k0 < to; k0 += kLanes) {
+      const std::uint32_t* __restrict j = jj + k0;
+      const F32* __restrict w = dw + k0;
+      const F32* __restrict e = ee + std::size_t(k0) * D;
+      v.add([&](std::size_t l, auto&& acc) {
+        const std::uint32_t b = j[l];
+        const F32 wv = w[l] * vv[b];
+        const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
+        const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
+        const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;  // (ua − ub)·e
+        acc[D][l] += ue * wv;
+        F32 d0 = e0, d1 = e1, d2 = e2, U = -ue;
+        if constexpr (Wall) {
+          const F32 m0 = n0[b], m1 = n1[b], m2 = D == 3 ? n2[b] : F32(0);
+          const F32 en = D == 3 ? e0 * m0 + e1 * m1 + e2 * m2 : e0 * m0 + e1 * m1;
+          const F32 sn = en < F32(0) ? F32(-1) : F32(1);
+          d0 = sn * m0;
+          d1 = sn * m1;
+          d2 = D == 3 ? sn * m2 : F32(0);
+          U = F32(-2) * (D == 3 ? du0 * d0 + du1 * d1 + du2 * d2 : du0 * d0 + du1 * d1);
+        }
+        const F32 q = limited_dissipation(fk, U, wv);
+        acc[0][l] += q * d0;
+        acc[1][l] += q * d1;
+        if constexpr (D == 3) acc[2][l] += q * d2;
+      });
+    }
+  };
+  part(std::false_type{}, kb[a], km[a]);
+  part(std::true_type{}, km[a], ke[a]);
+  return v.sums();
+}
 
 /// Each wall particle's fluid partners from the threads' (wall, fluid) pairs, in the order found (a counting sort by
 /// wall over the threads in order).
@@ -318,12 +408,7 @@ void DualWCSPH<D>::kept_pass(System<D>& S, const K&) {
   const F32* __restrict pk = pack_.data();
   const std::size_t np = P.size(), n = P.n_owned();
   const Kind* __restrict kind = P.kind.data();
-  const std::uint32_t* __restrict kb = kept_.begin.data();
-  const std::uint32_t* __restrict km = kept_.mid.data();
-  const std::uint32_t* __restrict ke = kept_.end.data();
-  const std::uint32_t* __restrict jj = kept_.j.data();
-  const F32* __restrict dw = kept_.dw.data();
-  const F32* __restrict ee = kept_.e.data();
+  const KeptRows R{kept_.begin.data(), kept_.mid.data(), kept_.end.data(), kept_.j.data(), kept_.dw.data(), kept_.e.data()};
   const F32 fk = F32(cfg_.riemann_limiter / c0);
   double g[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < D; ++d) g[d] = S.gravity[d];
@@ -333,25 +418,7 @@ void DualWCSPH<D>::kept_pass(System<D>& S, const K&) {
     if (kind[a] != Kind::Fluid) continue;
     const double rhoa = P.rho[a];
     if constexpr (Pass == 0) {
-      const F32* __restrict pp = pk;
-      const F32* __restrict vv = pk + np;
-      const F32 pa = pp[a];
-      LaneSums<kLanes, D + 2> v;
-      for (std::uint32_t k0 = kb[a]; k0 < ke[a]; k0 += kLanes) {
-        const std::uint32_t* __restrict j = jj + k0;
-        const F32* __restrict w = dw + k0;
-        const F32* __restrict e = ee + std::size_t(k0) * D;
-        v.add([&](std::size_t l, auto&& acc) {
-          const F32 pb = pp[j[l]], wv = w[l] * vv[j[l]];
-          const F32 s = (pa + pb) * wv;
-          acc[0][l] += s * e[l];
-          acc[1][l] += s * e[kLanes + l];
-          if constexpr (D == 3) acc[2][l] += s * e[2 * kLanes + l];
-          acc[D][l] += (pa - pb) * wv;
-          acc[D + 1][l] += w[l] != F32(0) ? F32(1) : F32(0);
-        });
-      }
-      const auto s = v.sums();
+      const auto s = pressure_row<D>(R, pk, np, a);
       const double f = sym ? -1.0 : -1.0 / rhoa;
       Vec<D> ac = P.acc[a];  // the dissipation of the last continuity pass
       for (int d = 0; d < D; ++d) ac[d] += f * double(s[d]) + g[d];
@@ -359,50 +426,7 @@ void DualWCSPH<D>::kept_pass(System<D>& S, const K&) {
       P.drho[a] = rhoa / (rho0 * c0) * double(s[D]);
       pairs += static_cast<std::uint64_t>(s[D + 1] + F32(0.5));
     } else {
-      const F32* __restrict u0 = pk;
-      const F32* __restrict u1 = pk + np;
-      const F32* __restrict u2 = pk + (D - 1) * np;
-      const F32* __restrict vv = pk + D * np;
-      const F32* __restrict n0 = pk + (D + 1) * np;
-      const F32* __restrict n1 = pk + (D + 2) * np;
-      const F32* __restrict n2 = pk + (2 * D) * np;
-      const F32 ua0 = u0[a], ua1 = u1[a], ua2 = u2[a];
-      LaneSums<kLanes, D + 1> v;
-      // the fluid partners [kb, km), then the walls [km, ke): against a wall the dissipation acts along its normal
-      // turned towards a, on twice the speed along it (the mirror state)
-      auto part = [&](auto wall, std::uint32_t from, std::uint32_t to) {
-        constexpr bool Wall = decltype(wall)::value;
-        for (std::uint32_t k0 = from; k0 < to; k0 += kLanes) {
-          const std::uint32_t* __restrict j = jj + k0;
-          const F32* __restrict w = dw + k0;
-          const F32* __restrict e = ee + std::size_t(k0) * D;
-          v.add([&](std::size_t l, auto&& acc) {
-            const std::uint32_t b = j[l];
-            const F32 wv = w[l] * vv[b];
-            const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
-            const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
-            const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;  // (ua − ub)·e
-            acc[D][l] += ue * wv;
-            F32 d0 = e0, d1 = e1, d2 = e2, U = -ue;
-            if constexpr (Wall) {
-              const F32 m0 = n0[b], m1 = n1[b], m2 = D == 3 ? n2[b] : F32(0);
-              const F32 en = D == 3 ? e0 * m0 + e1 * m1 + e2 * m2 : e0 * m0 + e1 * m1;
-              const F32 sn = en < F32(0) ? F32(-1) : F32(1);
-              d0 = sn * m0;
-              d1 = sn * m1;
-              d2 = D == 3 ? sn * m2 : F32(0);
-              U = F32(-2) * (D == 3 ? du0 * d0 + du1 * d1 + du2 * d2 : du0 * d0 + du1 * d1);
-            }
-            const F32 q = limited_dissipation(fk, U, wv);
-            acc[0][l] += q * d0;
-            acc[1][l] += q * d1;
-            if constexpr (D == 3) acc[2][l] += q * d2;
-          });
-        }
-      };
-      part(std::false_type{}, kb[a], km[a]);
-      part(std::true_type{}, km[a], ke[a]);
-      const auto s = v.sums();
+      const auto s = continuity_row<D>(R, pk, np, fk, a);
       P.drho[a] += rhoa * double(s[D]);
       const double f = -rho0 * c0 / rhoa;
       Vec<D> ac;
