@@ -20,9 +20,13 @@
 #include <omp.h>
 #endif
 
+#include "sphflume/core/lanes8.hpp"
 #include "sphflume/core/pair_pass.hpp"
 #include "sphflume/schemes/dual.hpp"
 #include "sphflume/schemes/dual_terms.hpp"
+
+// (-Wpsabi: the eight-lane vectors of core/lanes8.hpp in a build without AVX; inline, within this file)
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace sph {
 
@@ -61,7 +65,7 @@ struct CellSearch {
     isw.resize(padded);
     fl.resize(padded);
     wq.resize(padded);
-    sel.resize(2 * padded + 2);
+    sel.resize(2 * (padded + 8));  // (a block of eight written past the last partner)
     st.for_each([&](std::size_t m, std::uint32_t b) {
       idx[m] = b;
       isw[m] = fluid_like(kind[b]) ? 0 : 1;
@@ -69,7 +73,7 @@ struct CellSearch {
     for (int d = 0; d < 3; ++d) x[d] = B[std::min(d, D - 1)];
   }
   std::uint32_t* fluid_sel() { return sel.data(); }
-  std::uint32_t* wall_sel() { return sel.data() + padded + 1; }
+  std::uint32_t* wall_sel() { return sel.data() + padded + 8; }
 
   /// The partners of a particle at xa within the support, in the stencil's order, fluid (nf) and walls (nw) apart:
   /// r² in vector lanes with a flag per candidate (1 fluid, 2 wall, 0 outside, a itself or padding), then the set
@@ -96,18 +100,35 @@ struct CellSearch {
       std::uint64_t w;
       std::memcpy(&w, flag + m0, 8);
       if (w == 0) continue;
-      for (std::uint64_t f = w & 0x0101010101010101ull; f != 0; f &= f - 1)
-        fsel[nf++] = static_cast<std::uint32_t>(m0 + (std::countr_zero(f) >> 3));
-      for (std::uint64_t g = (w >> 1) & 0x0101010101010101ull; g != 0; g &= g - 1)
-        wsel[nw++] = static_cast<std::uint32_t>(m0 + (std::countr_zero(g) >> 3));
+      nf += take8(bits8(w), m0, fsel + nf);
+      nw += take8(bits8(w >> 1), m0, wsel + nw);
     }
+  }
+
+  /// The eight flags' low bits (one per byte) as the bits of a byte.
+  static unsigned bits8(std::uint64_t w) { return static_cast<unsigned>(((w & 0x0101010101010101ull) * 0x0102040810204080ull) >> 56); }
+  /// The candidates m0 + k of the set bits k of `mask`, in order, into out (eight written); their count. Branch-free:
+  /// the set bits' places come from a table (the per-bit loop mispredicted its trip counts).
+  static std::size_t take8(unsigned mask, std::size_t m0, std::uint32_t* __restrict out) {
+    static constexpr auto places = [] {
+      std::array<std::uint64_t, 256> t{};
+      for (unsigned v = 0; v < 256; ++v) {
+        unsigned k = 0;
+        for (unsigned b = 0; b < 8; ++b)
+          if (v >> b & 1u) t[v] |= std::uint64_t(b) << (8 * k++);
+      }
+      return t;
+    }();
+    const std::uint64_t pl = places[mask];
+    for (unsigned k = 0; k < 8; ++k) out[k] = static_cast<std::uint32_t>(m0 + ((pl >> (8 * k)) & 0xffu));
+    return static_cast<std::size_t>(std::popcount(mask));
   }
 
   /// The kept entries of one part of a's row from k0 (a multiple of the lanes): the partners `which` (cnt of them),
   /// their W'(r) and e (each block's components apart), W(r) into wq; padded to `to` with a itself at W' = 0 and
   /// e = 0 (it adds zeros). Returns Σ W in the entries' order.
   template <class K>
-  F32 fill(const K& ker, const F32 xa[3], std::uint32_t a, const std::uint32_t* __restrict which, std::size_t cnt,
+  F32 fill(const K& ker, const F32 xa[3], std::uint32_t a, std::uint32_t* __restrict which, std::size_t cnt,
            std::size_t to, std::uint32_t* __restrict jo, F32* __restrict wo, F32* __restrict eo) {
     const F32* __restrict x0 = x[0];
     const F32* __restrict x1 = x[1];
@@ -116,24 +137,29 @@ struct CellSearch {
     const std::uint32_t* __restrict ix = idx.data();
     F32* __restrict wk = wq.data();
     const F32 xa0 = xa[0], xa1 = xa[1], xa2 = xa[2];
+    // a block of kLanes entries at a time, the padding (q >= cnt: candidate 0, its results replaced) in the same
+    // lanes: the loop vectorises (the candidates' columns gathered by index), where one over the entries with the
+    // padding apart stayed scalar
+    for (std::size_t q = cnt; q < to; ++q) which[q] = 0;
+    for (std::size_t q0 = 0; q0 < to; q0 += kLanes) {
+      F32* __restrict e0 = eo + q0 * D;
+      const std::uint32_t* __restrict wh = which + q0;
+      const std::size_t live = cnt - std::min(cnt, q0);
 #pragma omp simd
-    for (std::size_t q = 0; q < cnt; ++q) {
-      const std::uint32_t m = which[q];
-      const F32 r0 = xa0 - x0[m], r1 = xa1 - x1[m], r2c = D == 3 ? xa2 - x2[m] : F32(0);
-      const F32 rr = std::sqrt(rs[m]), inv = F32(1) / rr;
-      jo[q] = ix[m];
-      wo[q] = ker.F(rr) * rr;
-      wk[q] = ker.W(rr);
-      const std::size_t b = (q / kLanes) * kLanes * D + q % kLanes;
-      eo[b] = r0 * inv;
-      eo[b + kLanes] = r1 * inv;
-      if constexpr (D == 3) eo[b + 2 * kLanes] = r2c * inv;
-    }
-    for (std::size_t q = cnt; q < to; ++q) {
-      jo[q] = a;
-      wo[q] = F32(0);
-      const std::size_t b = (q / kLanes) * kLanes * D + q % kLanes;
-      for (int d = 0; d < D; ++d) eo[b + std::size_t(d) * kLanes] = F32(0);
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        const int m = static_cast<int>(wh[l]);
+        const F32 r0 = xa0 - x0[m], r1 = xa1 - x1[m], r2c = D == 3 ? xa2 - x2[m] : F32(0);
+        const F32 rr = std::sqrt(rs[m]), inv = F32(1) / rr;
+        const bool in = l < live;
+        const std::uint32_t jm = ix[m];
+        jo[q0 + l] = in ? jm : a;
+        const F32 f = ker.F(rr) * rr, w = ker.W(rr);
+        wo[q0 + l] = in ? f : F32(0);
+        wk[q0 + l] = in ? w : F32(0);
+        e0[l] = in ? r0 * inv : F32(0);
+        e0[kLanes + l] = in ? r1 * inv : F32(0);
+        if constexpr (D == 3) e0[2 * kLanes + l] = in ? r2c * inv : F32(0);
+      }
     }
     F32 s = 0;
     for (std::size_t q = 0; q < cnt; ++q) s += wk[q];
@@ -160,95 +186,119 @@ struct KeptRows {
   const F32 *dw, *ee;
 };
 
-/// Pass A over particle a's kept row: Σ (pa + pb) W' Vb e (D), Σ (pa − pb) W' Vb, the pair count (pk: p, V columns).
-template <int D>
-std::array<F32, D + 2> pressure_row(const KeptRows& R, const F32* __restrict pk, std::size_t np, std::uint32_t a) {
-  const std::uint32_t *kb = R.kb, *ke = R.ke;
-  const std::uint32_t* __restrict jj = R.jj;
-  const F32* __restrict dw = R.dw;
-  const F32* __restrict ee = R.ee;
-  const F32* __restrict pp = pk;
-  const F32* __restrict vv = pk + np;
-  const F32 pa = pp[a];
-  LaneSums<kLanes, D + 2> v;
-  for (std::uint32_t k0 = kb[a]; k0 < ke[a]; k0 += kLanes) {
-    const std::uint32_t* __restrict j = jj + k0;
-    const F32* __restrict w = dw + k0;
-    const F32* __restrict e = ee + std::size_t(k0) * D;
-    v.add([&](std::size_t l, auto&& acc) {
-      const F32 pb = pp[j[l]], wv = w[l] * vv[j[l]];
-      const F32 s = (pa + pb) * wv;
-      acc[0][l] += s * e[l];
-      acc[1][l] += s * e[kLanes + l];
-      if constexpr (D == 3) acc[2][l] += s * e[2 * kLanes + l];
-      acc[D][l] += (pa - pb) * wv;
-      acc[D + 1][l] += w[l] != F32(0) ? F32(1) : F32(0);
-    });
+/// The lane sums of a row (two vectors of eight: the lanes 0–15 of the scalar passes) reduced in lane_sum's order
+/// (core/pair_pass.hpp: 8, 4, 2, 1 apart), in registers: through memory it was a fifth of a 2D row.
+template <std::size_t N>
+std::array<F32, N> row_sums(const lanes8::v8f (&acc)[N][2]) {
+  std::array<F32, N> s;
+  for (std::size_t i = 0; i < N; ++i) {
+    const lanes8::v8f s8 = acc[i][0] + acc[i][1];
+    const lanes8::v4f s4 = __builtin_shufflevector(s8, s8, 0, 1, 2, 3) + __builtin_shufflevector(s8, s8, 4, 5, 6, 7);
+    const lanes8::v2f s2 = __builtin_shufflevector(s4, s4, 0, 1) + __builtin_shufflevector(s4, s4, 2, 3);
+    s[i] = s2[0] + s2[1];
   }
-  return v.sums();
+  return s;
 }
 
-/// Pass B over particle a's kept row: the Riemann dissipation Σ β U W' Vb d (D) and Σ ((ua − ub)·e) W' Vb (pk: u, V,
-/// wall normal columns; fk = k/c0).
+/// Pass A over particle a's kept row: Σ (pa + pb) W' Vb e (D), Σ (pa − pb) W' Vb, the pair count (pk: the {p, V}
+/// records). Each lane's operations are those of the lane-wise loop the rows had before (the same sums, bit for bit).
+template <int D>
+std::array<F32, D + 2> pressure_row(const KeptRows& R, const F32* __restrict pk, std::uint32_t a) {
+  using namespace lanes8;
+  const F32 pa = pk[2 * a];
+  const v8f one = splat(1.0f), zero = splat(0.0f);
+  v8f acc[D + 2][2];
+  for (auto& a2 : acc) a2[0] = a2[1] = zero;  // (not `= {}`: GCC called memset for it)
+  for (std::uint32_t k0 = R.kb[a]; k0 < R.ke[a]; k0 += kLanes)
+    for (int h = 0; h < 2; ++h) {
+      const std::uint32_t k = k0 + 8 * h;
+      v8f pb, vb;
+      gather2(pk, 2, R.jj + k, pb, vb);
+      const v8f w = load(R.dw + k);
+      const F32* e = R.ee + std::size_t(k0) * D + 8 * h;
+      const v8f wv = w * vb;
+      const v8f s = (pa + pb) * wv;
+      acc[0][h] += s * load(e);
+      acc[1][h] += s * load(e + kLanes);
+      if constexpr (D == 3) acc[2][h] += s * load(e + 2 * kLanes);
+      acc[D][h] += (pa - pb) * wv;
+      acc[D + 1][h] += w != zero ? one : zero;
+    }
+  return row_sums(acc);
+}
+
+/// Pass B over particle a's kept row: the Riemann dissipation Σ β U W' Vb d (D) and Σ ((ua − ub)·e) W' Vb (pk: the
+/// {u, V} records, then the walls' normals; fk = k/c0), lane by lane as before.
 template <int D>
 std::array<F32, D + 1> continuity_row(const KeptRows& R, const F32* __restrict pk, std::size_t np, F32 fk, std::uint32_t a) {
-  const std::uint32_t *kb = R.kb, *km = R.km, *ke = R.ke;
-  const std::uint32_t* __restrict jj = R.jj;
-  const F32* __restrict dw = R.dw;
-  const F32* __restrict ee = R.ee;
-  const F32* __restrict u0 = pk;
-  const F32* __restrict u1 = pk + np;
-  const F32* __restrict u2 = pk + (D - 1) * np;
-  const F32* __restrict vv = pk + D * np;
-  const F32* __restrict n0 = pk + (D + 1) * np;
-  const F32* __restrict n1 = pk + (D + 2) * np;
-  const F32* __restrict n2 = pk + (2 * D) * np;
-  const F32 ua0 = u0[a], ua1 = u1[a], ua2 = u2[a];
-  LaneSums<kLanes, D + 1> v;
+  using namespace lanes8;
+  const F32* __restrict nk = pk + 4 * np;
+  const F32 ua0 = pk[4 * a], ua1 = pk[4 * a + 1], ua2 = pk[4 * a + D - 1];
+  const v8f fkv = splat(fk), one = splat(1.0f), zero = splat(0.0f);
+  v8f acc[D + 1][2];
+  for (auto& a2 : acc) a2[0] = a2[1] = zero;
   // the fluid partners [kb, km), then the walls [km, ke): against a wall the dissipation acts along its normal
   // turned towards a, on twice the speed along it (the mirror state)
   auto part = [&](auto wall, std::uint32_t from, std::uint32_t to) {
     constexpr bool Wall = decltype(wall)::value;
-    for (std::uint32_t k0 = from; k0 < to; k0 += kLanes) {
-      const std::uint32_t* __restrict j = jj + k0;
-      const F32* __restrict w = dw + k0;
-      const F32* __restrict e = ee + std::size_t(k0) * D;
-      v.add([&](std::size_t l, auto&& acc) {
-        const std::uint32_t b = j[l];
-        const F32 wv = w[l] * vv[b];
-        const F32 e0 = e[l], e1 = e[kLanes + l], e2 = D == 3 ? e[2 * kLanes + l] : F32(0);
-        const F32 du0 = ua0 - u0[b], du1 = ua1 - u1[b], du2 = D == 3 ? ua2 - u2[b] : F32(0);
-        const F32 ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;  // (ua − ub)·e
-        acc[D][l] += ue * wv;
-        F32 d0 = e0, d1 = e1, d2 = e2, U = -ue;
+    for (std::uint32_t k0 = from; k0 < to; k0 += kLanes)
+      for (int h = 0; h < 2; ++h) {
+        const std::uint32_t k = k0 + 8 * h;
+        v8f u0, u1, u2 = zero, vb;
+        if constexpr (D == 3) gather4(pk, R.jj + k, u0, u1, u2, vb);
+        else {
+          v8f unused;
+          gather4(pk, R.jj + k, u0, u1, vb, unused);
+        }
+        const v8f wv = load(R.dw + k) * vb;
+        const F32* e = R.ee + std::size_t(k0) * D + 8 * h;
+        const v8f e0 = load(e), e1 = load(e + kLanes), e2 = D == 3 ? load(e + 2 * kLanes) : zero;
+        const v8f du0 = ua0 - u0, du1 = ua1 - u1, du2 = D == 3 ? ua2 - u2 : zero;
+        const v8f ue = D == 3 ? du0 * e0 + du1 * e1 + du2 * e2 : du0 * e0 + du1 * e1;  // (ua − ub)·e
+        acc[D][h] += ue * wv;
+        v8f d0 = e0, d1 = e1, d2 = e2, U = -ue;
         if constexpr (Wall) {
-          const F32 m0 = n0[b], m1 = n1[b], m2 = D == 3 ? n2[b] : F32(0);
-          const F32 en = D == 3 ? e0 * m0 + e1 * m1 + e2 * m2 : e0 * m0 + e1 * m1;
-          const F32 sn = en < F32(0) ? F32(-1) : F32(1);
+          v8f m0, m1, m2 = zero;
+          if constexpr (D == 3) {
+            v8f unused;
+            gather4(nk, R.jj + k, m0, m1, m2, unused);
+          } else {
+            gather2(nk, 4, R.jj + k, m0, m1);
+          }
+          const v8f en = D == 3 ? e0 * m0 + e1 * m1 + e2 * m2 : e0 * m0 + e1 * m1;
+          const v8f sn = en < zero ? -one : one;
           d0 = sn * m0;
           d1 = sn * m1;
-          d2 = D == 3 ? sn * m2 : F32(0);
+          d2 = D == 3 ? sn * m2 : zero;
           U = F32(-2) * (D == 3 ? du0 * d0 + du1 * d1 + du2 * d2 : du0 * d0 + du1 * d1);
         }
-        const F32 q = limited_dissipation(fk, U, wv);
-        acc[0][l] += q * d0;
-        acc[1][l] += q * d1;
-        if constexpr (D == 3) acc[2][l] += q * d2;
-      });
-    }
+        const v8f q = limited_dissipation(fkv, U, wv);  // (dual_terms.hpp, in lanes)
+        acc[0][h] += q * d0;
+        acc[1][h] += q * d1;
+        if constexpr (D == 3) acc[2][h] += q * d2;
+      }
   };
-  part(std::false_type{}, kb[a], km[a]);
-  part(std::true_type{}, km[a], ke[a]);
-  return v.sums();
+  part(std::false_type{}, R.kb[a], R.km[a]);
+  part(std::true_type{}, R.km[a], R.ke[a]);
+  return row_sums(acc);
 }
+
+/// One thread's part of a search: its (wall, fluid) pairs and the entries its rows need, on cache lines of its own
+/// (side by side, the two threads' counters and vector ends shared lines: the search took 1.4x the CPU time on 2
+/// threads that it took on one).
+struct alignas(64) ThreadRows {
+  Rows rows;
+  std::size_t need = 0;
+};
 
 /// Each wall particle's fluid partners from the threads' (wall, fluid) pairs, in the order found (a counting sort by
 /// wall over the threads in order).
 template <int D>
-void wall_rows(const std::vector<Rows>& rows, std::size_t np, WallPairs& W) {
+void wall_rows(const std::vector<ThreadRows>& per, std::size_t np, WallPairs& W) {
   W.begin.assign(np + 1, 0);
   std::size_t nwp = 0;
-  for (const Rows& R : rows) {
+  for (const ThreadRows& T : per) {
+    const Rows& R = T.rows;
     nwp += R.wall.size();
     for (const std::uint32_t w : R.wall) ++W.begin[w + 1];
   }
@@ -257,8 +307,9 @@ void wall_rows(const std::vector<Rows>& rows, std::size_t np, WallPairs& W) {
   W.fluid.resize(nwp);
   W.w.resize(nwp);
   W.r.resize(nwp * D);
-  for (const Rows& R : rows)
-    for (std::size_t q = 0; q < R.wall.size(); ++q) {
+  for (const ThreadRows& T : per)
+    for (std::size_t q = 0; q < T.rows.wall.size(); ++q) {
+      const Rows& R = T.rows;
       const std::uint32_t k = W.end[R.wall[q]]++;
       W.fluid[k] = R.wfluid[q];
       W.w[k] = R.ww[q];
@@ -283,8 +334,7 @@ void DualWCSPH<D>::find_pairs(System<D>& S, bool density) {
   // each thread writes its rows into its own region of the kept arrays (cap entries, gaps between regions); a region
   // too small for its thread's rows is found by the counts and the search runs again with larger ones
   const std::size_t nt = static_cast<std::size_t>(nthreads);
-  std::vector<Rows> rows(nt);
-  std::vector<std::size_t> need(nt, 0);
+  std::vector<ThreadRows> per(nt);
   if (kept_.cap == 0) kept_.cap = 64 * kLanes;
   auto needs = [&](std::size_t cell) {
     std::size_t m = 0;
@@ -302,8 +352,10 @@ void DualWCSPH<D>::find_pairs(System<D>& S, bool density) {
     kept_.j.resize(nt * cap);
     kept_.dw.resize(nt * cap);
     kept_.e.resize(nt * cap * D);
-    std::fill(need.begin(), need.end(), 0);
-    for (auto& R : rows) R.clear();
+    for (auto& T : per) {
+      T.need = 0;
+      T.rows.clear();
+    }
     S.with_kernel([&](const auto& K) {
       const F32 sup2 = F32(K.support2);
       if (sigma0_ <= 0.0) sigma0_ = lattice_kernel_sum<D>(K, S.dx);  // (after a restart too)
@@ -324,15 +376,16 @@ void DualWCSPH<D>::find_pairs(System<D>& S, bool density) {
           for (int d = 0; d < 3; ++d) xa[d] = F32(pos[a][std::min(d, D - 1)] - origin[std::min(d, D - 1)]);
           cs.select(xa, sup2);
           const std::size_t pf = (cs.nf + kLanes - 1) / kLanes * kLanes, pw = (cs.nw + kLanes - 1) / kLanes * kLanes;
-          const std::size_t first = ut * cap + need[ut];
-          need[ut] += pf + pw;
+          std::size_t& need = per[ut].need;
+          const std::size_t first = ut * cap + need;
+          need += pf + pw;
           if (first + pf + pw > (ut + 1) * cap) continue;  // (counted: the next attempt has room)
           std::uint32_t* jj = kept_.j.data();
           F32* dw = kept_.dw.data();
           F32* ee = kept_.e.data();
           F32 sw = cs.fill(K, xa, a, cs.fluid_sel(), cs.nf, pf, jj + first, dw + first, ee + first * D);
           sw += cs.fill(K, xa, a, cs.wall_sel(), cs.nw, pw, jj + first + pf, dw + first + pf, ee + (first + pf) * D);
-          cs.wall_side(xa, a, rows[ut]);
+          cs.wall_side(xa, a, per[ut].rows);
           // the summation density (walls count as lattice particles; a free-surface particle's truncated sum: ρ0)
           if (reinit) P.rho[a] = std::max(sigma_inv * (w_self + double(sw)), rho0);
           kept_.begin[a] = static_cast<std::uint32_t>(first);
@@ -342,7 +395,8 @@ void DualWCSPH<D>::find_pairs(System<D>& S, bool density) {
         return std::uint64_t(0);
       });
     });
-    const std::size_t most = *std::max_element(need.begin(), need.end());
+    std::size_t most = 0;
+    for (const auto& T : per) most = std::max(most, T.need);
     const std::size_t fit = (most + most / 4 + kLanes) / kLanes * kLanes;  // (room for the share to move)
     if (most <= cap) {
       if (fit < cap / 2) kept_.cap = fit;  // (shrink once the flow has settled into less)
@@ -350,7 +404,7 @@ void DualWCSPH<D>::find_pairs(System<D>& S, bool density) {
     }
     kept_.cap = fit;  // (a thread's rows did not fit: again with room for them; the density is the same)
   }
-  wall_rows<D>(rows, np, kept_.walls);
+  wall_rows<D>(per, np, kept_.walls);
   kept_.ids.assign(P.id.begin(), P.id.begin() + static_cast<std::ptrdiff_t>(np));
   kept_.layout = P.layout();
   kept_.valid = true;
@@ -404,7 +458,7 @@ void DualWCSPH<D>::kept_pass(System<D>& S, const K&) {
   auto& P = S.particles;
   const double rho0 = S.eos.rho0, c0 = S.eos.c0;
   const bool sym = cfg_.pressure_gradient == PressureGradient::Symmetric;
-  pack_columns<D, Pass>(P, sym, pack_);
+  pack_columns<D, Pass, true>(P, sym, pack_);  // (the records: dual_terms.hpp)
   const F32* __restrict pk = pack_.data();
   const std::size_t np = P.size(), n = P.n_owned();
   const Kind* __restrict kind = P.kind.data();
@@ -418,7 +472,7 @@ void DualWCSPH<D>::kept_pass(System<D>& S, const K&) {
     if (kind[a] != Kind::Fluid) continue;
     const double rhoa = P.rho[a];
     if constexpr (Pass == 0) {
-      const auto s = pressure_row<D>(R, pk, np, a);
+      const auto s = pressure_row<D>(R, pk, a);
       const double f = sym ? -1.0 : -1.0 / rhoa;
       Vec<D> ac = P.acc[a];  // the dissipation of the last continuity pass
       for (int d = 0; d < D; ++d) ac[d] += f * double(s[d]) + g[d];

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "sphflume/core/lanes8.hpp"
 #include "sphflume/core/pair_pass.hpp"
 #include "sphflume/core/particles.hpp"
 
@@ -115,11 +116,20 @@ template <int D, class K, bool VarH = false, class Acc>
 /// The Riemann dissipation's factor β U (the pair's weight): β = min(k max(U, 0)/c0, 1), fk = k/c0. max(U, 0) as
 /// (U + |U|)/2 (exact in float) and min as a value select: GCC 12 left the pass's loop scalar on AVX2 with std::max
 /// or a select here (AVX-512 was fine).
-[[gnu::always_inline]] inline F32 limited_dissipation(F32 fk, F32 U, F32 weight) {
-  const F32 bu = fk * F32(0.5) * (U + std::abs(U));
-  const F32 beta = bu < F32(1) ? bu : F32(1);
+/// One lane (F32) or eight (lanes8::v8f, the kept rows). (-Wpsabi: as in core/lanes8.hpp.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+[[gnu::always_inline]] inline F32 abs_lanes(F32 x) { return std::abs(x); }
+[[gnu::always_inline]] inline lanes8::v8f abs_lanes(lanes8::v8f x) { return lanes8::abs(x); }
+[[gnu::always_inline]] inline F32 min1_lanes(F32 x) { return x < F32(1) ? x : F32(1); }
+[[gnu::always_inline]] inline lanes8::v8f min1_lanes(lanes8::v8f x) { return x < F32(1) ? x : lanes8::splat(1.0f); }
+template <class T>
+[[gnu::always_inline]] inline T limited_dissipation(T fk, T U, T weight) {
+  const T bu = fk * F32(0.5) * (U + abs_lanes(U));
+  const T beta = min1_lanes(bu);
   return beta * U * weight;
 }
+#pragma GCC diagnostic pop
 /// Pass B, continuity and dissipation: (ua − ub)·r F V_b and β U F V_b d, U = −(ua − ub)·e the
 /// approach speed and d the dissipation's direction times r: r itself for fluid b; against a wall
 /// (WallBlock) twice the speed along n', its normal turned towards a, and d = r n' (the
@@ -155,8 +165,11 @@ template <int D, bool WallBlock, class K, bool VarH = false, class Acc>
 /// (a division per particle, not one per particle per stencil it falls in), so that the per-cell
 /// gathers only move floats; the pair sums are bitwise those of gathering from the particle
 /// arrays. Pass A: p (sym: p/ρ²) and V = m/ρ (sym: m); pass B: u, V, the wall normal (unit,
-/// walls only) and the fluid flag.
-template <int D, int Pass>
+/// walls only) and the fluid flag. Columns (the cell passes: value c of particle i at c np + i), or
+/// with Records the kept passes' records (dual_pairs.cpp, core/lanes8.hpp): pass A {p, V} at 2 i;
+/// pass B {u, V} in four floats at 4 i (2D: u0, u1, V, 0) and the normal {n, 0} at 4 np + 4 i (no
+/// fluid flag). The same values either way.
+template <int D, int Pass, bool Records = false>
 inline void pack_columns(ParticleStore<D>& P, bool sym, std::vector<float>& pack) {
   const double* __restrict rho = P.rho.data();
   const double* __restrict prs = P.p.data();
@@ -165,24 +178,41 @@ inline void pack_columns(ParticleStore<D>& P, bool sym, std::vector<float>& pack
   const Kind* __restrict kind = P.kind.data();
   const std::size_t np = P.size();
   const int npack = Pass == 0 ? 2 : Pass == 1 ? 2 * D + 2 : 0;
-  pack.resize(static_cast<std::size_t>(npack) * np);
+  if constexpr (Records) {
+    // (one size for both passes: resizing from pass A's to pass B's filled the difference with zeros each step)
+    if (pack.size() < 8 * np) pack.resize(8 * np);
+  } else {
+    pack.resize(static_cast<std::size_t>(npack) * np);
+  }
   F32* __restrict pk = pack.data();
   if constexpr (Pass == 0) {
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < np; ++i) {
-      pk[i] = F32(sym ? prs[i] / (rho[i] * rho[i]) : prs[i]);
-      pk[np + i] = F32(sym ? mass[i] : mass[i] / rho[i]);
+      const F32 pv = F32(sym ? prs[i] / (rho[i] * rho[i]) : prs[i]);
+      const F32 vv = F32(sym ? mass[i] : mass[i] / rho[i]);
+      pk[Records ? 2 * i : i] = pv;
+      pk[Records ? 2 * i + 1 : np + i] = vv;
     }
   } else if constexpr (Pass == 1) {
     const Vec<D>* __restrict wn = P.vector(field::wall_to_surface).data();
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < np; ++i) {
-      for (int d = 0; d < D; ++d) pk[d * np + i] = F32(vel[i][d]);
-      pk[D * np + i] = F32(mass[i] / rho[i]);
+      F32 u[4] = {0, 0, 0, 0}, n[4] = {0, 0, 0, 0};
+      for (int d = 0; d < D; ++d) u[d] = F32(vel[i][d]);
+      u[D] = F32(mass[i] / rho[i]);
       const bool fl = fluid_like(kind[i]);
       const double len = fl ? 0.0 : std::sqrt(dot(wn[i], wn[i]));
-      for (int d = 0; d < D; ++d) pk[(D + 1 + d) * np + i] = len > 0.0 ? F32(wn[i][d] / len) : F32(0);
-      pk[(2 * D + 1) * np + i] = fl ? F32(1) : F32(0);
+      for (int d = 0; d < D; ++d) n[d] = len > 0.0 ? F32(wn[i][d] / len) : F32(0);
+      if constexpr (Records) {
+        for (int c = 0; c < 4; ++c) {
+          pk[4 * i + c] = u[c];
+          pk[4 * (np + i) + c] = n[c];
+        }
+      } else {
+        for (int c = 0; c <= D; ++c) pk[c * np + i] = u[c];
+        for (int d = 0; d < D; ++d) pk[(D + 1 + d) * np + i] = n[d];
+        pk[(2 * D + 1) * np + i] = fl ? F32(1) : F32(0);
+      }
     }
   }
 }
