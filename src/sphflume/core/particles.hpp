@@ -277,6 +277,15 @@ class ParticleStore {
     if (runs_.capacity() > n / 256 + 512) std::vector<std::array<std::uint32_t, 3>>().swap(runs_);
   }
 
+  /// Room for n particles in every field (before adding them one by one: growing by doubling held up to twice the
+  /// store while it copied).
+  void reserve(std::size_t n) {
+    pos.reserve(n); vel.reserve(n); rho.reserve(n); p.reserve(n); mass.reserve(n);
+    kind.reserve(n); id.reserve(n); acc.reserve(n); drho.reserve(n);
+    for (auto& [k, f] : scalar_fields_) f.reserve(n);
+    for (auto& [k, f] : vector_fields_) f.reserve(n);
+  }
+
   /// Release spare capacity (after the particles are created one by one).
   void shrink_to_fit() {
     pos.shrink_to_fit(); vel.shrink_to_fit(); rho.shrink_to_fit(); p.shrink_to_fit(); mass.shrink_to_fit();

@@ -119,16 +119,11 @@ void read_restart(const std::string& path, ParticleStore<D>& P, RunState& rs) {
   if (!h5::exists(f.id, "restart"))
     throw InputError(fmt::format("--restart {}: this snapshot holds no restart data (/restart): it was written by an "
                                  "older version; restart from a newer snapshot or run again", path));
-  const auto id = h5::read_dataset<std::uint32_t>(f.id, "id", H5T_NATIVE_UINT32, 1, path);
-  const long long n = static_cast<long long>(id.size());
-  const auto pos = h5::read_dataset<double>(f.id, "position", H5T_NATIVE_DOUBLE, 3, path, n);
-  const auto vel = h5::read_dataset<double>(f.id, "velocity", H5T_NATIVE_DOUBLE, 3, path, n);
-  const auto prs = h5::read_dataset<double>(f.id, "pressure", H5T_NATIVE_DOUBLE, 1, path, n);
-  const auto rho = h5::read_dataset<double>(f.id, "density", H5T_NATIVE_DOUBLE, 1, path, n);
-  const auto mass = h5::read_dataset<double>(f.id, "mass", H5T_NATIVE_DOUBLE, 1, path, n);
-  const auto kind = h5::read_dataset<std::int32_t>(f.id, "kind", H5T_NATIVE_INT32, 1, path, n);
-  const auto acc = h5::read_dataset<double>(f.id, "restart/acc", H5T_NATIVE_DOUBLE, D, path, n);
-  const auto drho = h5::read_dataset<double>(f.id, "restart/drho", H5T_NATIVE_DOUBLE, 1, path, n);
+  // one dataset at a time into the store, each freed before the next is read: the peak is the store and one
+  // field (the whole file's arrays at once held 112 B per 3D particle beside it)
+  const auto nid = h5::read_dataset<std::uint32_t>(f.id, "id", H5T_NATIVE_UINT32, 1, path);
+  const long long n = static_cast<long long>(nid.size());
+  const auto count = static_cast<std::size_t>(n);
   rs = RunState{};
   parse_counters(h5::read_text(f.id, "restart/counters", path), rs, path);
   rs.case_text = h5::read_text(f.id, "restart/case", path);
@@ -148,33 +143,42 @@ void read_restart(const std::string& path, ParticleStore<D>& P, RunState& rs) {
   }
 
   P = ParticleStore<D>{};
-  auto at = [&](const std::vector<double>& v, std::size_t i) {
-    Vec<D> x;
-    x[0] = v[3 * i];
-    if constexpr (D == 3) x[1] = v[3 * i + 1];
-    x[D - 1] = v[3 * i + 2];
-    return x;
-  };
-  for (long long k = 0; k < n; ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    if (kind[i] < 0 || kind[i] >= kKindCount) throw InputError(fmt::format("{}: particle {} has an unknown kind {}", path, i, kind[i]));
-    P.add(at(pos, i), at(vel, i), rho[i], mass[i], static_cast<Kind>(kind[i]));
-    P.id[i] = id[i];
-    P.p[i] = prs[i];
-    for (int d = 0; d < D; ++d) P.acc[i][d] = acc[D * i + d];
-    P.drho[i] = drho[i];
-  }
-  for (const auto& name : names) {
-    if (name.rfind("scalar_", 0) == 0) {
-      const auto v = h5::read_dataset<double>(f.id, "restart/" + name, H5T_NATIVE_DOUBLE, 1, path, n);
-      auto& field = P.scalar(name.substr(7));
-      std::copy(v.begin(), v.end(), field.begin());
-    } else if (name.rfind("vector_", 0) == 0) {
-      const auto v = h5::read_dataset<double>(f.id, "restart/" + name, H5T_NATIVE_DOUBLE, D, path, n);
-      auto& field = P.vector(name.substr(7));
-      for (std::size_t i = 0; i < field.size(); ++i)
-        for (int d = 0; d < D; ++d) field[i][d] = v[D * i + d];
+  {
+    const auto kind = h5::read_dataset<std::int32_t>(f.id, "kind", H5T_NATIVE_INT32, 1, path, n);
+    P.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      if (kind[i] < 0 || kind[i] >= kKindCount) throw InputError(fmt::format("{}: particle {} has an unknown kind {}", path, i, kind[i]));
+      P.add(Vec<D>{}, Vec<D>{}, 0.0, 0.0, static_cast<Kind>(kind[i]));
     }
+  }
+  std::copy(nid.begin(), nid.end(), P.id.begin());
+  auto vectors = [&](const char* name, int cols, std::vector<Vec<D>>& to) {  // (files hold 3 columns, restart/ D)
+    const auto v = h5::read_dataset<double>(f.id, name, H5T_NATIVE_DOUBLE, static_cast<std::size_t>(cols), path, n);
+    for (std::size_t i = 0; i < count; ++i) {
+      const double* x = v.data() + std::size_t(cols) * i;
+      if (cols == 3) {
+        to[i][0] = x[0];
+        if constexpr (D == 3) to[i][1] = x[1];
+        to[i][D - 1] = x[2];
+      } else {
+        for (int d = 0; d < D; ++d) to[i][d] = x[d];
+      }
+    }
+  };
+  auto scalars = [&](const std::string& name, std::vector<double>& to) {
+    const auto v = h5::read_dataset<double>(f.id, name, H5T_NATIVE_DOUBLE, 1, path, n);
+    std::copy(v.begin(), v.end(), to.begin());
+  };
+  vectors("position", 3, P.pos);
+  vectors("velocity", 3, P.vel);
+  scalars("pressure", P.p);
+  scalars("density", P.rho);
+  scalars("mass", P.mass);
+  vectors("restart/acc", D, P.acc);
+  scalars("restart/drho", P.drho);
+  for (const auto& name : names) {
+    if (name.rfind("scalar_", 0) == 0) scalars("restart/" + name, P.scalar(name.substr(7)));
+    else if (name.rfind("vector_", 0) == 0) vectors(("restart/" + name).c_str(), D, P.vector(name.substr(7)));
   }
   P.shrink_to_fit();
 }

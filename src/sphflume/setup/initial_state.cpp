@@ -72,6 +72,7 @@ void add_particles(const Case& c, System<D>& S, const FillPoints<D>& f, BuildRep
     }
 
   auto& P = S.particles;
+  P.reserve(P.size() + f.fluid_x.size() + f.wall_x.size());  // (growing by doubling held up to twice the store)
   const double rho_wall = S.eos.density(S.eos.background);
   for (std::size_t i = 0; i < f.fluid_x.size(); ++i) {
     if (f.drop[i]) { ++rep.fluid_dropped_in_walls; continue; }

@@ -1,6 +1,7 @@
 // The output and checkpoint policy of a run (sim/output.hpp).
 #include "sphflume/sim/output.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -123,14 +124,16 @@ RunState RunOutput<D>::global_state() const {
 template <int D>
 void RunOutput<D>::write_snapshot() {
   System<D>& S = R_.S;
+  const auto t0 = std::chrono::steady_clock::now();
   const RunState st = global_state();
   if (!distributed_ || snaps_.collective()) {
     snaps_.write(S.particles, S.time, S.step, &st);
-    return;
+  } else {
+    gather_particles(S, gathered_);
+    if (comm_->root()) snaps_.write(gathered_, S.time, S.step, &st);
+    gathered_ = ParticleStore<D>();
   }
-  gather_particles(S, gathered_);
-  if (comm_->root()) snaps_.write(gathered_, S.time, S.step, &st);
-  gathered_ = ParticleStore<D>();
+  snapshot_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 template <int D>

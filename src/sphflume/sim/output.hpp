@@ -37,6 +37,8 @@ class RunOutput {
   void set_restart_point(const std::string& p) { restart_point_ = p; }
   const std::string& checkpoint_path() const { return checkpoint_; }
   std::size_t snapshot_count() const { return snaps_.count(); }
+  /// Wall seconds spent writing snapshots (the file, the XDMF index; in a distributed run also the gather).
+  double snapshot_seconds() const { return snapshot_seconds_; }
   bool collective() const { return snaps_.collective(); }
 
  private:
@@ -52,6 +54,7 @@ class RunOutput {
   std::unique_ptr<GaugeSet<D>> gauges_;
   ParticleStore<D> gathered_;  // a gathered store (HDF5 without MPI-IO), empty between writes
   long last_snapshot_step_ = -1;
+  double snapshot_seconds_ = 0.0;
   std::string restart_point_;
   std::string checkpoint_;
 };

@@ -196,7 +196,7 @@ RunResult run_dim(const Case& c, const RunOptions& o) {
   finish_result<D>(R, n, res.wall_seconds, res);
   const bool distributed = comm->size() > 1;
   Summary sm{end.status, end.failure, end.last_good, o.restart, end.dt, out.snapshot_count(), res.wall_seconds, res.cpu_seconds,
-             !distributed ? "one process" : out.collective() ? "collective" : "gathered"};
+             out.snapshot_seconds(), !distributed ? "one process" : out.collective() ? "collective" : "gathered"};
   try {
     write_summary<D>(o, c, R, sm, res);
   } catch (const IoError& e) {

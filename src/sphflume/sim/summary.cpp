@@ -77,6 +77,7 @@ void write_summary(const RunOptions& o, const Case& c, const Run<D>& R, const Su
   j["end_time"] = c.t_end;
   j["wall_seconds"] = sm.wall;
   j["cpu_seconds"] = sm.cpu;
+  j["snapshot_seconds"] = sm.snapshot_seconds;
   j["threads"] = thread_count();
   j["ranks"] = {{"count", S.comm->size()}, {"halo_bytes_per_step", ranks.halo_bytes_per_step},
                 {"imbalance", ranks.imbalance}, {"fluid_imbalance", ranks.fluid_imbalance},

@@ -16,6 +16,7 @@ struct Summary {
   std::size_t snapshots = 0;
   double wall = 0.0;
   double cpu = 0.0;  // the first rank's CPU time in the time loop (every thread)
+  double snapshot_seconds = 0.0;  // of wall: writing snapshots
   std::string snapshot_writes = "one process";  // distributed: "collective" (parallel HDF5) or "gathered"
 };
 
