@@ -252,6 +252,26 @@ def metrics(r, H=1.0, g=1.0, sensor=False):
                 energy_t7=float(np.interp(7.0, et, ee)), energy_end=float(ee[-1]))
 
 
+def buchner():
+    """validation/dambreak_buchner's rules and Buchner's (2002) measurement at the probe (None if not found)."""
+    import importlib.util
+    path = os.path.join(ROOT, "validation", "dambreak_buchner", "check.py")
+    spec = importlib.util.spec_from_file_location("buchner_check", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    exp = mod.measurement()
+    return mod, dict(impact=exp["impact"], rise=exp["rise"], mean=exp["mean"], sd=exp["sd"])
+
+
+def buchner_metrics(mod, exp, series):
+    """The impact (last reading <= 0.2 before the first >= the measured post-impact mean) and the time mean over
+    [2.8, 7] of one pressure series, by the validation check's rules (the same for the measurement)."""
+    t, p = np.asarray(series[0], float), np.asarray(series[1], float)
+    w = (t >= 2.8) & (t <= 7.0)
+    return dict(impact=float(mod.impact(t, p, exp["mean"])[0]),
+                mean=float(mod.time_mean(t, p, 2.8, 7.0)[0]) if np.count_nonzero(w) > 1 else float("nan"))
+
+
 def plot(dim, dp, sx, sf, png):
     import matplotlib
     matplotlib.use("Agg")
@@ -309,6 +329,7 @@ def main():
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
     print(f"machine: {cpu}, {os.cpu_count()} cores; SPHFlume {a.threads} threads; SPHinXsys flags '{a.cxx_flags}'")
     rows = []
+    bmod, bexp = buchner()
     for dim in dims:
         for dp in [float(v) for v in (a.dp2d if dim == "2d" else a.dp3d).split(",")]:
             tag = f"{dim}_dp{dp:g}"
@@ -331,6 +352,15 @@ def main():
             obs = observer_series(os.path.join(a.out, f"sphflume_{tag}"), dim, dp)
             if obs is not None:  # (SPHinXsys's gauge on SPHFlume's fields)
                 row["sphflume_observer"] = metrics(dict(sf, p=obs))
+            # Buchner's measurement at the probe, its rules applied alike to each code's series (3D runs to t < 7:
+            # the mean over what the window holds)
+            row["buchner"] = dict(measured=bexp, sphflume_probe=buchner_metrics(bmod, bexp, sf["p"]))
+            if sf.get("sensor") is not None:
+                row["buchner"]["sphflume_sensor"] = buchner_metrics(bmod, bexp, sf["sensor"][:2])
+            if obs is not None:
+                row["buchner"]["sphflume_observer"] = buchner_metrics(bmod, bexp, obs)
+            if sx:
+                row["buchner"]["sphinxsys"] = buchner_metrics(bmod, bexp, sx["p"])
             if sx:
                 row.update(sphinxsys_wall=sx["wall"], sphinxsys_process=sx["process"],
                            sphinxsys_advection_steps=sx["advection_steps"], sphinxsys=metrics(sx),
@@ -348,6 +378,15 @@ def main():
         print(f"| {r['case']} | {r['fluid']} | {r['sphflume_wall']:.1f} | {f(r.get('sphinxsys_wall'))} | "
               f"{f(r.get('ratio'))} | {f(sfm['impact'])} / {f(sxm.get('impact'))} | "
               f"{f(sfm['post_mean'])} / {f(sxm.get('post_mean'))} | {f(sfm['energy_t7'])} / {f(sxm.get('energy_t7'))} |")
+    print(f"\nBuchner (2002) at the probe, validation/dambreak_buchner's rules: impact {bexp['impact']:.3f} +- "
+          f"{bexp['rise']:.3f}, post-impact mean {bexp['mean']:.3f} +- {bexp['sd']:.3f}")
+    print("| case | SPHFlume point gauge | SPHFlume sensor | SPHFlume read by SPHinXsys's observer | SPHinXsys |")
+    print("|---|---|---|---|---|")
+    for r in rows:
+        b = r["buchner"]
+        cell = lambda k: "-" if k not in b else f"{b[k]['impact']:.3f} / {b[k]['mean']:.3f}"
+        print(f"| {r['case']} | {cell('sphflume_probe')} | {cell('sphflume_sensor')} | {cell('sphflume_observer')} | "
+              f"{cell('sphinxsys')} |")
 
 
 if __name__ == "__main__":
