@@ -20,7 +20,7 @@ Metrics (each freeboard), over the window from t0 = 10 s (the sea's ramp and tra
      the number of waves, the wall time; with --mode fine the dx = 0.02 runs beside (the convergence).
 Modes: fine dx = 0.01 (h0/dx = 40, Hm0/dx = 6) and dx = 0.02 for the convergence, 212.8 s (150 Tp); coarse dx = 0.02 to
 60 s (a smoke run of the whole chain, about 40 waves: gated against the band all the same). Not in CTest (hours).
-Usage: /usr/bin/python3 validation/overtopping_dike/check.py [--mode coarse|fine] [--dx DX] [--sphflume PATH] [--out DIR] [--reuse]
+Usage: /usr/bin/python3 validation/overtopping_dike/check.py [--mode coarse|fine] [--dx DX] [--ratio R] [--sphflume PATH] [--out DIR] [--reuse]
 """
 import math
 import os
@@ -61,13 +61,22 @@ def eurotop(hm0, tm, rc, shift=0.0):
     return min(q_b, q_n) * math.sqrt(G * hm0 ** 3), xi
 
 
+def options(ap):
+    add_spacing_option(ap)
+    ap.add_argument("--ratio", type=float, action="append", default=[],
+                    help="only the mode's runs at this Rc/Hm0 (repeatable; the runs are hours long: one per call)")
+
+
 def main():
-    a = validation_args(NAME, __doc__, MODES, add_spacing_option)  # (the runs are hours long: one spacing per call)
+    a = validation_args(NAME, __doc__, MODES, options)  # (the runs are hours long: one spacing per call)
     m = MODES[a.mode]
     rep = Report()
     fig, ax = plt.subplots(2, 1, figsize=(10, 8))
     results = {}
     runs = select_spacings(m["runs"], a.only_spacings, key=lambda r: r[0])
+    runs = [r for r in runs if not a.ratio or any(math.isclose(r[1], x) for x in a.ratio)]
+    if not runs:
+        raise SystemExit(f"--ratio {a.ratio}: no run at that freeboard (the mode's: {sorted({r[1] for r in m['runs']})})")
     for dx, ratio in runs:
         rc = ratio * HM0
         top = H0 + rc
