@@ -99,19 +99,42 @@ struct RatesPass {
   [[gnu::always_inline]] bool runs(std::uint32_t a) const { return !((kind[a] == Kind::Wall && !dyn) || kind[a] == Kind::Outflow); }
 };
 
+/// The packed columns a pass with these terms reads, one after another: column c's slot, or -1 when the pass does not
+/// read it (a 2D pass without turbulence, porosity, phases or levels packs 9 of the 22 columns).
+template <int D, bool Turb, bool Porous, bool Multi, bool VarH>
+constexpr int pack_slot(int c) {
+  constexpr int NT = Turbulence<D>::kStress;
+  int s = 0;
+  for (int k = U0; k < NCOL; ++k) {
+    const bool used = k < U0 + D || (k >= W0 && k < W0 + D) || (k >= RHO && k <= CS) || (Turb && k >= T0 && k < T0 + NT) ||
+                      (Porous && (k == PHI || k == IPHI)) || (Multi && (k == REF || k == PHS)) || (VarH && k == HS);
+    if (k == c) return used ? s : -1;
+    s += used ? 1 : 0;
+  }
+  return s;  // (c == NCOL: the number of packed columns)
+}
+
+/// Column c of the pack (the pack's start for a column the pass does not read, which it never dereferences).
+template <int D, bool Turb, bool Porous, bool Multi, bool VarH, class T>
+T* packed_column(T* pk, std::size_t np, int c) {
+  const int s = pack_slot<D, Turb, Porous, Multi, VarH>(c);
+  return pk + static_cast<std::size_t>(s < 0 ? 0 : s) * np;
+}
+
 /// The candidates' columns, packed once per pass in store order (a particle's values computed
 /// once, not once per stencil it falls in: the candidate-wise copy was a fifth of the 2D dam
 /// break's time, mostly the sound speed's power law): velocity, the no-slip walls' ghost
 /// correction, the density's deviation from its phase's reference (neighbour differences keep
 /// full float precision), pressure, mass, fluid flag, sound speed c(ρ_b) (any EOS); turbulence
 /// τ_b/ρ_b (walls carry none of their own); porous φ and 1/φ; phases ρ_ref and the phase.
-/// Column c of particle i at pack[(c - U0) np + i]; the per-cell gathers then only move floats.
+/// Column c of particle i at pack[slot(c) np + i], only the columns the pass reads (pack_slot); the per-cell gathers
+/// then only move floats.
 template <int D, bool Turb, bool Porous, bool Multi, bool VarH>
 void pack_rates(const RatesPass<D>& q, std::size_t np, std::vector<F32>& pack) {
   constexpr int NT = Turbulence<D>::kStress;
-  pack.resize(static_cast<std::size_t>(NCOL - U0) * np);
+  pack.resize(static_cast<std::size_t>(pack_slot<D, Turb, Porous, Multi, VarH>(NCOL)) * np);
   F32* __restrict pk = pack.data();
-  auto col = [pk, np](int c) { return pk + static_cast<std::size_t>(c - U0) * np; };
+  auto col = [pk, np](int c) { return packed_column<D, Turb, Porous, Multi, VarH>(pk, np, c); };
   const Eos eos = q.eos;
 #pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < np; ++b) {
@@ -147,7 +170,7 @@ template <int D, bool Turb, bool Porous, bool Multi, bool VarH>
 void gather_rates(const RatesPass<D>& q, const F32* pk, std::size_t np, const CellStencil<D>& st,
                   ScratchColumns<F32>& B, const Vec<D>& origin) {
   auto packed = [pk, np](int c, F32 pad = F32(0)) {
-    return column(c, pad, [p = pk + static_cast<std::size_t>(c - U0) * np](std::size_t j) { return p[j]; });
+    return column(c, pad, [p = packed_column<D, Turb, Porous, Multi, VarH>(pk, np, c)](std::size_t j) { return p[j]; });
   };
   constexpr int NT = Turbulence<D>::kStress;
   gather_columns(st, B, q.pos, origin, packed(U0), packed(U1), only_if<D == 3>(packed(U2)), packed(W0), packed(W1),
