@@ -396,6 +396,11 @@ time: {end: 1.0}
   for (std::size_t i = 0; i < rows.size(); ++i)
     for (std::size_t j = i + 1; j < rows.size(); ++j) closest = std::min(closest, norm(rows[i] - rows[j]));
   EXPECT_GE(closest, 0.5 * dx * 0.999);
+  // one lattice where the crest's rows meet the back face's: each segment laid its rows `layers` deep, and within
+  // that depth of the back face both filled the crest's corner, two lattices dx/sqrt(2) apart (overtopping README)
+  std::size_t corner = 0;
+  for (const auto& r : rows) corner += (r[0] > back - 3.0 * dx && r[1] > top - 3.0 * dx) ? 1 : 0;
+  EXPECT_LE(corner, 11u) << "a 3 dx x 3 dx block under the crest's landward corner holds 9 lattice points";
   const double line[4][2] = {{toe, 0.0}, {x1, top}, {back, top}, {back, 0.0}};
   std::size_t behind = 0;
   for (std::size_t i = 0; i < P.n_owned(); ++i) {

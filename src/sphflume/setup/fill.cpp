@@ -1,6 +1,7 @@
 // The lattice fill of a case's shapes (setup/fill.hpp).
 #include "sphflume/setup/fill.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -51,6 +52,19 @@ void slope_wall_rows(const ShapeConfig& s, std::uint32_t si, double dx, int laye
       // bed and the face, in which fluid settled and, on Jensen's rough 1:1.5 breakwater at dx = 0.01,
       // was torn below 0.7 rho0 at t = 3.54 s (validation/breakwater_jensen/README.md).
       if (x[1] < az - 1e-9 * dx) continue;
+      if (sf.size() > s.surface.size()) {  // a crest and a back face: each point to the rows of its nearest segment
+        bool other = false;
+        for (std::size_t m = 0; m + 1 < sf.size() && !other; ++m) {
+          if (static_cast<long>(m) == j) continue;
+          const double mx = sf[m + 1][0] - sf[m][0], mz = sf[m + 1][1] - sf[m][1];
+          const double l2 = mx * mx + mz * mz;
+          double u = ((x[0] - sf[m][0]) * mx + (x[1] - sf[m][1]) * mz) / l2;
+          u = std::clamp(u, 0.0, 1.0);
+          const double ex = sf[m][0] + u * mx - x[0], ez = sf[m][1] + u * mz - x[1];
+          other = ex * ex + ez * ez < dep * dep * (1.0 - 1e-9);  // (a tie stays: the crowding test below takes it)
+        }
+        if (other) continue;
+      }
       if (sf.size() > 2) {  // (a polyline: rows crowd at a concave bend)
         bool crowded = false;
         for (std::size_t e = first; e < f.wall_x.size() && !crowded; ++e) {
