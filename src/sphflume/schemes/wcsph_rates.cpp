@@ -254,9 +254,6 @@ template <int D, bool Turb>
   if (q.xs) q.xs[a] = sx;
 }
 
-/// Particle a's pair sums over its cell's candidates (the fused, vectorised loop: every term of
-/// the momentum and continuity equations in one pass) and its rates; returns its pair count.
-/// VarH (resolution levels): the pair's h_ab = (h_a + h_b)/2 in the kernel, η², Π_ab and δ-SPH.
 /// The candidates particle a can reach, as whole blocks of 16 (the loop's lanes): the stencil's first and last cell rows
 /// lie beyond a's support when a sits near its cell's other side (a fifth of the 2D dam break's blocks), and every
 /// term of a candidate beyond the support is a zero. Blocks are dropped only from the two ends, so that every
@@ -291,6 +288,9 @@ template <int D, bool VarH>
   return {b, e};
 }
 
+/// Particle a's pair sums over its cell's candidates (the fused, vectorised loop: every term of
+/// the momentum and continuity equations in one pass) and its rates; returns its pair count.
+/// VarH (resolution levels): the pair's h_ab = (h_a + h_b)/2 in the kernel, η², Π_ab and δ-SPH.
 template <int D, class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press, bool VarH>
 [[gnu::always_inline]] inline std::uint64_t rates_particle(const RatesPass<D>& q, const K& kl, const RatesColumns& c,
                                                           const Vec<D>& origin, std::uint32_t a) {

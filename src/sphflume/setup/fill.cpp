@@ -21,7 +21,9 @@ namespace {
 /// toe's level (the bed's walls are there; the rows reach down to it); and the toe's seal below them. Along a polyline the
 /// positions run on the arc length, each row point offset along its segment's normal; where
 /// rows of two segments crowd at a concave bend, a point closer than dx/2 to an earlier one is
-/// left out.
+/// left out. With a crest and a back face, a point nearer another segment than its own depth is left
+/// to that segment's rows, so that the corners hold one lattice (the crest's and the back face's rows
+/// overlapped under the landward corner: validation/overtopping_dike/README.md).
 void slope_wall_rows(const ShapeConfig& s, std::uint32_t si, double dx, int layers, FillPoints<2>& f) {
   const auto& sf = s.outline;
   const double ax = sf[0][0], az = sf[0][1];
