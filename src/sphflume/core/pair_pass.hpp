@@ -346,7 +346,7 @@ struct LaneSums {
 };
 
 /// The skeleton every vectorised pair loop shares (the WCSPH sweep, the dual integrator's passes,
-/// the dummy walls' extrapolation, the walls' backup): needs(cell), evaluated once per occupied
+/// the dummy walls' extrapolation, the walls' backup, the scalar transport's pair sums): needs(cell), evaluated once per occupied
 /// cell, returns how many of its particles the pass runs (0: the cell is skipped); for each
 /// other cell the stencil of its 3^D cells is set with `lanes` padding and the scratch columns
 /// are reserved, then body(cell, st, B) gathers its columns and runs the cell's particles.

@@ -7,12 +7,139 @@
 #include <fmt/format.h>
 #include <muParser.h>
 
+#include "sphflume/core/pair_pass.hpp"
+
 namespace sph {
 namespace {
 
 std::string src_name(const std::string& n) { return "_src_" + n; }
 std::string y0_name(const std::string& n) { return "_y0_" + n; }
 std::string rate_name(const std::string& n) { return "_rate_" + n; }
+
+/// One pair's term of dY_a/dt under each diffusion operator (the forms of docs/numerics.md), as num / den with the
+/// kernel's F r²/(r² + η²) folded in: one division per pair (the harmonic means' and the regularisation's), so that
+/// the candidate loop vectorises without a division's latency per factor. Branch-free: a lane whose den is zero is
+/// dropped by a select, never summed.
+struct PairSide {
+  double rho, irho, m, D, C, y;  // y = C/ρ
+};
+template <DiffusionOperator Op>
+[[gnu::always_inline]] inline double pair_term(double F, double r2, double r2e, const PairSide& a, const PairSide& b) {
+  double num, den;
+  if constexpr (Op == DiffusionOperator::Consistent) {  // m_b/(ρ_a ρ_b) 4 k_a k_b/(k_a + k_b) F (y_a − y_b), k = ρ D
+    const double ka = a.rho * a.D, kb = b.rho * b.D;
+    num = b.m * a.irho * b.irho * 4.0 * ka * kb * (a.y - b.y);
+    den = ka + kb;
+  } else if constexpr (Op == DiffusionOperator::Federico) {  // m_b/(ρ_a ρ_b) 4 D_a D_b/(D_a + D_b) (ρ_a + ρ_b) F (C_a − C_b)/ρ_a
+    num = b.m * a.irho * b.irho * 4.0 * a.D * b.D * (a.rho + b.rho) * (a.C - b.C) * a.irho;
+    den = a.D + b.D;
+  } else if constexpr (Op == DiffusionOperator::ZhuFox) {  // m_a/(ρ_a ρ_b) (D_a ρ_a + D_b ρ_b) F (C_a − C_b)/ρ_a
+    num = a.m * a.irho * b.irho * (a.D * a.rho + b.D * b.rho) * (a.C - b.C) * a.irho;
+    den = 1.0;
+  } else if constexpr (Op == DiffusionOperator::Tartakovsky) {  // (m_b ρ_a D_a + m_a ρ_b D_b)/(ρ_a ρ_b) F (C_a − C_b)/ρ_a
+    num = (b.m * a.rho * a.D + a.m * b.rho * b.D) * a.irho * b.irho * (a.C - b.C) * a.irho;
+    den = 1.0;
+  } else {  // Monaghan: m_b/(ρ_a ρ_b) 4 D_a D_b/(D_a + D_b) F (C_a − C_b)/ρ_a
+    num = b.m * a.irho * b.irho * 4.0 * a.D * b.D * (a.C - b.C) * a.irho;
+    den = a.D + b.D;
+  }
+  const double q = den * r2e;
+  return den > 0.0 ? F * r2 * num / q : 0.0;
+}
+
+/// The scalar pass's candidate columns after the positions (pair_pass.hpp): ρ, m, D (molecular + turbulent),
+/// 1/ρ, C, C/ρ, whether b enters a's sum (fluid-like, or a wall of prescribed value), whether b is such a wall, h_b (levels).
+enum TransportColumn : int { kRho = 3, kIRho, kMass, kDiff, kConc, kY, kIn, kWallSrc, kHs, kTransportColumns };
+
+/// Scalar k's pair sums of every owned fluid particle over its cell's candidates, in double precision (the loop
+/// vectorised over the candidates: Federico §4.1's operators, Kazemi's turbulent diffusivity, h_ab on levels);
+/// writes rate (the pair sum) and from_walls (m_a × the part from walls of prescribed value).
+template <int D, class K, DiffusionOperator Op, bool Lev>
+void pair_sums(System<D>& S, const K& ker, double eta2u, const double* C, const double* src, double Dm, double isc,
+               const double* nut, double* rate, double* from_walls) {
+  auto& P = S.particles;
+  const std::size_t n = P.n_owned();
+  const double eta2 = eta2u * S.h * S.h, support2 = ker.support2;
+  const double* hs = Lev ? S.level_h() : nullptr;
+  const Kind* kind = P.kind.data();
+  const double *rho = P.rho.data(), *mass = P.mass.data();
+  auto diff = [Dm, isc, nut](std::size_t j) { return nut ? Dm + nut[j] * isc : Dm; };
+  const auto& cells = S.cells;
+  const std::uint32_t* sorted = cells.sorted().data();
+  auto needs = [&](std::size_t cell) {
+    std::size_t m = 0;
+    for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) {
+      const std::uint32_t a = sorted[k];
+      if (a >= n) continue;
+      if (kind[a] == Kind::Fluid) ++m;
+      else rate[a] = from_walls[a] = 0.0;
+    }
+    return m;
+  };
+  sweep_cells<double>(cells, kTransportColumns, 8, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
+    const Vec<D> origin = P.pos[sorted[cells.cell_begin(cell)]];
+    gather_columns<D, double>(
+        st, B, P.pos.data(), origin, column(kRho, 1.0, [rho](std::size_t j) { return rho[j]; }),
+        column(kIRho, 1.0, [rho](std::size_t j) { return 1.0 / rho[j]; }),
+        column(kY, 0.0, [C, rho](std::size_t j) { return C[j] / rho[j]; }),
+        column(kMass, 0.0, [mass](std::size_t j) { return mass[j]; }), column(kDiff, 0.0, diff),
+        column(kConc, 0.0, [C](std::size_t j) { return C[j]; }),
+        column(kIn, 0.0, [kind, src](std::size_t j) {
+          return (fluid_like(kind[j]) || (kind[j] == Kind::Wall && src[j] == 1.0)) ? 1.0 : 0.0;
+        }),
+        column(kWallSrc, 0.0, [kind, src](std::size_t j) { return (kind[j] == Kind::Wall && src[j] == 1.0) ? 1.0 : 0.0; }),
+        only_if<Lev>(column(kHs, 1.0, [hs](std::size_t j) { return hs[j]; })));
+    const double* __restrict x0 = B[0];
+    const double* __restrict x1 = B[1];
+    const double* __restrict x2 = B[D - 1];
+    const double* __restrict brho = B[kRho];
+    const double* __restrict birho = B[kIRho];
+    const double* __restrict by = B[kY];
+    const double* __restrict bm = B[kMass];
+    const double* __restrict bd = B[kDiff];
+    const double* __restrict bc = B[kConc];
+    const double* __restrict bin = B[kIn];
+    const double* __restrict bws = B[kWallSrc];
+    const double* __restrict bh = B[kHs];
+    const std::size_t npad = st.padded;
+    // the loop's constants as locals (read through the captured references, GCC gathered them lane by lane)
+    const K kl = ker;
+    const double l_eta2 = eta2, l_eta2u = eta2u, l_support2 = support2;
+    std::uint64_t pairs = 0;
+    for (std::uint32_t q = cells.cell_begin(cell); q < cells.cell_end(cell); ++q) {
+      const std::uint32_t a = sorted[q];
+      if (a >= n || kind[a] != Kind::Fluid) continue;
+      const PairSide pa{rho[a], 1.0 / rho[a], mass[a], diff(a), C[a], C[a] / rho[a]};
+      const double ha = Lev ? hs[a] : 0.0;
+      const double xa0 = P.pos[a][0] - origin[0], xa1 = P.pos[a][1] - origin[1], xa2 = P.pos[a][D - 1] - origin[D - 1];
+      double sum = 0.0, walls = 0.0, cnt = 0.0;
+#pragma omp simd reduction(+ : sum, walls, cnt)
+      for (std::size_t k = 0; k < npad; ++k) {
+        const double r0 = xa0 - x0[k], r1 = xa1 - x1[k], r2c = D == 3 ? xa2 - x2[k] : 0.0;
+        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+        double F, r2e;
+        if constexpr (Lev) {
+          const double hab = 0.5 * (ha + bh[k]);
+          F = kl.Fh(std::sqrt(r2), 1.0 / hab);  // (the one division left besides the term's: h_ab's)
+          r2e = r2 + l_eta2u * hab * hab;
+        } else {
+          F = kl.F(std::sqrt(r2));
+          r2e = r2 + l_eta2;
+        }
+        const double t = pair_term<Op>(F, r2, r2e, pa, PairSide{brho[k], birho[k], bm[k], bd[k], bc[k], by[k]});
+        const bool in = (r2 > 0.0) & (r2 < l_support2) & (bin[k] > 0.0);
+        const double tt = in ? t : 0.0;
+        sum += tt;
+        walls += tt * bws[k];
+        cnt += in ? 1.0 : 0.0;
+      }
+      rate[a] = sum;
+      from_walls[a] = pa.m * walls;
+      pairs += static_cast<std::uint64_t>(cnt);
+    }
+    return pairs;
+  });
+}
 
 }  // namespace
 
@@ -110,7 +237,6 @@ template <class K>
 void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
-  const double eta2 = eta2_ * S.h * S.h;
   // resolution levels (docs/numerics.md §14): the pair's h_ab = (h_a + h_b)/2 in F and η², so that every pair term
   // stays antisymmetric and Σ m C/ρ is kept between particles of different sizes
   const double* hs = S.level_h();
@@ -125,54 +251,29 @@ void ScalarTransport<D>::rates_kernel(System<D>& S, const K& ker) {
     const double* src = P.scalar(src_name(sc.name)).data();
     double* rate = P.scalar(rate_name(sc.name)).data();
     const double Dm = sc.diffusivity, isc = (sc.schmidt_turbulent > 0.0 && nut) ? 1.0 / sc.schmidt_turbulent : 0.0;
-    auto diff = [&](std::size_t i) { return Dm + (isc > 0.0 ? nut[i] * isc : 0.0); };
+    const double* nut_k = isc > 0.0 ? nut : nullptr;  // (the turbulent part only when the scalar takes it)
+    // the pair sums (vectorised over each cell's candidates), then the advection and reaction terms; the walls'
+    // release summed in index order (the same bits on any number of threads)
+    from_walls_.resize(n);
+    auto run = [&]<DiffusionOperator Op>() {
+      if (hs) pair_sums<D, K, Op, true>(S, ker, eta2_, C, src, Dm, isc, nut_k, rate, from_walls_.data());
+      else pair_sums<D, K, Op, false>(S, ker, eta2_, C, src, Dm, isc, nut_k, rate, from_walls_.data());
+    };
+    switch (op) {
+      case DiffusionOperator::Consistent: run.template operator()<DiffusionOperator::Consistent>(); break;
+      case DiffusionOperator::Federico: run.template operator()<DiffusionOperator::Federico>(); break;
+      case DiffusionOperator::ZhuFox: run.template operator()<DiffusionOperator::ZhuFox>(); break;
+      case DiffusionOperator::Tartakovsky: run.template operator()<DiffusionOperator::Tartakovsky>(); break;
+      case DiffusionOperator::Monaghan: run.template operator()<DiffusionOperator::Monaghan>(); break;
+    }
     double src_rate = 0.0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : src_rate)
     for (std::size_t a = 0; a < n; ++a) {
-      if (P.kind[a] != Kind::Fluid) { rate[a] = 0.0; continue; }
-      const double rhoa = P.rho[a], ma = P.mass[a], Da = diff(a), ya = C[a] / rhoa, ka = rhoa * Da;
-      double sum = 0.0, from_walls = 0.0;
-      S.cells.for_neighbours(P.pos, P.pos[a], ker.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
-        if (r2 <= 0.0) return;
-        const Kind kb = P.kind[b];
-        const bool wall_src = kb == Kind::Wall && src[b] == 1.0;
-        if (!(fluid_like(kb) || wall_src)) return;
-        const double rhob = P.rho[b], mb = P.mass[b], Db = diff(b);
-        const double hab = hs ? 0.5 * (hs[a] + hs[b]) : 0.0;
-        const double F = hs ? ker.Fh(std::sqrt(r2), 1.0 / hab) * r2 / (r2 + eta2_ * hab * hab)
-                            : ker.F(std::sqrt(r2)) * r2 / (r2 + eta2);
-        double t = 0.0;
-        switch (op) {
-          case DiffusionOperator::Consistent: {
-            const double kb_ = rhob * Db;
-            const double kk = ka + kb_ > 0.0 ? 4.0 * ka * kb_ / (ka + kb_) : 0.0;
-            t = mb / (rhoa * rhob) * kk * F * (ya - C[b] / rhob);
-            break;
-          }
-          case DiffusionOperator::Federico: {
-            const double dd = Da + Db > 0.0 ? 4.0 * Da * Db / (Da + Db) : 0.0;
-            t = mb / (rhoa * rhob) * dd * (rhoa + rhob) * F * (C[a] - C[b]) / rhoa;
-            break;
-          }
-          case DiffusionOperator::ZhuFox:
-            t = ma / (rhoa * rhob) * (Da * rhoa + Db * rhob) * F * (C[a] - C[b]) / rhoa;
-            break;
-          case DiffusionOperator::Tartakovsky:
-            t = (mb * rhoa * Da + ma * rhob * Db) / (rhoa * rhob) * F * (C[a] - C[b]) / rhoa;
-            break;
-          case DiffusionOperator::Monaghan: {
-            const double dd = Da + Db > 0.0 ? 4.0 * Da * Db / (Da + Db) : 0.0;
-            t = mb / (rhoa * rhob) * dd * F * (C[a] - C[b]) / rhoa;
-            break;
-          }
-        }
-        sum += t;
-        if (wall_src) from_walls += t;
-      });
-      double r = sum - advect * ya / rhoa * P.drho[a];
+      if (P.kind[a] != Kind::Fluid) continue;
+      const double rhoa = P.rho[a], ya = C[a] / rhoa;
+      double r = rate[a] - advect * ya / rhoa * P.drho[a];
       if (sc.reaction_rate > 0.0) r -= sc.reaction_rate * (C[a] - sc.equilibrium) / rhoa;
       rate[a] = r;
-      src_rate += ma * from_walls;
+      src_rate += from_walls_[a];
     }
     // flux sources: region r releases q_r × area_r, shared in proportion to Σ_w W_aw V_a
     int flux_index = 0;

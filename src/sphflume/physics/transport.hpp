@@ -88,6 +88,7 @@ class ScalarTransport {
   std::vector<std::vector<double>> rate_;     // per scalar, per owned particle: dY/dt
   std::vector<double> source_rate_;           // per scalar: source mass per second of the last pass
   std::vector<double> source_mass_;           // per scalar: cumulative
+  std::vector<double> from_walls_;            // per owned particle: m_a × its pair sum's part from source walls
 };
 
 }  // namespace sph
