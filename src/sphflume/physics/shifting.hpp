@@ -54,7 +54,7 @@ class Shifting {
   void displace(System<D>& S, double dt);  // the velocity-scaled form's second pass, from gc_ and at_surface_
   std::vector<Vec<D>> gc_;       // ∇C per particle (images included)
   std::vector<char> at_surface_;  // ∇·r below the threshold
-  std::vector<double> divr_;      // ∇·r (constant form)
+  std::vector<double> divr_;      // ∇·r per particle (both forms)
   std::vector<char> near_cells_;  // cells within one cell of a surface particle's
 };
 
