@@ -101,14 +101,13 @@ void surface_moments(System<D>& S, const K& ker, const double* phi, Vec<D>* gc, 
     const std::size_t npad = st.padded;
     const K kl = ker;  // (the loop's constants as locals: through the reference GCC gathers them lane by lane)
     const double l_support2 = ker.support2;
-    std::uint64_t pairs = 0;
     for (std::uint32_t q = cells.cell_begin(cell); q < cells.cell_end(cell); ++q) {
       const std::uint32_t a = sorted[q];
       if (a >= n || kind[a] != Kind::Fluid) continue;
       const double xa0 = P.pos[a][0] - origin[0], xa1 = P.pos[a][1] - origin[1], xa2 = P.pos[a][D - 1] - origin[D - 1];
       const double ha = Lev ? hs[a] : 0.0;
-      double g0 = 0.0, g1 = 0.0, g2 = 0.0, dv = 0.0, cnt = 0.0;
-#pragma omp simd reduction(+ : g0, g1, g2, dv, cnt)
+      double g0 = 0.0, g1 = 0.0, g2 = 0.0, dv = 0.0;
+#pragma omp simd reduction(+ : g0, g1, g2, dv)
       for (std::size_t k = 0; k < npad; ++k) {
         const double r0 = xa0 - x0[k], r1 = xa1 - x1[k], r2c = D == 3 ? xa2 - x2[k] : 0.0;
         const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
@@ -120,13 +119,11 @@ void surface_moments(System<D>& S, const K& ker, const double* phi, Vec<D>* gc, 
         g1 += f * r1;
         g2 += f * r2c;
         dv -= f * r2;
-        cnt += in ? 1.0 : 0.0;
       }
       for (int d = 0; d < D; ++d) gc[a][d] = d == 0 ? g0 : d == 1 ? g1 : g2;
       divr[a] = dv;
-      pairs += static_cast<std::uint64_t>(cnt);
     }
-    return pairs;
+    return std::uint64_t{0};  // (no pair count: nothing reads it)
   });
 }
 
