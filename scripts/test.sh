@@ -8,4 +8,6 @@ scripts/build.sh
 cd build
 # the suite's ParaView round trip must run, not skip (install-deps --tests installed pvpython)
 export SPHFLUME_REQUIRE_PARAVIEW=1
-ctest --output-on-failure -j 1 "$@"
+# as many tests at once as cores: the checks run one thread each (CMakeLists.txt), the tests that run two threads or
+# two ranks take two slots (PROCESSORS)
+ctest --output-on-failure -j "$(nproc)" "$@"
