@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 
+#include "sphflume/core/interpolate.hpp"
 #include "test_helpers.hpp"
 
 using namespace sph;
@@ -208,4 +209,48 @@ TEST(Walls, CoveredFacesAreFlaggedAndPushNoFluid) {
   const double g = 9.81;
   EXPECT_GE(lowest_push_beside_block(false), -1e-9 * g);  // nothing pushes the fluid into the floor
   EXPECT_LT(lowest_push_beside_block(true), -g);           // the control: the foot does, without the flags
+}
+
+// First-order MLS (core/interpolate.hpp; the fixed ghost walls' interpolation, Marrone et al. 2011, Federico §5.2.6)
+// reproduces a linear field exactly wherever the moment matrix is regular: inside the block, at a corner where
+// three quarters of the support are empty, and at a point outside the block with fluid within its support (a
+// mirror point's case), in 2D and 3D; several fields at once. Round-off of sums of order 1: 1e-10.
+template <int D>
+void mls_reproduces_linear_fields(const std::string& yaml, const std::vector<Vec<D>>& points) {
+  test::Setup<D> s(yaml);
+  auto& S = s.S;
+  auto& P = S.particles;
+  auto lin = [](const Vec<D>& x, int k) {
+    double v = 3.0 + k;
+    for (int d = 0; d < D; ++d) v += (d + 1.5) * (k % 2 ? -1.0 : 1.0) * x[d];
+    return v;
+  };
+  S.update_neighbours();
+  for (const auto& x : points) {
+    const auto v = interpolate_mls_n<D, D + 1>(S, x, [&](std::uint32_t b) {
+      std::array<double, D + 1> f;
+      for (int k = 0; k <= D; ++k) f[k] = lin(P.pos[b], k);
+      return f;
+    });
+    ASSERT_TRUE(v.has_value());
+    for (int k = 0; k <= D; ++k) EXPECT_NEAR((*v)[k], lin(x, k), 1e-10) << "field " << k << " at " << x[0] << ", " << x[1];
+  }
+  // no water within the support: empty
+  Vec<D> far{};
+  far[0] = 10.0;
+  EXPECT_FALSE((interpolate_mls_n<D, 1>(S, far, [&](std::uint32_t) { return std::array<double, 1>{1.0}; })).has_value());
+}
+
+TEST(Walls, MlsReproducesLinearFieldsWhereTheSupportIsCut) {
+  mls_reproduces_linear_fields<2>(test::kLattice2D, {Vec<2>{{0.15, 0.15}}, Vec<2>{{0.297, 0.296}}, Vec<2>{{0.31, 0.15}}});
+  mls_reproduces_linear_fields<3>(R"(
+dimension: 3
+gravity: [0.0, 0.0, 0.0]
+particles: {dx: 0.02, kernel: wendland_c2, h_over_dx: 1.5}
+fluid: {density: 1000.0, sound_speed: 10.0, hydrostatic_init: false}
+geometry:
+  - {type: box, fill: fluid, min: [0.0, 0.0, 0.0], max: [0.2, 0.2, 0.2]}
+time: {end: 1.0}
+)",
+                                  {Vec<3>{{0.1, 0.1, 0.1}}, Vec<3>{{0.195, 0.196, 0.197}}, Vec<3>{{0.1, 0.1, 0.215}}});
 }

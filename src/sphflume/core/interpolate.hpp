@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -56,42 +57,100 @@ double fluid_fraction(const System<D>& S, const Vec<D>& x) {
 /// reproduces linear fields exactly also where the kernel is truncated (walls, surface).
 /// Falls back to the Shepard average when the moment matrix is ill-conditioned; empty when
 /// no fluid particle is within the kernel support.
+/// The particles that carry water within the support are copied into columns (x_b − x, V_b = m_b/(ρ_b φ_b), 1/h_b on
+/// levels, the fields) and the moments Σ w q qᵀ and Σ w f q (q = (1, (x_b − x)/h), w = V_b W) summed in blocks of
+/// eight lanes, vectorised: the fixed ghost walls call this for every wall particle before every pass.
 template <int D, int NF, class Fields>
 std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, const Vec<D>& x, Fields&& f) {
   const auto& P = S.particles;
-  using M = Eigen::Matrix<double, D + 1, D + 1>;
-  using Vv = Eigen::Matrix<double, D + 1, 1>;
+  constexpr int NQ = D + 1, NM = NQ * (NQ + 1) / 2, NA = NM + NF * NQ, L = 8;
+  constexpr int NC = D + 2 + NF;  // columns: x_b − x (D), V_b, 1/h_b, the fields
+  using M = Eigen::Matrix<double, NQ, NQ>;
+  using Vv = Eigen::Matrix<double, NQ, 1>;
   const double* phi = porosity_field(S);
   const double* hs = level_h_field(S);
   return S.with_kernel([&](const auto& K) -> std::optional<std::array<double, NF>> {
-    M A = M::Zero();
-    std::array<Vv, NF> rhs;
-    for (auto& r : rhs) r = Vv::Zero();
-    double sw = 0.0;
-    std::array<double, NF> sf{};
-    int n = 0;
-    S.cells.for_neighbours(P.pos, x, K.support, [&](std::uint32_t b, const Vec<D>& rxb, double r2) {
-      if (!fluid_like(P.kind[b])) return;
-      const double w = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0)) * point_kernel(K, hs, b, std::sqrt(r2));
-      Vv q;
-      q[0] = 1.0;
-      for (int d = 0; d < D; ++d) q[d + 1] = -rxb[d] / K.h;  // (x_b - x)/h
-      A += w * q * q.transpose();
-      const std::array<double, NF> fb = f(b);
-      for (int k = 0; k < NF; ++k) {
-        rhs[k] += (w * fb[k]) * q;
-        sf[k] += w * fb[k];
+    thread_local std::vector<double> col;
+    std::uint32_t rg[CellList<D>::kMaxRanges][2];
+    const int nr = S.cells.ranges(x, rg, K.support);
+    std::size_t m = 0;
+    for (int r = 0; r < nr; ++r) m += rg[r][1] - rg[r][0];
+    if (col.size() < NC * (m + L)) col.resize(NC * (m + L));
+    const std::size_t stride = m + L;  // (every candidate might be kept)
+    double* c = col.data();
+    const std::uint32_t* sorted = S.cells.sorted().data();
+    const double support2 = K.support2;
+    std::size_t k = 0;  // the candidates that carry water within the support, compacted
+    for (int r = 0; r < nr; ++r)
+      for (std::uint32_t e = rg[r][0]; e < rg[r][1]; ++e) {
+        const std::uint32_t b = sorted[e];
+        const Vec<D> rb = P.pos[b] - x;
+        if (!(dot(rb, rb) < support2) || !fluid_like(P.kind[b])) continue;
+        for (int d = 0; d < D; ++d) c[d * stride + k] = rb[d];
+        c[D * stride + k] = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
+        c[(D + 1) * stride + k] = hs ? 1.0 / hs[b] : 0.0;
+        const std::array<double, NF> fb = f(b);
+        for (int j = 0; j < NF; ++j) c[(D + 2 + j) * stride + k] = fb[j];
+        ++k;
       }
-      sw += w;
-      ++n;
-    });
+    const int n = static_cast<int>(k);
+    const std::size_t npad = (k + L - 1) / L * L;
+    for (; k < npad; ++k)
+      for (int j = 0; j < NC; ++j) c[j * stride + k] = 0.0;  // (padding: no volume, so no weight)
+    const auto kl = K;  // (the loop's constants as locals)
+    const double ih = 1.0 / K.h;
+    alignas(64) double acc[NA][L] = {};
+    auto blocks = [&](auto lev) {
+      constexpr bool Lev = decltype(lev)::value;
+      for (std::size_t b0 = 0; b0 < npad; b0 += L) {
+        const double* __restrict cb = c + b0;
+#pragma omp simd
+        for (int l = 0; l < L; ++l) {
+          double r2 = 0.0;
+#pragma GCC unroll 3
+          for (int d = 0; d < D; ++d) r2 += cb[d * stride + l] * cb[d * stride + l];
+          const double r = std::sqrt(r2);
+          double W;
+          if constexpr (Lev) W = kl.Wh(r, cb[(D + 1) * stride + l]);
+          else W = kl.W(r);
+          const double vb = cb[D * stride + l];
+          const double w = vb * W;  // (the padding's volume is 0)
+          double q[NQ];
+          q[0] = 1.0;
+#pragma GCC unroll 3
+          for (int d = 0; d < D; ++d) q[d + 1] = cb[d * stride + l] * ih;
+#pragma GCC unroll 16
+          for (int u = 0; u < NQ; ++u)
+#pragma GCC unroll 16
+            for (int v = u; v < NQ; ++v) acc[u * NQ - u * (u - 1) / 2 + (v - u)][l] += w * q[u] * q[v];
+#pragma GCC unroll 8
+          for (int j = 0; j < NF; ++j) {
+            const double wf = w * cb[(D + 2 + j) * stride + l];
+#pragma GCC unroll 4
+            for (int u = 0; u < NQ; ++u) acc[NM + j * NQ + u][l] += wf * q[u];
+          }
+        }
+      }
+    };
+    if (hs) blocks(std::true_type{});
+    else blocks(std::false_type{});
+    double sum[NA];
+    for (int a = 0; a < NA; ++a) {
+      double t = 0.0;
+      for (int l = 0; l < L; ++l) t += acc[a][l];
+      sum[a] = t;
+    }
+    const double sw = sum[0];
     if (n == 0 || sw <= 0.0) return std::nullopt;
+    M A;
+    for (int u = 0, a = 0; u < NQ; ++u)
+      for (int v = u; v < NQ; ++v, ++a) A(u, v) = A(v, u) = sum[a];
     std::array<double, NF> out{};
     Eigen::FullPivLU<M> lu(A);
     if (n > D + 1 && lu.rank() == D + 1 && std::abs(lu.determinant()) > 1e-6 * std::pow(A(0, 0), D + 1)) {
-      for (int k = 0; k < NF; ++k) out[k] = Vv(lu.solve(rhs[k]))[0];
+      for (int j = 0; j < NF; ++j) out[j] = Vv(lu.solve(Vv(Eigen::Map<const Vv>(sum + NM + j * NQ))))[0];
     } else {
-      for (int k = 0; k < NF; ++k) out[k] = sf[k] / sw;
+      for (int j = 0; j < NF; ++j) out[j] = sum[NM + j * NQ] / sw;
     }
     return out;
   });
