@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "sphflume/core/fields.hpp"
-#include "sphflume/core/pair_pass.hpp"
+#include "sphflume/core/volume_sweep.hpp"
 
 namespace sph {
 
@@ -48,54 +48,29 @@ void setup_phases(const Case& c, System<D>& S) {
 
 namespace {
 /// Γ_a = Σ_b V_b W_ab (V_b = m_b/ρ_b, b = a included, every kind; levels: h_ab) of every owned fluid particle, on
-/// the pair-pass seam in double precision (each cell's candidates in columns, the loop vectorised).
+/// the pair-pass seam in double precision (core/volume_sweep.hpp).
 template <int D, class K, bool Lev>
 void gamma_sums(System<D>& S, const K& ker, double* gam) {
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  const double* hs = Lev ? S.level_h() : nullptr;
-  const Kind* kind = P.kind.data();
-  const double *rho = P.rho.data(), *mass = P.mass.data();
-  const auto& cells = S.cells;
-  const std::uint32_t* sorted = cells.sorted().data();
-  enum : int { kVol = 3, kHs, kCols };
-  auto needs = [&](std::size_t cell) {
-    std::size_t m = 0;
-    for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
-      m += (sorted[k] < n && kind[sorted[k]] == Kind::Fluid) ? 1 : 0;
-    return m;
-  };
-  sweep_cells<double>(cells, kCols, 8, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
-    const Vec<D> origin = P.pos[sorted[cells.cell_begin(cell)]];
-    gather_columns<D, double>(st, B, P.pos.data(), origin,
-                              column(int(kVol), 0.0, [rho, mass](std::size_t j) { return mass[j] / rho[j]; }),
-                              only_if<Lev>(column(int(kHs), 1.0, [hs](std::size_t j) { return hs[j]; })));
-    const double* __restrict x0 = B[0];
-    const double* __restrict x1 = B[1];
-    const double* __restrict x2 = B[D - 1];
-    const double* __restrict bv = B[kVol];
-    const double* __restrict bh = B[kHs];
-    const std::size_t npad = st.padded;
-    const K kl = ker;  // (the loop's constants as locals: through the reference GCC gathers them lane by lane)
-    const double l_support2 = ker.support2;
-    for (std::uint32_t q = cells.cell_begin(cell); q < cells.cell_end(cell); ++q) {
-      const std::uint32_t a = sorted[q];
-      if (a >= n || kind[a] != Kind::Fluid) continue;
-      const double xa0 = P.pos[a][0] - origin[0], xa1 = P.pos[a][1] - origin[1], xa2 = P.pos[a][D - 1] - origin[D - 1];
-      const double ha = Lev ? hs[a] : 0.0;
-      double g = 0.0;
+  const double *rho = S.particles.rho.data(), *mass = S.particles.mass.data();
+  const double support2 = ker.support2;
+  volume_sweep<D, Lev>(
+      S, [rho, mass](std::size_t j) { return mass[j] / rho[j]; },
+      [&](std::uint32_t a, double xa0, double xa1, double xa2, double ha, const double* __restrict x0,
+          const double* __restrict x1, const double* __restrict x2, const double* __restrict bv,
+          const double* __restrict bh, std::size_t npad) {
+        const K kl = ker;
+        const double l_support2 = support2;
+        double g = 0.0;
 #pragma omp simd reduction(+ : g)
-      for (std::size_t k = 0; k < npad; ++k) {
-        const double r0 = xa0 - x0[k], r1 = xa1 - x1[k], r2c = D == 3 ? xa2 - x2[k] : 0.0;
-        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-        const double rr = std::sqrt(r2);
-        const double W = Lev ? kl.Wh(rr, 2.0 / (ha + bh[k])) : kl.W(rr);
-        g += r2 < l_support2 ? W * bv[k] : 0.0;
-      }
-      gam[a] = g;
-    }
-    return std::uint64_t{0};  // (no pair count: nothing reads it)
-  });
+        for (std::size_t k = 0; k < npad; ++k) {
+          const double r0 = xa0 - x0[k], r1 = xa1 - x1[k], r2c = D == 3 ? xa2 - x2[k] : 0.0;
+          const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+          const double rr = std::sqrt(r2);
+          const double W = Lev ? kl.Wh(rr, 2.0 / (ha + bh[k])) : kl.W(rr);
+          g += r2 < l_support2 ? W * bv[k] : 0.0;
+        }
+        gam[a] = g;
+      });
 }
 }  // namespace
 

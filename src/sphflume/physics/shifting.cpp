@@ -5,7 +5,7 @@
 #include <type_traits>
 
 #include "sphflume/core/fields.hpp"
-#include "sphflume/core/pair_pass.hpp"
+#include "sphflume/core/volume_sweep.hpp"
 #include "sphflume/core/system.hpp"
 
 namespace sph {
@@ -74,57 +74,32 @@ double lattice_shift_rate(const K& ker, double dx, double R, double n) {
 /// seam in double precision (each cell's candidates in columns, the loop vectorised); writes gc and divr.
 template <int D, class K, bool Lev>
 void surface_moments(System<D>& S, const K& ker, const double* phi, Vec<D>* gc, double* divr) {
-  auto& P = S.particles;
-  const std::size_t n = P.n_owned();
-  const double* hs = Lev ? S.level_h() : nullptr;
-  const Kind* kind = P.kind.data();
-  const double *rho = P.rho.data(), *mass = P.mass.data();
-  const auto& cells = S.cells;
-  const std::uint32_t* sorted = cells.sorted().data();
-  enum : int { kVol = 3, kHs, kCols };
-  auto needs = [&](std::size_t cell) {
-    std::size_t m = 0;
-    for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k)
-      m += (sorted[k] < n && kind[sorted[k]] == Kind::Fluid) ? 1 : 0;
-    return m;
-  };
-  sweep_cells<double>(cells, kCols, 8, needs, [&](std::size_t cell, const CellStencil<D>& st, ScratchColumns<double>& B) {
-    const Vec<D> origin = P.pos[sorted[cells.cell_begin(cell)]];
-    gather_columns<D, double>(st, B, P.pos.data(), origin,
-                              column(int(kVol), 0.0, [rho, mass, phi](std::size_t j) { return mass[j] / (rho[j] * (phi ? phi[j] : 1.0)); }),
-                              only_if<Lev>(column(int(kHs), 1.0, [hs](std::size_t j) { return hs[j]; })));
-    const double* __restrict x0 = B[0];
-    const double* __restrict x1 = B[1];
-    const double* __restrict x2 = B[D - 1];
-    const double* __restrict bv = B[kVol];
-    const double* __restrict bh = B[kHs];
-    const std::size_t npad = st.padded;
-    const K kl = ker;  // (the loop's constants as locals: through the reference GCC gathers them lane by lane)
-    const double l_support2 = ker.support2;
-    for (std::uint32_t q = cells.cell_begin(cell); q < cells.cell_end(cell); ++q) {
-      const std::uint32_t a = sorted[q];
-      if (a >= n || kind[a] != Kind::Fluid) continue;
-      const double xa0 = P.pos[a][0] - origin[0], xa1 = P.pos[a][1] - origin[1], xa2 = P.pos[a][D - 1] - origin[D - 1];
-      const double ha = Lev ? hs[a] : 0.0;
-      double g0 = 0.0, g1 = 0.0, g2 = 0.0, dv = 0.0;
+  const double *rho = S.particles.rho.data(), *mass = S.particles.mass.data();
+  const double support2 = ker.support2;
+  volume_sweep<D, Lev>(
+      S, [rho, mass, phi](std::size_t j) { return mass[j] / (rho[j] * (phi ? phi[j] : 1.0)); },
+      [&](std::uint32_t a, double xa0, double xa1, double xa2, double ha, const double* __restrict x0,
+          const double* __restrict x1, const double* __restrict x2, const double* __restrict bv,
+          const double* __restrict bh, std::size_t npad) {
+        const K kl = ker;
+        const double l_support2 = support2;
+        double g0 = 0.0, g1 = 0.0, g2 = 0.0, dv = 0.0;
 #pragma omp simd reduction(+ : g0, g1, g2, dv)
-      for (std::size_t k = 0; k < npad; ++k) {
-        const double r0 = xa0 - x0[k], r1 = xa1 - x1[k], r2c = D == 3 ? xa2 - x2[k] : 0.0;
-        const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
-        const double rr = std::sqrt(r2);
-        const double F = Lev ? kl.Fh(rr, 2.0 / (ha + bh[k])) : kl.F(rr);
-        const bool in = (r2 > 0.0) & (r2 < l_support2);
-        const double f = in ? F * bv[k] : 0.0;  // ∇_a W_ab V_b = f r_ab
-        g0 += f * r0;
-        g1 += f * r1;
-        g2 += f * r2c;
-        dv -= f * r2;
-      }
-      for (int d = 0; d < D; ++d) gc[a][d] = d == 0 ? g0 : d == 1 ? g1 : g2;
-      divr[a] = dv;
-    }
-    return std::uint64_t{0};  // (no pair count: nothing reads it)
-  });
+        for (std::size_t k = 0; k < npad; ++k) {
+          const double r0 = xa0 - x0[k], r1 = xa1 - x1[k], r2c = D == 3 ? xa2 - x2[k] : 0.0;
+          const double r2 = r0 * r0 + r1 * r1 + r2c * r2c;
+          const double rr = std::sqrt(r2);
+          const double F = Lev ? kl.Fh(rr, 2.0 / (ha + bh[k])) : kl.F(rr);
+          const bool in = (r2 > 0.0) & (r2 < l_support2);
+          const double f = in ? F * bv[k] : 0.0;  // ∇_a W_ab V_b = f r_ab
+          g0 += f * r0;
+          g1 += f * r1;
+          g2 += f * r2c;
+          dv -= f * r2;
+        }
+        for (int d = 0; d < D; ++d) gc[a][d] = d == 0 ? g0 : d == 1 ? g1 : g2;
+        divr[a] = dv;
+      });
 }
 
 }  // namespace
