@@ -397,3 +397,59 @@ void level_grids_hold_every_pair(int n, double h_fine, unsigned seed) {
 }
 TEST(CellList, LevelGridsHoldEveryPair2D) { level_grids_hold_every_pair<2>(4000, 0.006, 8); }
 TEST(CellList, LevelGridsHoldEveryPair3D) { level_grids_hold_every_pair<3>(8000, 0.02, 9); }
+
+// The half stencils of a pass that visits each pair once (CellList::half_ranges): a cell's half and other ranges
+// together are its whole stencil, for two cells within each other's stencil exactly one holds the other in its half
+// (the cell itself is in its own half), and two cells of one colour (half_colour) have disjoint half stencils.
+template <int D>
+void half_stencils_cover_each_pair_once(int n, double radius, unsigned seed) {
+  std::mt19937 rng(seed);
+  const std::vector<Vec<D>> pos = random_positions<D>(n, rng);
+  CellList<D> cl;
+  cl.build(pos, pos.size(), radius);
+  ASSERT_TRUE(cl.uniform_stencil());
+  const auto& occ = cl.occupied();
+  const std::size_t ncell = cl.cell_count();
+  auto cells_of = [&](std::uint32_t (*rg)[2], int nr) {  // the cells (by their first entry) the ranges cover
+    std::set<std::size_t> s;
+    for (int r = 0; r < nr; ++r)
+      for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) s.insert(k);
+    return s;
+  };
+  std::vector<std::set<std::size_t>> half(ncell);
+  std::uint32_t h[CellList<D>::kMaxRanges][2], o[CellList<D>::kMaxRanges][2], f[CellList<D>::kMaxRanges][2];
+  for (const std::uint32_t c : occ) {
+    int no = 0;
+    const int nh = cl.half_ranges(c, h, o, no);
+    const auto hs = cells_of(h, nh), os = cells_of(o, no), fs = cells_of(f, cl.cell_ranges(c, f));
+    for (const std::size_t k : hs) EXPECT_EQ(os.count(k), 0u);  // disjoint halves
+    std::set<std::size_t> both = hs;
+    both.insert(os.begin(), os.end());
+    EXPECT_EQ(both, fs) << "cell " << c;
+    EXPECT_EQ(h[0][0], cl.cell_begin(c));  // the cell itself first
+    half[c] = hs;
+  }
+  // each pair of particles within each other's stencil: in exactly one of the two halves (entries are store indices)
+  std::vector<std::size_t> cell_of(pos.size());
+  for (const std::uint32_t c : occ)
+    for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) cell_of[k] = c;
+  std::size_t pairs = 0;
+  for (const std::uint32_t c : occ)
+    for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k)
+      for (const std::size_t j : half[c]) {
+        if (cell_of[j] == c) continue;
+        EXPECT_EQ(half[cell_of[j]].count(k), 0u) << "pair " << k << ", " << j << " in both halves";
+        ++pairs;
+      }
+  EXPECT_GT(pairs, 0u);
+  // one colour: disjoint half stencils
+  std::vector<std::vector<std::uint32_t>> by(static_cast<std::size_t>(cl.half_colours()));
+  for (const std::uint32_t c : occ) by[static_cast<std::size_t>(cl.half_colour(c))].push_back(c);
+  for (const auto& list : by) {
+    std::set<std::size_t> seen;
+    for (const std::uint32_t c : list)
+      for (const std::size_t k : half[c]) EXPECT_TRUE(seen.insert(k).second) << "colour shares entry " << k;
+  }
+}
+TEST(CellList, HalfStencilsCoverEachPairOnce2D) { half_stencils_cover_each_pair_once<2>(2000, 0.07, 10); }
+TEST(CellList, HalfStencilsCoverEachPairOnce3D) { half_stencils_cover_each_pair_once<3>(3000, 0.12, 11); }

@@ -265,9 +265,11 @@ TEST(Porous, UnitPorosityReducesToPlainWcsph) {
         ea = std::max(ea, norm(A.acc[i] - B.acc[i]));
         ed = std::max(ed, std::abs(A.drho[i] - B.drho[i]));
       }
-      // the same single-precision sums in the same order: identical up to float round-off
-      EXPECT_LE(ea, 1e-6 * amax) << visc << ", " << turb;
-      EXPECT_LE(ed, 1e-6 * dmax) << visc << ", " << turb;
+      // the same single-precision terms; without porous media the plain pass visits each pair once (pair_sweep:
+      // half), so its sums come in another order: equal to the float round-off of ~30-term sums whose terms are several
+      // times the result (1e-5; a wrong term is of the order of the rates)
+      EXPECT_LE(ea, 1e-5 * amax) << visc << ", " << turb;
+      EXPECT_LE(ed, 1e-5 * dmax) << visc << ", " << turb;
     }
   }
 }

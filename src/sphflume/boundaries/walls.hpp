@@ -92,6 +92,7 @@ class WallModel {
   void add_backup(System<D>& S, const double* near_only) const;
   void apply_backup(System<D>& S) const;  // the force of each (fluid, wall) pair in hits_, in their sorted order
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
+  mutable std::vector<std::uint32_t> moving_covered_;  // moving first-layer walls resting on a fixed wall (add_backup)
 };
 
 template <int D>

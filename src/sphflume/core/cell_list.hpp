@@ -195,6 +195,55 @@ class CellList {
     coords(cell, c);
     return stencil_ranges(c, out, reach, own ? static_cast<std::int64_t>(self) : -1);
   }
+  /// Whether every cell's stencil is the same ±reach block of one grid (no levels' grids, no per-cell reach): the
+  /// half stencils below apply.
+  bool uniform_stencil() const { return !multi_ && reach_.empty(); }
+  /// The half stencil of cell `cell` for passes that visit each pair once (Newton's third law; uniform_stencil()):
+  /// `half` gets the ranges of the cells after it in store order within ±R (the cell itself first, then the cells
+  /// on its row to its right, then the rows above, in 3D the planes above), `other` those of the cells before it;
+  /// the two cover the cell's whole stencil. For two cells each within the other's stencil, exactly one holds the
+  /// other in its half. Returns the number of `half` ranges; `n_other` the number of `other` ranges.
+  int half_ranges(std::size_t cell, std::uint32_t (*half)[2], std::uint32_t (*other)[2], int& n_other) const {
+    const int R = reach_max_;
+    int c[D];
+    coords(cell, c);
+    int nh = 0, no = 0;
+    const int x0 = std::max(c[0] - R, 0), x1 = std::min(c[0] + R, dims_[0] - 1);
+    const int z0 = D == 3 ? std::max(c[D - 1] - R, 0) : 0, z1 = D == 3 ? std::min(c[D - 1] + R, dims_[D - 1] - 1) : 0;
+    const int zc = D == 3 ? c[D - 1] : 0;
+    auto put = [&](std::uint32_t (*out)[2], int& n, int z, int y, int xa, int xb) {
+      if (xa > xb) return;
+      const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
+      out[n][0] = cell_start_[row + static_cast<std::size_t>(xa)];
+      out[n][1] = cell_start_[row + static_cast<std::size_t>(xb) + 1];
+      ++n;
+    };
+    const int y0 = std::max(c[1] - R, 0), y1 = std::min(c[1] + R, dims_[1] - 1);
+    put(half, nh, zc, c[1], c[0], x1);  // the cell itself first, then its right-hand neighbours
+    for (int y = c[1] + 1; y <= y1; ++y) put(half, nh, zc, y, x0, x1);
+    for (int z = zc + 1; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y) put(half, nh, z, y, x0, x1);
+    for (int z = z0; z < zc; ++z)
+      for (int y = y0; y <= y1; ++y) put(other, no, z, y, x0, x1);
+    for (int y = y0; y < c[1]; ++y) put(other, no, zc, y, x0, x1);
+    put(other, no, zc, c[1], x0, c[0] - 1);
+    n_other = no;
+    return nh;
+  }
+  /// The colour of a cell for passes that write into their half stencil (half_ranges): two cells of one colour
+  /// have disjoint half stencils, so the cells of a colour may run concurrently and every particle receives its
+  /// sums in the order of the colours, whatever the threads. 6 colours in 2D, 18 in 3D (R = 1).
+  int half_colour(std::size_t cell) const {
+    const int R = reach_max_, w = 2 * R + 1;
+    int c[D];
+    coords(cell, c);
+    if constexpr (D == 2) return c[0] % w + w * (c[1] % (R + 1));
+    else return c[0] % w + w * (c[1] % w + w * (c[2] % (R + 1)));
+  }
+  int half_colours() const {
+    const int R = reach_max_, w = 2 * R + 1;
+    return D == 2 ? w * (R + 1) : w * w * (R + 1);
+  }
   /// The stencil (± cells) that holds every particle within `radius` of any point of a cell.
   int reach_for(double radius) const {
     const double q = std::ceil(radius * inv_cell_);

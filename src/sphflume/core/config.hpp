@@ -58,6 +58,7 @@ struct SchemeConfig {
   double riemann_limiter = 3.0;   // slope of the low-dissipation limiter min(k U/c0, 1)
   bool density_reinit = true;     // density by summation (>= rho0) at every advection step
   bool pairs_per_advection = false;  // pairs: advection — each advection step's pairs and kernel gradients kept (SPHinXsys)
+  bool half_sweep = true;  // pair_sweep: half — the rates pass visits each fluid pair once (half stencils); full: both ends
   int verlet_steps = 40;  // verlet: an Euler step every N steps (DualSPHysics VerletSteps)
   DensityDiffusion density_diffusion = DensityDiffusion::Fourtakas;
   double delta = 0.1;

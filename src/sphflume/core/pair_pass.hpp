@@ -7,6 +7,7 @@
 //    AVX2 and AVX-512 builds);
 //  - sweep_cells: the threads' partition of the cells and the per-cell skeleton.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <tuple>
 #include <type_traits>
@@ -298,6 +299,132 @@ template <int D, class T, class First, class... Cols>
   detail::pad_entries<D>(B, mf, first_end, cols...);
   detail::pad_entries<D>(B, ms, end, cols...);
   return {first_end, end};
+}
+
+/// The gather of a pass that visits each pair once (CellList::half_ranges): part one, from entry 0, the candidates
+/// j of the half stencil `half` with first(j), in stencil order (the cell's own first), their store indices into
+/// ids, padded up to `second` (a multiple of `lanes`, at least half.count); part two, from `second`, the others of
+/// both halves (`half`, then `other`), padded to a multiple of `lanes` (end). The cell's own rows visit part one
+/// for the pairs with the candidates after them, part two for the pairs with everything else (the walls among a
+/// fluid particle's candidates). B must hold second + half.count + other.count + lanes entries, ids half.count. For a
+/// store in cell order, seconds_before[k] counts the entries before k that belong to part two (so that a range
+/// without any is copied as one run).
+struct HalvesEnds {
+  std::size_t count_first, second, end;
+};
+template <int D, class T, class First, class... Cols>
+[[gnu::always_inline]] inline HalvesEnds gather_halves(const CellStencil<D>& half, const CellStencil<D>& other, ScratchColumns<T>& B,
+                                                       std::uint32_t* __restrict ids, const Vec<D>* pos, const Vec<D>& origin,
+                                                       std::size_t lanes, std::size_t second, const std::uint32_t* seconds_before,
+                                                       First&& first, const Cols&... cols) {
+  T* __restrict x[D];
+  for (int d = 0; d < D; ++d) x[d] = B[d];
+  const std::size_t first_end = second;
+  std::size_t mf = 0, ms = second;
+  const auto copy_first = detail::copier<false>(B, cols...);
+  const auto copy_second = detail::copier<true>(B, cols...);
+  auto copy_run = [&](std::uint32_t k0, std::size_t len, std::size_t m, bool second) __attribute__((always_inline)) {
+    copy_positions<D, T>(pos, k0, len, origin, x, m);
+    copy_first(k0, len, m);
+    if (second) copy_second(k0, len, m);
+  };
+  if (half.identity) {
+    auto runs = [&](const CellStencil<D>& st, bool take_first) {
+      st.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t) __attribute__((always_inline)) {
+        if (seconds_before[k0 + len] == seconds_before[k0]) {  // (a range of the first part only: one run)
+          if (take_first) {
+            copy_run(k0, len, mf, false);
+            for (std::size_t i = 0; i < len; ++i) ids[mf + i] = k0 + static_cast<std::uint32_t>(i);
+            mf += len;
+          }
+          return;
+        }
+        for (std::size_t q = 0; q < len;) {
+          const bool f = first(k0 + static_cast<std::uint32_t>(q));
+          std::size_t e = q + 1;
+          while (e < len && first(k0 + static_cast<std::uint32_t>(e)) == f) ++e;
+          const std::uint32_t r0 = k0 + static_cast<std::uint32_t>(q);
+          if (!f) {
+            copy_run(r0, e - q, ms, true);
+            ms += e - q;
+          } else if (take_first) {
+            copy_run(r0, e - q, mf, false);
+            for (std::size_t i = 0; i < e - q; ++i) ids[mf + i] = r0 + static_cast<std::uint32_t>(i);
+            mf += e - q;
+          }
+          q = e;
+        }
+      });
+    };
+    runs(half, true);
+    runs(other, false);
+  } else {
+    const auto put_cols = detail::putter(B, cols...);
+    auto put = [&](std::size_t m, std::uint32_t j) {
+      for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
+      put_cols(m, j);
+    };
+    half.for_each([&](std::size_t, std::uint32_t j) {
+      if (first(j)) { ids[mf] = j; put(mf++, j); }
+      else put(ms++, j);
+    });
+    other.for_each([&](std::size_t, std::uint32_t j) { if (!first(j)) put(ms++, j); });
+  }
+  const std::size_t end = (ms + lanes - 1) / lanes * lanes;
+  detail::pad_entries<D>(B, mf, first_end, cols...);
+  detail::pad_entries<D>(B, ms, end, cols...);
+  return {mf, second, end};
+}
+
+/// The skeleton of a pass that visits each pair once and writes into its candidates (the WCSPH rates pass's
+/// half-stencil sweep): the occupied cells run colour by colour (CellList::half_colour), the cells of one colour
+/// shared among the threads, a barrier between colours. Two cells of a colour write disjoint particles, and each
+/// particle receives its sums in the order of the colours, so the results do not depend on the thread count.
+/// Each thread takes one contiguous run of a colour's cells, the runs balanced by weight(cell) (the cell's work; handed
+/// out a few at a time, neighbouring cells of one colour ran on both threads at once and wrote into the same cache
+/// lines of their neighbours' rates). body(cell, B, ids) with the thread's scratch columns (ncol) and index scratch;
+/// returns the sum of what body returns.
+template <class T, int D, class Weight, class Body>
+std::uint64_t sweep_colours(const CellList<D>& cells, int ncol, Weight&& weight, Body&& body) {
+  const auto& occupied = cells.occupied();
+  const int ncolour = cells.half_colours();
+  static thread_local std::vector<std::vector<std::uint32_t>> kept;  // (the lists' memory kept between calls)
+  static thread_local std::vector<std::vector<std::uint64_t>> kept_work;
+  auto& by_colour = kept;  // (the calling thread's, shared by the team below)
+  auto& work = kept_work;   // each colour's running sum of its cells' weights
+  by_colour.resize(static_cast<std::size_t>(ncolour));
+  work.resize(static_cast<std::size_t>(ncolour));
+  for (auto& l : by_colour) l.clear();
+  for (auto& w : work) w.assign(1, 0);
+  for (const std::uint32_t c : occupied) {
+    const auto col = static_cast<std::size_t>(cells.half_colour(c));
+    by_colour[col].push_back(c);
+    work[col].push_back(work[col].back() + static_cast<std::uint64_t>(weight(c)));
+  }
+  std::uint64_t total = 0;
+#pragma omp parallel reduction(+ : total)
+  {
+    int t = 0, nt = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    ScratchColumns<T> B(ncol);
+    std::vector<std::uint32_t> ids;
+    for (int col = 0; col < ncolour; ++col) {
+      const auto& list = by_colour[static_cast<std::size_t>(col)];
+      const auto& w = work[static_cast<std::size_t>(col)];
+      auto start = [&](int q) {  // the first cell of thread q's run
+        if (q >= nt) return list.size();
+        const std::uint64_t goal = w.back() * static_cast<std::uint64_t>(q) / static_cast<std::uint64_t>(nt);
+        return static_cast<std::size_t>(std::lower_bound(w.begin(), w.end(), goal) - w.begin());
+      };
+      const std::size_t i0 = t == 0 ? 0 : start(t), i1 = start(t + 1);
+      for (std::size_t i = i0; i < i1; ++i) total += body(list[i], B, ids);
+#pragma omp barrier
+    }
+  }
+  return total;
 }
 
 /// The candidates j with keep(j) only, in stencil order, from entry 0, padded to a multiple of

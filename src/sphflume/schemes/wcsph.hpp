@@ -54,7 +54,8 @@ class WCSPH final : public Scheme<D> {
   double time_step(const System<D>& S) const override;
   void step(System<D>& S, double dt) override;
   int passes_per_step() const override { return cfg_.integrator == Integrator::Verlet && !cfg_.frozen ? 1 : 2; }
-  std::size_t bytes() const override { return pack_.capacity() * sizeof(float); }  // the packed columns of the rates pass
+  // the packed columns of the rates pass and the half-stencil sweep's wall counts
+  std::size_t bytes() const override { return pack_.capacity() * sizeof(float) + walls_before_.capacity() * sizeof(std::uint32_t); }
   std::map<std::string, double> state() const override {
     return {{"max_acc", max_acc_}, {"verlet_started", verlet_started_ ? 1.0 : 0.0}, {"nu_t_max", turb_.nu_t_max()}};
   }
@@ -76,6 +77,10 @@ class WCSPH final : public Scheme<D> {
   void pair_loop(System<D>& S, const K& kernel, const double* fast);
   template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press = true, bool VarH = false>
   void sweep(System<D>& S, const K& kernel, const double* fast);
+  /// The same pass visiting each fluid pair once (half stencils, wcsph_rates_half.cpp): the plain terms, no levels.
+  void half_sweep(System<D>& S);
+  template <class K, bool Xsph>
+  void sweep_once(System<D>& S, const K& kernel);
   void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);
   void two_stage_step(System<D>& S, double dt);
@@ -88,6 +93,7 @@ class WCSPH final : public Scheme<D> {
   std::unique_ptr<MultirateIntegrator<D>> multirate_;  // resolution.multirate (null: the integrator above)
   double max_acc_ = 0.0;
   std::vector<float> pack_;  // the per-particle columns of the rates pass (wcsph_rates.cpp)
+  std::vector<std::uint32_t> walls_before_;  // the half-stencil sweep's count of walls before each store entry
 };
 
 }  // namespace sph

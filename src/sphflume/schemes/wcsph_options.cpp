@@ -58,6 +58,9 @@ void read_wcsph_options(Reader& r, Case& c) {
   if (!dual)
     for (const char* k : {"advection_cfl", "riemann_limiter", "density_reinit", "pairs"})
       if (r.has(k)) c.warnings.push_back(fmt::format("{}: scheme.{}: only used by integrator: dual (ignored)", r.file(), k));
+  // the rates pass: each fluid pair once, its two sides from one evaluation (half stencils), or each particle over its
+  // whole stencil (the pair evaluated at both ends; the sums of the versions before it, for comparisons)
+  c.scheme.half_sweep = r.choice("pair_sweep", "half", {"half", "full"}) == "half";
   c.scheme.verlet_steps = r.scalar<int>("verlet_steps", 40);
   if (c.scheme.verlet_steps < 0) r.fail_at(r.get("verlet_steps"), "scheme.verlet_steps", "an integer >= 0 (0 = no Euler steps)");
   const std::string dd = r.choice("density_diffusion", "fourtakas", {"none", "molteni_colagrossi", "fourtakas"});

@@ -36,14 +36,15 @@ struct PairGeometry {
 /// between particles of different sizes.
 template <int D, class K, bool VarH = false>
 [[gnu::always_inline]] inline PairGeometry pair_geometry(const K& kl, const RatesRow& ra, F32 xb0, F32 xb1, F32 xb2, F32 fb,
-                                                         F32 support2, F32 wall_in, [[maybe_unused]] F32 ih = F32(1)) {
+                                                         F32 support2, F32 wall_in, [[maybe_unused]] F32 ih = F32(1),
+                                                         F32 mask = F32(1)) {
   PairGeometry g;
   g.r0 = ra.xa0 - xb0; g.r1 = ra.xa1 - xb1; g.r2c = D == 3 ? ra.xa2 - xb2 : F32(0);
   g.r2 = g.r0 * g.r0 + g.r1 * g.r1 + g.r2c * g.r2c;
   if constexpr (VarH)
-    g.in = ((g.r2 * ih * ih < support2) & (g.r2 > F32(0))) ? (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * wall_in) : F32(0);
+    g.in = ((g.r2 * ih * ih < support2) & (g.r2 > F32(0))) ? mask * (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * wall_in) : F32(0);
   else
-    g.in = ((g.r2 < support2) & (g.r2 > F32(0))) ? (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * wall_in) : F32(0);
+    g.in = ((g.r2 < support2) & (g.r2 > F32(0))) ? mask * (ra.wa + (F32(1) - ra.wa) * fb) * (fb + (F32(1) - fb) * wall_in) : F32(0);
   g.r = std::sqrt(g.r2);
   if constexpr (VarH) g.Fk = kl.Fh(g.r, ih) * g.in;
   else g.Fk = kl.F(g.r) * g.in;
