@@ -404,9 +404,11 @@ TEST(CellList, LevelGridsHoldEveryPair3D) { level_grids_hold_every_pair<3>(8000,
 template <int D>
 void half_stencils_cover_each_pair_once(int n, double radius, unsigned seed) {
   std::mt19937 rng(seed);
-  const std::vector<Vec<D>> pos = random_positions<D>(n, rng);
   CellList<D> cl;
-  cl.build(pos, pos.size(), radius);
+  {
+    const auto pos = random_positions<D>(n, rng);  // (the list keeps no reference to them)
+    cl.build(pos, pos.size(), radius);
+  }
   ASSERT_TRUE(cl.uniform_stencil());
   const auto& occ = cl.occupied();
   const std::size_t ncell = cl.cell_count();
@@ -430,7 +432,7 @@ void half_stencils_cover_each_pair_once(int n, double radius, unsigned seed) {
     half[c] = hs;
   }
   // each pair of particles within each other's stencil: in exactly one of the two halves (entries are store indices)
-  std::vector<std::size_t> cell_of(pos.size());
+  std::vector<std::size_t> cell_of(static_cast<std::size_t>(n));
   for (const std::uint32_t c : occ)
     for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) cell_of[k] = c;
   std::size_t pairs = 0;

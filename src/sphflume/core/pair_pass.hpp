@@ -22,6 +22,15 @@
 
 namespace sph {
 
+/// This thread's number and its team's size (0 and 1 outside a parallel region or without OpenMP).
+inline std::pair<int, int> team_place() {
+#ifdef _OPENMP
+  return {omp_get_thread_num(), omp_get_num_threads()};
+#else
+  return {0, 1};
+#endif
+}
+
 /// The candidate neighbours shared by all particles of one cell, for vectorised pair loops:
 /// the loop copies each field it needs into a unit-stride column (for_each), padded to a
 /// multiple of the vector width with entries it masks out, so the loop over them has no
@@ -222,6 +231,34 @@ inline void pad_entries(ScratchColumns<T>& B, std::size_t m0, std::size_t m1, co
     for (std::size_t m = m0; m < m1; ++m) B[d][m] = T(kPaddingDistance);
   (pad_column(cols, B, m0, m1), ...);
 }
+/// The copies of a split gather (gather_split, gather_halves): store entries [k0, k0 + len) into entries m.. of the
+/// position columns and the first part's columns, and of the second part's too where asked (run); candidate j into
+/// entry m of every column (put: a store not in cell order).
+template <int D, class T, class... Cols>
+struct PartCopier {
+  using First = decltype(copier<false>(std::declval<ScratchColumns<T>&>(), std::declval<const Cols&>()...));
+  using Second = decltype(copier<true>(std::declval<ScratchColumns<T>&>(), std::declval<const Cols&>()...));
+  using Put = decltype(putter(std::declval<ScratchColumns<T>&>(), std::declval<const Cols&>()...));
+  T* __restrict x[D];
+  const Vec<D>* pos;
+  const Vec<D>& origin;
+  First first;
+  Second second;
+  Put put_cols;
+  PartCopier(ScratchColumns<T>& B, const Vec<D>* p, const Vec<D>& o, const Cols&... cols)
+      : pos(p), origin(o), first(copier<false>(B, cols...)), second(copier<true>(B, cols...)), put_cols(putter(B, cols...)) {
+    for (int d = 0; d < D; ++d) x[d] = B[d];
+  }
+  [[gnu::always_inline]] void run(std::uint32_t k0, std::size_t len, std::size_t m, bool with_second) const {
+    copy_positions<D, T>(pos, k0, len, origin, x, m);
+    first(k0, len, m);
+    if (with_second) second(k0, len, m);
+  }
+  void put(std::size_t m, std::uint32_t j) const {
+    for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
+    put_cols(m, j);
+  }
+};
 }  // namespace detail
 
 /// Fill the scratch columns of a cell's stencil: the candidates' positions relative to `origin`
@@ -261,17 +298,9 @@ struct SplitEnds {
 template <int D, class T, class First, class... Cols>
 [[gnu::always_inline]] inline SplitEnds gather_split(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
                        std::size_t lanes, std::size_t n_second, First&& first, const Cols&... cols) {
-  T* __restrict x[D];
-  for (int d = 0; d < D; ++d) x[d] = B[d];
   const std::size_t first_end = (st.count - n_second + lanes - 1) / lanes * lanes;
   std::size_t mf = 0, ms = first_end;
-  const auto copy_first = detail::copier<false>(B, cols...);
-  const auto copy_second = detail::copier<true>(B, cols...);
-  auto copy_run = [&](std::uint32_t k0, std::size_t len, std::size_t m, bool second) __attribute__((always_inline)) {
-    copy_positions<D, T>(pos, k0, len, origin, x, m);
-    copy_first(k0, len, m);
-    if (second) copy_second(k0, len, m);
-  };
+  const detail::PartCopier<D, T, Cols...> copy(B, pos, origin, cols...);
   if (st.identity) {
     // the runs of one part in each range (a cell's particles keep their order, so the parts come
     // in a few runs): a vector copy per run, no branch per candidate
@@ -281,19 +310,14 @@ template <int D, class T, class First, class... Cols>
         std::size_t e = q + 1;
         while (e < len && first(k0 + static_cast<std::uint32_t>(e)) == f) ++e;
         std::size_t& m = f ? mf : ms;
-        copy_run(k0 + static_cast<std::uint32_t>(q), e - q, m, !f);
+        copy.run(k0 + static_cast<std::uint32_t>(q), e - q, m, !f);
         m += e - q;
         q = e;
       }
     });
   } else {
-    const auto put_cols = detail::putter(B, cols...);
-    auto put = [&](std::size_t m, std::uint32_t j) {
-      for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
-      put_cols(m, j);
-    };
-    st.for_each([&](std::size_t, std::uint32_t j) __attribute__((always_inline)) { if (first(j)) put(mf++, j); });
-    st.for_each([&](std::size_t, std::uint32_t j) __attribute__((always_inline)) { if (!first(j)) put(ms++, j); });
+    st.for_each([&](std::size_t, std::uint32_t j) __attribute__((always_inline)) { if (first(j)) copy.put(mf++, j); });
+    st.for_each([&](std::size_t, std::uint32_t j) __attribute__((always_inline)) { if (!first(j)) copy.put(ms++, j); });
   }
   const std::size_t end = (ms + lanes - 1) / lanes * lanes;
   detail::pad_entries<D>(B, mf, first_end, cols...);
@@ -317,16 +341,11 @@ template <int D, class T, class First, class... Cols>
                                                        std::uint32_t* __restrict ids, const Vec<D>* pos, const Vec<D>& origin,
                                                        std::size_t lanes, std::size_t second, const std::uint32_t* seconds_before,
                                                        First&& first, const Cols&... cols) {
-  T* __restrict x[D];
-  for (int d = 0; d < D; ++d) x[d] = B[d];
   const std::size_t first_end = second;
   std::size_t mf = 0, ms = second;
-  const auto copy_first = detail::copier<false>(B, cols...);
-  const auto copy_second = detail::copier<true>(B, cols...);
-  auto copy_run = [&](std::uint32_t k0, std::size_t len, std::size_t m, bool second) __attribute__((always_inline)) {
-    copy_positions<D, T>(pos, k0, len, origin, x, m);
-    copy_first(k0, len, m);
-    if (second) copy_second(k0, len, m);
+  const detail::PartCopier<D, T, Cols...> copy(B, pos, origin, cols...);
+  auto copy_run = [&](std::uint32_t k0, std::size_t len, std::size_t m, bool with_second) __attribute__((always_inline)) {
+    copy.run(k0, len, m, with_second);
   };
   if (half.identity) {
     auto runs = [&](const CellStencil<D>& st, bool take_first) {
@@ -359,16 +378,11 @@ template <int D, class T, class First, class... Cols>
     runs(half, true);
     runs(other, false);
   } else {
-    const auto put_cols = detail::putter(B, cols...);
-    auto put = [&](std::size_t m, std::uint32_t j) {
-      for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
-      put_cols(m, j);
-    };
     half.for_each([&](std::size_t, std::uint32_t j) {
-      if (first(j)) { ids[mf] = j; put(mf++, j); }
-      else put(ms++, j);
+      if (first(j)) { ids[mf] = j; copy.put(mf++, j); }
+      else copy.put(ms++, j);
     });
-    other.for_each([&](std::size_t, std::uint32_t j) { if (!first(j)) put(ms++, j); });
+    other.for_each([&](std::size_t, std::uint32_t j) { if (!first(j)) copy.put(ms++, j); });
   }
   const std::size_t end = (ms + lanes - 1) / lanes * lanes;
   detail::pad_entries<D>(B, mf, first_end, cols...);
@@ -404,11 +418,7 @@ std::uint64_t sweep_colours(const CellList<D>& cells, int ncol, Weight&& weight,
   std::uint64_t total = 0;
 #pragma omp parallel reduction(+ : total)
   {
-    int t = 0, nt = 1;
-#ifdef _OPENMP
-    t = omp_get_thread_num();
-    nt = omp_get_num_threads();
-#endif
+    const auto [t, nt] = team_place();
     ScratchColumns<T> B(ncol);
     std::vector<std::uint32_t> ids;
     for (int col = 0; col < ncolour; ++col) {
@@ -509,11 +519,7 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
   std::uint64_t total = 0;
 #pragma omp parallel reduction(+ : total)
   {
-    int t = 0, nt = 1;
-#ifdef _OPENMP
-    t = omp_get_thread_num();
-    nt = omp_get_num_threads();
-#endif
+    const auto [t, nt] = team_place();
     CellStencil<D> st;
     ScratchColumns<T> B(ncol);
     auto run = [&](std::size_t cell) {
