@@ -418,7 +418,8 @@ std::uint64_t sweep_colours(const CellList<D>& cells, int ncol, Weight&& weight,
   std::uint64_t total = 0;
 #pragma omp parallel reduction(+ : total)
   {
-    const auto [t, nt] = team_place();
+    const auto place = team_place();
+    const int t = place.first, nt = place.second;
     ScratchColumns<T> B(ncol);
     std::vector<std::uint32_t> ids;
     for (int col = 0; col < ncolour; ++col) {
@@ -519,7 +520,8 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
   std::uint64_t total = 0;
 #pragma omp parallel reduction(+ : total)
   {
-    const auto [t, nt] = team_place();
+    const auto place = team_place();
+    const int t = place.first, nt = place.second;
     CellStencil<D> st;
     ScratchColumns<T> B(ncol);
     auto run = [&](std::size_t cell) {
