@@ -33,12 +33,8 @@ geometry:
 time: {{end: 1.0}}
 {}
 )", dx, integrator, extra), "bench");
-    build_system<2>(c, S);
-    if (c.transport.on()) {
-      S.transport = std::make_shared<ScalarTransport<2>>(c.transport, c.transport.eta2, 0);
-      S.transport->initialise(S);
-    }
-    S.walls = wall_registry<2>().create(c.walls.type, c.walls);
+    BuildReport rep;
+    setup_system<2>(c, S, rep);  // the CLI's set-up: the walls with their surface vectors, scalars, force terms
     scheme = std::make_unique<WCSPH<2>>(c);
     scheme->initialise(S);
     for (int i = 0; i < 20; ++i) scheme->step(S, scheme->time_step(S));  // leave the lattice

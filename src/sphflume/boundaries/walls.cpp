@@ -452,6 +452,34 @@ void backup_candidates(ScratchColumns<float>& B, const float* xk, const float* n
 }  // namespace
 
 template <int D>
+void WallModel<D>::find_moving_covered(const System<D>& S) const {
+  // A moving body's face that rests on a fixed wall (a piston's foot sliding on the bed) is covered while it rests
+  // there: its backup would push the fluid beside the face's edge into the corner the two bodies make (the coarse
+  // regular waves: fluid pushed under the paddle's front edge into the bed). Found each pass, as fill_shapes'
+  // covered_walls does for fixed bodies once: a fixed wall point within dx/2 of the point dx/2 beyond the face.
+  moving_covered_.clear();
+  const auto& P = S.particles;
+  const auto* grp = P.find(field::motion_group);
+  const auto* surface = P.find(field::wall_to_surface);
+  if (!grp || !surface) return;
+  const auto& to = *surface;
+  const double dx = S.dx;
+  const std::size_t nall = P.size();
+  for (std::size_t k = 0; k < nall; ++k) {
+    if (P.kind[k] != Kind::Wall || (*grp)[k] == 0.0) continue;
+    const double depth2 = dot(to[k], to[k]);
+    if (!(depth2 > 0.0 && depth2 < dx * dx)) continue;
+    const double len = std::sqrt(depth2);
+    const Vec<D> probe = P.pos[k] + to[k] + (0.5 * dx / len) * to[k];
+    bool on_fixed = false;
+    S.cells.for_neighbours(P.pos, probe, 0.5 * dx * 0.999, [&](std::uint32_t j, const Vec<D>&, double) {
+      on_fixed = on_fixed || (P.kind[j] == Kind::Wall && (*grp)[j] == 0.0);
+    });
+    if (on_fixed) moving_covered_.push_back(static_cast<std::uint32_t>(k));
+  }
+}
+
+template <int D>
 void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   auto& P = S.particles;
   if (!P.has(field::wall_to_surface))
@@ -472,26 +500,7 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
   const auto* covered = P.find(field::wall_covered);  // (set-up: faces another fixed wall covers)
-  // A moving body's face that rests on a fixed wall (a piston's foot sliding on the bed) is covered while it rests
-  // there: its backup would push the fluid beside the face's edge into the corner the two bodies make (the coarse
-  // regular waves: fluid pushed under the paddle's front edge into the bed). Found each pass, as fill_shapes'
-  // covered_walls does for fixed bodies once: a fixed wall point within dx/2 of the point dx/2 beyond the face.
-  moving_covered_.clear();
-  if (const auto* grp = P.find(field::motion_group)) {
-    const std::size_t nall = P.size();
-    for (std::size_t k = 0; k < nall; ++k) {
-      if (P.kind[k] != Kind::Wall || (*grp)[k] == 0.0) continue;
-      const double depth2 = dot(to[k], to[k]);
-      if (!(depth2 > 0.0 && depth2 < dx * dx)) continue;
-      const double len = std::sqrt(depth2);
-      const Vec<D> probe = P.pos[k] + to[k] + (0.5 * dx / len) * to[k];
-      bool on_fixed = false;
-      S.cells.for_neighbours(P.pos, probe, 0.5 * dx * 0.999, [&](std::uint32_t j, const Vec<D>&, double) {
-        on_fixed = on_fixed || (P.kind[j] == Kind::Wall && (*grp)[j] == 0.0);
-      });
-      if (on_fixed) moving_covered_.push_back(static_cast<std::uint32_t>(k));
-    }
-  }
+  find_moving_covered(S);
   const auto first_layer = [&, cov = covered ? covered->data() : nullptr](std::size_t k) {  // (owned or image: images carry the fields)
     if (P.kind[k] != Kind::Wall || (cov && cov[k] != 0.0)) return false;
     const double depth2 = dot(to[k], to[k]);

@@ -93,6 +93,7 @@ class WallModel {
   void apply_backup(System<D>& S) const;  // the force of each (fluid, wall) pair in hits_, in their sorted order
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
   mutable std::vector<std::uint32_t> moving_covered_;  // moving first-layer walls resting on a fixed wall (add_backup)
+  void find_moving_covered(const System<D>& S) const;  // moving_covered_ at the current positions
 };
 
 template <int D>

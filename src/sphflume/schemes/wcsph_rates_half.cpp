@@ -116,6 +116,32 @@ template <int D, bool Xsph>
     for (int d = 0; d < D; ++d) q.xs[j][d] += q.xsph * double(s[d]);
 }
 
+/// Each side of the pairs is added to the rates: zero them, gravity for the particles that run (walls here have none).
+template <int D>
+void start_rates(const RatesPass<D>& q, std::size_t n) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t a = 0; a < n; ++a) {
+    Vec<D> g0{};
+    if (q.runs(static_cast<std::uint32_t>(a)))
+      for (int d = 0; d < D; ++d) g0[d] = q.g[d];
+    q.acc[a] = g0;
+    q.drho[a] = 0.0;
+    if (q.xs) q.xs[a] = Vec<D>{};
+  }
+}
+
+/// A store in cell order: how many walls come before each entry (np + 1 counts), so that the gathers copy a range
+/// without walls as one run and skip the other half's ranges without walls.
+inline void count_walls(const Kind* kind, std::size_t np, std::vector<std::uint32_t>& before) {
+  before.resize(np + 1);
+  std::uint32_t w = 0;
+  for (std::size_t k = 0; k < np; ++k) {
+    before[k] = w;
+    w += fluid_like(kind[k]) ? 0u : 1u;
+  }
+  before[np] = w;
+}
+
 }  // namespace
 
 template <int D>
@@ -127,31 +153,13 @@ void WCSPH<D>::sweep_once(System<D>& S, const K& ker) {
   const std::size_t np = P.size(), n = q.n_owned;
   pack_rates<D, false, false, false, false>(q, np, pack_);
   const F32* pk = pack_.data();
-  // each side of the pairs is added to the rates: zero, gravity for the particles that run (walls here have none)
-#pragma omp parallel for schedule(static)
-  for (std::size_t a = 0; a < n; ++a) {
-    Vec<D> g0{};
-    if (q.runs(static_cast<std::uint32_t>(a)))
-      for (int d = 0; d < D; ++d) g0[d] = q.g[d];
-    q.acc[a] = g0;
-    q.drho[a] = 0.0;
-    if (q.xs) q.xs[a] = Vec<D>{};
-  }
+  start_rates(q, n);
   const auto& cells = S.cells;
   const std::uint32_t* __restrict sorted = cells.sorted().data();
   const Kind* kind = q.kind;
   auto fluid = [kind](std::uint32_t j) { return fluid_like(kind[j]); };
-  // (a store in cell order: how many walls come before each entry, so that the gathers copy a range without walls
-  // as one run and skip the other half's ranges without walls)
-  walls_before_.resize(np + 1);
-  if (cells.identity()) {
-    std::uint32_t w = 0;
-    for (std::size_t k = 0; k < np; ++k) {
-      walls_before_[k] = w;
-      w += fluid_like(kind[k]) ? 0u : 1u;
-    }
-    walls_before_[np] = w;
-  }
+  if (cells.identity()) count_walls(kind, np, walls_before_);
+  else walls_before_.resize(np + 1);
   const std::uint32_t* walls_before = walls_before_.data();
   // a cell's work: its fluid rows (a store in cell order: its entries less its walls; else all its entries)
   auto weight = [&](std::size_t cell) {
