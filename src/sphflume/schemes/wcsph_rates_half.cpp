@@ -23,11 +23,6 @@ struct OnceColumns {
   const F32* kf;
 };
 
-template <int D>
-[[gnu::always_inline]] inline RatesRow rate_row_once(const RatesPass<D>& q, const Vec<D>& origin, std::uint32_t a) {
-  return rates_row<D, false, false, false, false>(q, origin, a);
-}
-
 /// Particle a's pair sums with the fluid candidates [kbeg, kend) of its cell's half stencil (part one of
 /// gather_halves), the entries up to its own (pf) masked: the same terms as rates_sums for a fluid pair, each pair's
 /// image for b added into b's columns. The terms' coefficients are taken per unit mass of b (momentum_coefficient with
@@ -210,7 +205,7 @@ void WCSPH<D>::sweep_once(System<D>& S, const K& ker) {
     for (std::uint32_t k = c0k; k < c1k; ++k) {
       const std::uint32_t a = sorted[k];
       if (!fluid(a)) continue;
-      const RatesRow ra = rate_row_once(q, origin, a);
+      const RatesRow ra = rates_row<D, false, false, false, false>(q, origin, a);
       const auto [b1, e1] = reach_blocks<D, false>(ra, c, q.support2, (p + 1) / L * L, end1);
       RatesSums s = once_sums<D, K, Xsph>(q, kl, c, o, ra, F32(q.mass[a]), F32(p), b1, e1, once);
       ++p;
