@@ -4,6 +4,7 @@
 // pair loop over a range of candidates (rates_sums). Private to the scheme's rates files.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -104,10 +105,19 @@ constexpr int pack_slot(int c) {
   return s;  // (c == NCOL: the number of packed columns)
 }
 
+/// Every column's slot, computed by the compiler (GCC evaluated pack_slot's loop at run time inside the pack's particle
+/// loop when levels add the HS column: the pack then cost five times as much per particle).
+template <int D, bool Turb, bool Porous, bool Multi, bool VarH>
+inline constexpr std::array<int, NCOL + 1> kPackSlots = [] {
+  std::array<int, NCOL + 1> s{};
+  for (int c = 0; c <= NCOL; ++c) s[static_cast<std::size_t>(c)] = pack_slot<D, Turb, Porous, Multi, VarH>(c);
+  return s;
+}();
+
 /// Column c of the pack (the pack's start for a column the pass does not read, which it never dereferences).
 template <int D, bool Turb, bool Porous, bool Multi, bool VarH, class T>
 T* packed_column(T* pk, std::size_t np, int c) {
-  const int s = pack_slot<D, Turb, Porous, Multi, VarH>(c);
+  const int s = kPackSlots<D, Turb, Porous, Multi, VarH>[static_cast<std::size_t>(c)];
   return pk + static_cast<std::size_t>(s < 0 ? 0 : s) * np;
 }
 
@@ -125,6 +135,15 @@ void pack_rates(const RatesPass<D>& q, std::size_t np, std::vector<F32>& pack) {
   pack.resize(static_cast<std::size_t>(pack_slot<D, Turb, Porous, Multi, VarH>(NCOL)) * np);
   F32* __restrict pk = pack.data();
   auto col = [pk, np](int c) { return packed_column<D, Turb, Porous, Multi, VarH>(pk, np, c); };
+  // (the columns' starts before the particle loop: nothing per particle but the values)
+  F32* __restrict cu[D];
+  F32* __restrict cw[D];
+  for (int d = 0; d < D; ++d) { cu[d] = col(U0 + d); cw[d] = col(W0 + d); }
+  F32* __restrict crho = col(RHO); F32* __restrict cprs = col(PRS); F32* __restrict cm = col(MASS);
+  F32* __restrict cfl = col(FLUID); F32* __restrict ccs = col(CS); F32* __restrict cref = col(REF); F32* __restrict cphs = col(PHS);
+  F32* __restrict cphi = col(PHI); F32* __restrict ciphi = col(IPHI); F32* __restrict chs = col(HS);
+  F32* __restrict ct[NT];
+  for (int t = 0; t < NT; ++t) ct[t] = col(T0 + t);
   const Eos eos = q.eos;
 #pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < np; ++b) {
@@ -132,25 +151,25 @@ void pack_rates(const RatesPass<D>& q, std::size_t np, std::vector<F32>& pack) {
     const double rb = q.rho[b];
     const double ref = Multi ? q.peos[static_cast<std::size_t>(q.phase[b])].rho0 : q.rho0;
     for (int d = 0; d < D; ++d) {
-      col(U0 + d)[b] = F32(q.vel[b][d]);
-      col(W0 + d)[b] = fl || !q.wcorr ? F32(0) : q.wcorr[b * D + d];
+      cu[d][b] = F32(q.vel[b][d]);
+      cw[d][b] = fl || !q.wcorr ? F32(0) : q.wcorr[b * D + d];
     }
-    col(RHO)[b] = F32(rb - ref);
-    col(PRS)[b] = F32(q.p_of(b));
-    col(MASS)[b] = F32(q.mass[b]);
-    col(FLUID)[b] = fl ? F32(1) : F32(0);
-    col(CS)[b] = F32(Multi ? q.peos[static_cast<std::size_t>(q.phase[b])].sound_speed(rb) : eos.sound_speed(rb));
+    crho[b] = F32(rb - ref);
+    cprs[b] = F32(q.p_of(b));
+    cm[b] = F32(q.mass[b]);
+    cfl[b] = fl ? F32(1) : F32(0);
+    ccs[b] = F32(Multi ? q.peos[static_cast<std::size_t>(q.phase[b])].sound_speed(rb) : eos.sound_speed(rb));
     if constexpr (Multi) {
-      col(REF)[b] = F32(ref);
-      col(PHS)[b] = F32(q.phase[b]);
+      cref[b] = F32(ref);
+      cphs[b] = F32(q.phase[b]);
     }
     if constexpr (Turb)
-      for (int t = 0; t < NT; ++t) col(T0 + t)[b] = fl ? F32(q.tau[t][b] / rb) : F32(0);
+      for (int t = 0; t < NT; ++t) ct[t][b] = fl ? F32(q.tau[t][b] / rb) : F32(0);
     if constexpr (Porous) {
-      col(PHI)[b] = F32(q.phi[b]);
-      col(IPHI)[b] = F32(1.0 / q.phi[b]);
+      cphi[b] = F32(q.phi[b]);
+      ciphi[b] = F32(1.0 / q.phi[b]);
     }
-    if constexpr (VarH) col(HS)[b] = F32(q.hs[b]);
+    if constexpr (VarH) chs[b] = F32(q.hs[b]);
   }
 }
 
