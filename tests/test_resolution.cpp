@@ -1,7 +1,8 @@
 // Resolution levels (issue 42, docs/numerics.md §14): the split keeps mass, momentum and the
 // centre of mass to round-off; a refined region gives 2^D children per lattice point with their
 // level's mass and h; the per-pair h path (VarH) reproduces the one-level pass when every h is
-// equal and conserves momentum between particles of different sizes; the models the levels do
+// equal and conserves momentum between particles of different sizes; every wall model and the Shepard
+// filter on a level-1 lattice everywhere are the uniform fine run's; the models the levels do
 // not serve yet, and refined fluid next to walls, are refused with their lines.
 #include <gtest/gtest.h>
 
@@ -249,7 +250,8 @@ TEST(Resolution, RefusesWhatTheLevelsCannotServeYet) {
   EXPECT_HAS(err(std::string(kBlock) + "\n  multirate: true", "transport: {scalars: [{name: c, diffusivity: 1.0e-3}]}\n"),
              "the multirate step does not advance transported scalars");
   EXPECT_EQ(err(kBlock, "turbulence: {model: mixing_length}\n"), "");  // served since issue 58
-  EXPECT_HAS(err(kBlock, "walls: {type: dynamic}\n"), "walls.type: dynamic");
+  for (const char* w : {"walls: {type: dynamic}\n", "walls: {type: fixed_ghost}\n", "walls: {type: repulsive}\n"})
+    EXPECT_EQ(err(kBlock, w), "") << w;  // served since issue 58 (Resolution.WallModelsOnOneLevelEverywhereAreTheUniformFineWalls)
   EXPECT_EQ(test::build_error<2>(pool(kBlock)), "");
   EXPECT_HAS(err("{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 4}", ""), "resolution.regions.0.level");
   EXPECT_HAS(err("{shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 1.5}", ""), "a whole number of halvings");
@@ -317,7 +319,7 @@ time: {end: 0.1}
   EXPECT_EQ(left, 20u);  // the left face's (x = 0.2965): its parents at x = 0.295 lay outside the block
 }
 
-TEST(Resolution, ShepardAndDualMultirateAreRefused) {
+TEST(Resolution, DualMultirateIsRefused) {
   const std::string base = pool(kBlock);
   auto msg_of = [](const std::string& text, const std::vector<std::string>& o) {
     try {
@@ -327,7 +329,7 @@ TEST(Resolution, ShepardAndDualMultirateAreRefused) {
     }
     return std::string();
   };
-  EXPECT_HAS(msg_of(base, {"scheme.shepard_every=30"}), "'resolution': refined regions cannot yet be combined with");
+  EXPECT_EQ(msg_of(base, {"scheme.shepard_every=30"}), "");  // served since issue 58 (Resolution.ShepardOnOneLevel...)
   // the dual integrator steps every level together (served since issue 58); multirate sub-cycles the symplectic one
   EXPECT_HAS(msg_of(pool(std::string(kBlock) + "\n  multirate: true"), {"scheme.integrator=dual"}), "false with scheme.integrator: dual");
 }
@@ -653,4 +655,88 @@ TEST(Resolution, SetupRelaxationWorkLimitIsNamed) {
   EXPECT_HAS(msg, "resolution.relax");
   System<2> T;
   EXPECT_NO_THROW(build_system<2>(c, T));  // (the default: no limit)
+}
+
+// The wall models other than dummy walls on levels (issue 58): a level-1 region over the whole tank, walls included,
+// is the uniform dx/2 run: its fluid's rates at every lattice site are the uniform run's to the float sums'
+// round-off. The fixed ghosts' MLS takes each fluid particle's h (core/interpolate.hpp); the repulsive force acts over
+// each wall particle's own spacing and h (WallModel::add_forces: with the level-0 spacing it reaches the second fluid
+// row, with the level-0 h its strength halves: either moves the first rows' rates by ~c0²/h); dynamic walls carry
+// their level's mass. The split tank has more wall layers than the uniform run's (the level-0 layers' children):
+// beyond the fine fluid's reach. The walls' backup is off (its range is level 0's: docs/numerics.md §14).
+TEST(Resolution, WallModelsOnOneLevelEverywhereAreTheUniformFineWalls) {
+  for (const std::string type : {"fixed_ghost", "repulsive", "dynamic"}) {
+    SCOPED_TRACE(type);
+    const std::string walls = "walls: {type: " + type + ", backup: false}\n";
+    const std::string lev = pool("{shape: box, min: [-0.1, -0.1], max: [0.7, 0.5], level: 1}", walls);
+    test::Setup<2> a(lev.substr(0, lev.find("resolution:")) + "time: {end: 0.1}\n" + walls, {"particles.dx=0.005"}), b(lev);
+    ASSERT_EQ(b.S.levels, 1);
+    a.scheme->initialise(a.S);
+    b.scheme->initialise(b.S);
+    const auto &Pa = a.S.particles, &Pb = b.S.particles;
+    auto site = [](const Vec<2>& x) { return std::make_pair(std::lround(x[0] / 0.0025), std::lround(x[1] / 0.0025)); };
+    std::map<std::pair<long, long>, std::size_t> in_b;
+    for (std::size_t j = 0; j < Pb.n_owned(); ++j)
+      if (Pb.kind[j] == Kind::Fluid) in_b[site(Pb.pos[j])] = j;
+    double amax = 0.0, dmax = 0.0, da = 0.0, dd = 0.0, awall = 0.0;
+    std::size_t fluid = 0;
+    for (std::size_t i = 0; i < Pa.n_owned(); ++i) {
+      if (Pa.kind[i] != Kind::Fluid) continue;
+      ++fluid;
+      const auto it = in_b.find(site(Pa.pos[i]));
+      ASSERT_NE(it, in_b.end()) << Pa.pos[i][0] << ", " << Pa.pos[i][1];
+      const std::size_t j = it->second;
+      amax = std::max(amax, norm(Pa.acc[i]));
+      dmax = std::max(dmax, std::abs(Pa.drho[i]));
+      da = std::max(da, norm(Pa.acc[i] - Pb.acc[j]));
+      dd = std::max(dd, std::abs(Pa.drho[i] - Pb.drho[j]));
+      if (Pa.pos[i][1] < 0.005) awall = std::max(awall, norm(Pa.acc[i] - Vec<2>{{0.0, -9.81}}));  // (the bed's row)
+    }
+    EXPECT_EQ(fluid, in_b.size());
+    ASSERT_GT(awall, 1.0);  // (the walls act on the bed's row: the comparison tests them)
+    EXPECT_LT(da, 1e-4 * amax);  // (float pair sums, as Resolution.LevelGridsGiveTheLevel0CellsRates)
+    EXPECT_LT(dd, 1e-4 * dmax + 1e-9);
+  }
+}
+
+// The Shepard filter on levels (issue 58): each pair's kernel at h_ab. A level-1 region over the whole tank is the
+// uniform dx/2 run: a ±1 % checkerboard of density, one step of 1e-5 s with the filter after it, gives the uniform run's
+// densities at every lattice site (the filter halves the checkerboard; at the level-0 h it would average over twice
+// the radius, a difference of ~0.1 % of ρ0 at the surface and the walls).
+TEST(Resolution, ShepardOnOneLevelEverywhereIsTheUniformFineFilter) {
+  const std::string lev = pool("{shape: box, min: [-0.1, -0.1], max: [0.7, 0.5], level: 1}");
+  test::Setup<2> a(lev.substr(0, lev.find("resolution:")) + "time: {end: 0.1}\n", {"particles.dx=0.005", "scheme.shepard_every=1"});
+  test::Setup<2> b(lev, {"scheme.shepard_every=1"});
+  ASSERT_EQ(b.S.levels, 1);
+  auto site = [](const Vec<2>& x) { return std::make_pair(std::lround(x[0] / 0.0025), std::lround(x[1] / 0.0025)); };
+  std::map<std::pair<long, long>, double> before;
+  for (auto* s : {&a, &b}) {
+    auto& P = s->S.particles;
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Fluid) continue;
+      const auto k = site(P.pos[i]);
+      P.rho[i] *= 1.0 + 0.01 * (((k.first + k.second) / 2) % 2 == 0 ? 1.0 : -1.0);  // (sites at odd multiples of dx/4)
+      before[k] = P.rho[i];
+    }
+    eos_pressure(s->S);
+    s->named->initialise(s->S);
+    s->named->step(s->S, 1e-5);
+  }
+  std::map<std::pair<long, long>, double> rho_a;
+  for (std::size_t i = 0; i < a.S.particles.n_owned(); ++i)
+    if (a.S.particles.kind[i] == Kind::Fluid) rho_a[site(a.S.particles.pos[i])] = a.S.particles.rho[i];
+  const auto& P = b.S.particles;
+  double diff = 0.0, change = 0.0;
+  std::size_t fluid = 0;
+  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+    if (P.kind[i] != Kind::Fluid) continue;
+    ++fluid;
+    const auto k = site(P.pos[i]);
+    ASSERT_TRUE(rho_a.count(k)) << P.pos[i][0] << ", " << P.pos[i][1];
+    diff = std::max(diff, std::abs(P.rho[i] - rho_a[k]));
+    change = std::max(change, std::abs(P.rho[i] - before[k]));
+  }
+  EXPECT_EQ(fluid, rho_a.size());
+  ASSERT_GT(change, 3.0);  // (the filter moved the densities: ~5 kg/m3 of the 10 kg/m3 checkerboard)
+  EXPECT_LT(diff, 1e-3);   // (the step's float rates: ~1e-5 of dρ/dt over 1e-5 s; a wrong h: ~1 kg/m3)
 }

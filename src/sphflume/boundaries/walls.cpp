@@ -8,6 +8,7 @@
 
 #include "sphflume/core/interpolate.hpp"
 #include "sphflume/core/pair_pass.hpp"
+#include "sphflume/core/refinement.hpp"
 
 namespace sph {
 namespace {
@@ -396,21 +397,26 @@ void WallModel<D>::add_forces(System<D>& S, const double* near_only) const {
   const std::size_t n = P.n_owned();
   const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
   const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
+  // resolution levels: each wall particle repels over its own level's spacing and h (a split wall's children stand
+  // dx_l apart, as a uniform fine run's walls; docs/numerics.md §14); level 0 (and one-level runs) dx and h
+  const double* lv = S.levels > 0 ? P.scalar(field::level).data() : nullptr;
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::size_t a = 0; a < n; ++a) {
     if (P.kind[a] != Kind::Fluid) continue;
     Vec<D> f{};
     S.cells.for_neighbours(P.pos, P.pos[a], dx, [&](std::uint32_t k, const Vec<D>& r, double r2) {
       if (P.kind[k] != Kind::Wall) return;
+      const int l = lv ? static_cast<int>(lv[k]) : 0;
+      const double dxk = level_h(dx, l), hk = level_h(h, l);  // (l = 0: dx and h exactly)
       const Vec<D>& nk = nrm[k];  // (images carry their source's normal)
       const double rn = dot(r, nk);  // r = x_a − x_k: distance on the fluid side of the wall particle
-      if (!(rn > 0.0) || rn >= dx) return;
+      if (!(rn > 0.0) || rn >= dxk) return;
       const double rt = std::sqrt(std::max(0.0, r2 - rn * rn));
-      if (rt >= dx) return;
-      const double q = rn / dx;
+      if (rt >= dxk) return;
+      const double q = rn / dxk;
       const double v = -dot(P.vel[a] - P.vel[k], nk);
-      const double A = std::max(0.0, b1 + b2 * v) / h;
-      f += (A * (1.0 - q) / std::sqrt(q) * 0.5 * (1.0 + std::cos(pi * rt / dx))) * nk;
+      const double A = std::max(0.0, b1 + b2 * v) / hk;
+      f += (A * (1.0 - q) / std::sqrt(q) * 0.5 * (1.0 + std::cos(pi * rt / dxk))) * nk;
     });
     P.acc[a] += f;
   }

@@ -30,9 +30,6 @@ int line_of(const Node& root, const char* a, const char* b = "") {
 void check_models(const Node& root, const std::string& file, const Case& c) {
   const int rl = c.resolution.line;
   if (c.scheme.type != "wcsph") refuse(file, rl, line_of(root, "scheme", "type"), fmt::format("scheme.type: {}", c.scheme.type));
-  if (c.scheme.shepard_every > 0) refuse(file, rl, line_of(root, "scheme", "shepard_every"), "a Shepard filter (scheme.shepard_every)");
-  if (c.walls.type != "dummy") refuse(file, rl, line_of(root, "walls", "type"), fmt::format("walls.type: {}", c.walls.type));
-  if (c.walls.repulsive) refuse(file, rl, line_of(root, "walls", "repulsive"), "repulsive walls (walls.repulsive)");
 }
 
 /// `shape: band` (2D): a band along a slope of the geometry (`slope: N`, the index of a `type: slope`

@@ -286,6 +286,8 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
   std::vector<double> out(n);
   const double* phi = S.porous ? P.scalar(field::porosity).data() : nullptr;  // volumes m/(φρ)
   const double* phase = S.phase_eos.empty() ? nullptr : P.scalar(field::phase).data();  // within a phase
+  // resolution levels: each pair's kernel at h_ab = (h_a + h_b)/2 (docs/numerics.md §14), over the level-0 support
+  const double* hs = S.level_h();
   S.with_kernel([&](const auto& K) {
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < n; ++a) {
@@ -294,7 +296,8 @@ void WCSPH<D>::shepard_filter(System<D>& S) const {
       double num = 0.0, den = 0.0;
       S.cells.for_neighbours(P.pos, P.pos[a], K.support, [&](std::uint32_t b, const Vec<D>&, double r2) {
         if (P.kind[b] != Kind::Fluid || (phase && phase[b] != phase[a])) return;
-        const double w = K.W(std::sqrt(r2)) * (phi ? 1.0 / phi[b] : 1.0);
+        const double wk = hs ? K.Wh(std::sqrt(r2), 2.0 / (hs[a] + hs[b])) : K.W(std::sqrt(r2));
+        const double w = wk * (phi ? 1.0 / phi[b] : 1.0);
         num += P.mass[b] * w;
         den += P.mass[b] / P.rho[b] * w;
       });
