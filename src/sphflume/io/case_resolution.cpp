@@ -120,10 +120,6 @@ void read_resolution(const Node& root, const std::string& file, Case& c) {
                             "scheme.integrator: symplectic", c.scheme.integrator == Integrator::Verlet ? "verlet"
                             : c.scheme.integrator == Integrator::Dual ? "dual" : "predictor_corrector",
                             line_of(root, "scheme", "integrator")));
-    if (c.transport.on())
-      r.fail_at(r.get("multirate"), "resolution.multirate",
-                fmt::format("false with transport (line {}): the multirate step does not advance transported scalars "
-                            "yet; the fixed step does", line_of(root, "transport")));
   }
   r.finish();
   check_models(root, file, c);

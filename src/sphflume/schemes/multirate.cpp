@@ -19,6 +19,7 @@
 #include "sphflume/physics/porous.hpp"
 #include "sphflume/core/refinement.hpp"
 #include "sphflume/physics/resolution.hpp"
+#include "sphflume/physics/transport.hpp"
 #include "sphflume/schemes/multirate.hpp"
 #include "sphflume/schemes/wcsph_common.hpp"
 
@@ -124,6 +125,7 @@ void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rate
   auto& P = S.particles;
   const double t0 = S.time, half = 0.5 * dt, quarter = 0.25 * dt;
   S.update_neighbours();  // rates at t for every particle
+  if (S.transport) S.transport->begin_step(S);  // scalars: explicit midpoint over Δ for every particle (as two_stage_step)
   rates(S, false);
   // (no fast particle on any rank, e.g. a refined zone the flow has not reached: the fast-only
   // passes would only cost their fixed work, about 1 ms each on Flume B; the step is then the
@@ -149,6 +151,8 @@ void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rate
     if (g.fast(i)) g.stage2(i, half, P.rho[i]);
     else g.stage1(i, half);
   }
+  // the scalars to t + Δ/2 along the rates at t (the fast passes leave them: WCSPH::rates_pass)
+  if (S.transport) S.transport->advance(S, half, false);
   pass(t0 + half, false);  // every particle: the fast ones' start rates, the slow ones' mid-step rates
   for (std::size_t i = 0; i < P.n_owned(); ++i)
     if (!g.fast(i)) g.rho_mid(i) = P.rho[i];
@@ -165,6 +169,7 @@ void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rate
     else g.stage2(i, dt, g.rho_mid(i));
   }
   move_walls(S, t0 + dt);
+  if (S.transport) S.transport->advance(S, dt, true);  // along the mid-step rates
 }
 
 template class MultirateIntegrator<2>;

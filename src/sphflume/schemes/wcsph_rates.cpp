@@ -149,7 +149,9 @@ void WCSPH<D>::rates_pass(System<D>& S, bool fast_only) {
   S.walls->add_forces(S, near_fast);
   for (auto& f : S.forces) f->add(S);
   if (S.porous) S.porous->drag(S);  // the drag rate the integrator applies point-implicitly
-  if (S.transport) S.transport->rates(S);  // after the pair loop: the advection variants use drho
+  // after the pair loop (the advection variants use drho); a multirate fast pass leaves the scalars' rates alone (the
+  // scalars take the slow step, schemes/multirate.cpp)
+  if (S.transport && !fast_only) S.transport->rates(S);
   if (fast_only) {
     const double* fast = P.scalar(field::fast.name).data();
     Vec<D>* xs = kept.xs.empty() ? nullptr : P.vector(field::xsph).data();
