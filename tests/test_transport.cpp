@@ -312,12 +312,8 @@ transport:
   EXPECT_NE(h->find("non-finite dye"), std::string::npos) << *h;
 }
 
-// Resolution levels (docs/numerics.md §14): a pool whose middle is refined, with a scalar and densities that vary
-// from particle to particle. The diffusion's pairs take h_ab, so Σ m (dC/ρ)/dt = 0 across the levels to round-off;
-// moving the region splits the particles it now covers and merges those it left, and the scalar mass Σ m C/ρ is
-// kept through both (a merge takes the mass-weighted mean of C/ρ at the merged density).
-TEST(Transport, ScalarMassIsKeptAcrossLevels) {
-  const std::string yaml = R"(dimension: 2
+// A pool whose middle is refined, carrying a scalar (the levels' transport tests).
+const char* const kRefinedPoolScalar = R"(dimension: 2
 particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
 fluid: {density: 1000.0, viscosity: 1.0e-6}
 scheme: {viscosity: artificial, alpha: 0.02}
@@ -332,6 +328,13 @@ transport:
     - {name: c, diffusivity: 1.0e-3, initial: [{type: expression, expression: "sin(20*x)*cos(13*z) + 2"}]}
 time: {end: 0.1}
 )";
+
+// Resolution levels (docs/numerics.md §14): a pool whose middle is refined, with a scalar and densities that vary
+// from particle to particle. The diffusion's pairs take h_ab, so Σ m (dC/ρ)/dt = 0 across the levels to round-off;
+// moving the region splits the particles it now covers and merges those it left, and the scalar mass Σ m C/ρ is
+// kept through both (a merge takes the mass-weighted mean of C/ρ at the merged density).
+TEST(Transport, ScalarMassIsKeptAcrossLevels) {
+  const std::string yaml = kRefinedPoolScalar;
   test::Setup<2> s(yaml);
   ASSERT_EQ(s.S.levels, 1);
   ASSERT_TRUE(s.S.transport);
@@ -375,21 +378,7 @@ time: {end: 0.1}
 // the steps, and C follows the fixed-step run's (the finest level's step everywhere) within 2 % of what diffusion
 // changed (a multirate step that did not advance the scalars would miss all of it).
 TEST(Transport, MultirateStepAdvancesTheScalarsAsTheFixedStep) {
-  std::string yaml = R"(dimension: 2
-particles: {dx: 0.01, kernel: wendland_c2, h_over_dx: 2.0}
-fluid: {density: 1000.0, viscosity: 1.0e-6}
-scheme: {viscosity: artificial, alpha: 0.02}
-geometry:
-  - {type: tank, fill: wall, min: [0.0, 0.0], max: [0.6, 0.4]}
-  - {type: box, fill: fluid, min: [0.0, 0.0], max: [0.6, 0.3]}
-resolution:
-  regions:
-    - {shape: box, min: [0.2, 0.1], max: [0.4, 0.4], level: 1}
-transport:
-  scalars:
-    - {name: c, diffusivity: 1.0e-3, initial: [{type: expression, expression: "sin(20*x)*cos(13*z) + 2"}]}
-time: {end: 0.1}
-)";
+  std::string yaml = kRefinedPoolScalar;
   auto run = [&](bool multirate, std::size_t& steps) {
     std::string y = yaml;
     if (multirate) y.insert(y.find("transport:"), "  multirate: true\n");
