@@ -262,12 +262,15 @@ void WallMotion<D>::apply(System<D>& S, double t) {
   std::vector<Vec<D>>* nrm = flaps && P.has(field::wall_normal) ? &P.vector(field::wall_normal) : nullptr;
   const auto* nrm0 = nrm ? P.find(field::motion_normal0) : nullptr;
   if (flaps && !to0) throw std::logic_error("wall motion: a flap without motion_surface0");
+  std::vector<char> flap(size(), 0);
+  for (std::size_t k = 0; k < size(); ++k) flap[k] = cfg_[k].paddle == "flap";
   const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double g = (*grp)[i];
     if (!(g > 0.0)) continue;
     const std::size_t k = static_cast<std::size_t>(g) - 1;
-    if (cfg_[k].paddle == "flap") {
+    if (flap[k]) {
       const Vec<D>& e = dir_[k];
       const double c = std::cos(th[k]), s = std::sin(th[k]);
       const Vec<D> r = rotated<D>(e, (*org)[i] - hinge_[k], c, s);

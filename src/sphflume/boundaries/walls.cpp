@@ -471,6 +471,9 @@ void WallModel<D>::find_moving_covered(const System<D>& S) const {
   const auto& to = *surface;
   const double dx = S.dx;
   const std::size_t nall = P.size();
+  // (the tests on the threads, the list then in store order)
+  std::vector<char> covered(nall, 0);
+#pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < nall; ++k) {
     if (P.kind[k] != Kind::Wall || (*grp)[k] == 0.0) continue;
     const double depth2 = dot(to[k], to[k]);
@@ -481,8 +484,10 @@ void WallModel<D>::find_moving_covered(const System<D>& S) const {
     S.cells.for_neighbours(P.pos, probe, 0.5 * dx * 0.999, [&](std::uint32_t j, const Vec<D>&, double) {
       on_fixed = on_fixed || (P.kind[j] == Kind::Wall && (*grp)[j] == 0.0);
     });
-    if (on_fixed) moving_covered_.push_back(static_cast<std::uint32_t>(k));
+    covered[k] = on_fixed;
   }
+  for (std::size_t k = 0; k < nall; ++k)
+    if (covered[k]) moving_covered_.push_back(static_cast<std::uint32_t>(k));
 }
 
 template <int D>

@@ -254,9 +254,14 @@ std::size_t split_all(System<D>& S, const ResolutionConfig& res, std::uint32_t& 
   auto& P = S.particles;
   auto& lv = P.require(field::level);
   const std::size_t n = P.n_owned();
+  // (the regions' tests on the threads, the parents then taken in store order: the same ids on any thread count)
+  std::vector<char> up(n, 0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i)
+    up[i] = P.kind[i] == Kind::Fluid && target_level(res, P.pos[i].c.data(), D) > static_cast<int>(lv[i]);
   std::vector<std::size_t> parents;
   for (std::size_t i = 0; i < n; ++i)
-    if (P.kind[i] == Kind::Fluid && target_level(res, P.pos[i].c.data(), D) > static_cast<int>(lv[i])) parents.push_back(i);
+    if (up[i]) parents.push_back(i);
   // ids: each rank's new particles take a block after the lower ranks' (the same ids on any
   // number of ranks as the splits' order; one process: next_id, next_id + 1, ...)
   std::uint64_t total = 0;
@@ -290,6 +295,7 @@ std::size_t merge_all(System<D>& S, const ResolutionConfig& res) {
   const std::size_t n = P.n_owned();
   std::vector<char> cand(n, 0);
   bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any)
   for (std::size_t i = 0; i < n; ++i) {
     const int l = static_cast<int>(lv[i]);
     if (P.kind[i] != Kind::Fluid || l == 0) continue;

@@ -56,7 +56,9 @@ class Stages {
   double& rho_mid(std::size_t i) { return rm_[i]; }
   /// x0, v0, ρ0 from the present state (fast_only: the fast particles' second step)
   void start(bool fast_only) {
-    for (std::size_t i = 0; i < P_.n_owned(); ++i) {
+    const std::size_t n = P_.n_owned();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
       if (fast_only && !fast(i)) continue;
       x0_[i] = P_.pos[i];
       v0_[i] = P_.vel[i];
@@ -111,7 +113,9 @@ bool mark_fast(System<D>& S) {
   const auto& hs = P.require(field::smoothing_length);
   const double h_slow = level_h(S.h, S.levels - 1);
   bool any = false;
-  for (std::size_t i = 0; i < P.n_owned(); ++i) {
+  const std::size_t n = P.n_owned();
+#pragma omp parallel for schedule(static) reduction(|| : any)
+  for (std::size_t i = 0; i < n; ++i) {
     fast[i] = P.kind[i] == Kind::Fluid && (static_cast<int>(lv[i]) == S.levels || hs[i] < (1.0 - 1e-3) * h_slow) ? 1.0 : 0.0;
     any = any || fast[i] != 0.0;
   }
@@ -124,6 +128,8 @@ template <int D>
 void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rates) const {
   auto& P = S.particles;
   const double t0 = S.time, half = 0.5 * dt, quarter = 0.25 * dt;
+  // (the per-particle stages are independent: each loop runs on the threads, the same bits on any count; the owned
+  // count is read again at each loop: a pass's update_neighbours may hand particles to other ranks)
   S.update_neighbours();  // rates at t for every particle
   if (S.transport) S.transport->begin_step(S);  // scalars: explicit midpoint over Δ for every particle (as two_stage_step)
   rates(S, false);
@@ -143,10 +149,12 @@ void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rate
   g.start(false);
   // t + Δ/4: every particle along its first stage (the fast ones' first half step, the slow
   // ones' prediction along theirs)
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < P.n_owned(); ++i) g.stage1(i, quarter);
   pass(t0 + quarter, true);
   // t + Δ/2: the fast ones close their first step (ρ at t + Δ/4 is their stage's); the slow
   // ones reach their mid-step
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     if (g.fast(i)) g.stage2(i, half, P.rho[i]);
     else g.stage1(i, half);
@@ -154,16 +162,19 @@ void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rate
   // the scalars to t + Δ/2 along the rates at t (the fast passes leave them: WCSPH::rates_pass)
   if (S.transport) S.transport->advance(S, half, false);
   pass(t0 + half, false);  // every particle: the fast ones' start rates, the slow ones' mid-step rates
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < P.n_owned(); ++i)
     if (!g.fast(i)) g.rho_mid(i) = P.rho[i];
   g.start(true);
   // t + 3Δ/4: the fast ones' second first stage; the slow ones predicted along their close
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     if (g.fast(i)) g.stage1(i, quarter);
     else g.stage2(i, 3.0 * quarter, g.rho_mid(i));
   }
   pass(t0 + 3.0 * quarter, true);
   // t + Δ: both close
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < P.n_owned(); ++i) {
     if (g.fast(i)) g.stage2(i, half, P.rho[i]);
     else g.stage2(i, dt, g.rho_mid(i));

@@ -94,6 +94,11 @@ class WCSPH final : public Scheme<D> {
   double max_acc_ = 0.0;
   std::vector<float> pack_;  // the per-particle columns of the rates pass (wcsph_rates.cpp)
   std::vector<std::uint32_t> walls_before_;  // the half-stencil sweep's count of walls before each store entry
+  // a multirate fast pass: the slow particles' rates of their stage, put back after the pass (wcsph_rates.cpp)
+  struct Kept {
+    std::vector<Vec<D>> acc, xs;
+    std::vector<double> drho, kr, im;
+  } kept_;
 };
 
 }  // namespace sph

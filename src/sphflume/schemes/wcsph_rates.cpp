@@ -119,17 +119,27 @@ void WCSPH<D>::rates_pass(System<D>& S, bool fast_only) {
   }
   if (S.before_rates) S.before_rates(S);
   // a multirate pass of the fast particles: the slow ones keep the rates of their stage (restored
-  // below: the walls, force terms and drag write every particle's)
+  // below)
   auto& P = S.particles;
   const std::size_t n = P.n_owned();
-  struct Kept { std::vector<Vec<D>> acc, xs; std::vector<double> drho, kr, im; } kept;
+  // (the walls, force terms and drag below write every particle's; the copies and the put-back run on the threads,
+  // into buffers kept between passes)
+  Vec<D>* xs = fast_only && cfg_.xsph > 0.0 ? P.vector(field::xsph).data() : nullptr;
+  double* kr = fast_only && S.porous ? P.scalar(field::drag_rate).data() : nullptr;
+  double* im = fast_only && S.porous ? P.scalar(field::inertia).data() : nullptr;
+  auto& kept = kept_;
   if (fast_only) {
-    kept.acc.assign(P.acc.begin(), P.acc.begin() + static_cast<std::ptrdiff_t>(n));
-    kept.drho.assign(P.drho.begin(), P.drho.begin() + static_cast<std::ptrdiff_t>(n));
-    if (cfg_.xsph > 0.0) kept.xs.assign(P.vector(field::xsph).begin(), P.vector(field::xsph).begin() + static_cast<std::ptrdiff_t>(n));
-    if (S.porous) {
-      kept.kr.assign(P.scalar(field::drag_rate).begin(), P.scalar(field::drag_rate).begin() + static_cast<std::ptrdiff_t>(n));
-      kept.im.assign(P.scalar(field::inertia).begin(), P.scalar(field::inertia).begin() + static_cast<std::ptrdiff_t>(n));
+    kept.acc.resize(n);
+    kept.drho.resize(n);
+    kept.xs.resize(xs ? n : 0);
+    kept.kr.resize(kr ? n : 0);
+    kept.im.resize(kr ? n : 0);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      kept.acc[i] = P.acc[i];
+      kept.drho[i] = P.drho[i];
+      if (xs) kept.xs[i] = xs[i];
+      if (kr) { kept.kr[i] = kr[i]; kept.im[i] = im[i]; }
     }
   }
   if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
@@ -154,9 +164,10 @@ void WCSPH<D>::rates_pass(System<D>& S, bool fast_only) {
   if (S.transport && !fast_only) S.transport->rates(S);
   if (fast_only) {
     const double* fast = P.scalar(field::fast.name).data();
-    Vec<D>* xs = kept.xs.empty() ? nullptr : P.vector(field::xsph).data();
-    double* kr = kept.kr.empty() ? nullptr : P.scalar(field::drag_rate).data();
-    double* im = kept.kr.empty() ? nullptr : P.scalar(field::inertia).data();
+    xs = xs ? P.vector(field::xsph).data() : nullptr;  // (the passes above may have grown the store's fields)
+    kr = kr ? P.scalar(field::drag_rate).data() : nullptr;
+    im = kr ? P.scalar(field::inertia).data() : nullptr;
+#pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       if (fast[i] != 0.0) continue;
       P.acc[i] = kept.acc[i];
