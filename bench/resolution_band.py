@@ -17,7 +17,7 @@ counts, particle-steps per second; the band run's time as a ratio to the fine ru
 (5 mm in the band, 10 mm elsewhere): R within 2 % of the uniform 5 mm run's at <= 1/3 of its wall time; Flume B at
 H/h0 = 0.28: R within 10 % of Synolakis at <= 1/3 of the uniform 5 mm run's wall time.
 Usage: /usr/bin/python3 bench/resolution_band.py [--sphflume build/sphflume] [--out DIR] [--threads 1] [--flume a]
-       [--ratio 0.163] [--dx 0.01] [--runs fine,band,coarse] [--reuse] [--cells level0|finest]
+       [--ratio 0.163] [--dx 0.01] [--runs fine,band,coarse] [--end T] [--reuse] [--cells level0|finest]
 """
 import argparse
 import math
@@ -87,6 +87,9 @@ def main():
     ap.add_argument("--runs", default="fine,band,coarse",
                     help="which of fine, band, follow, band_mr, follow_mr, coarse to run (comma-separated)")
     ap.add_argument("--dx", type=float, default=0.01)
+    ap.add_argument("--end", type=float, default=None,
+                    help="end time in s (default: the validation check's); a shorter window times the runs' start "
+                         "(sessions 30, 43: Flume B to 0.4 s) and writes to OUT/end_T")
     ap.add_argument("--reuse", action="store_true", help="re-read finished runs in --out (validation/common.py run_case)")
     ap.add_argument("--cells", choices=("levels", "level0", "finest"), default="levels",
                     help="the refined runs' cell list (`resolution.cells`, docs/numerics.md §14); level0 or finest: "
@@ -99,7 +102,9 @@ def main():
         a.out = os.path.join(a.out, f"flume_b_{a.ratio:g}")
     if a.cells != "levels":
         a.out = os.path.join(a.out, f"cells_{a.cells}")
-    base = {"time.end": F["end"](a.ratio), "motions.0.height": a.ratio * H0}
+    if a.end is not None:
+        a.out = os.path.join(a.out, f"end_{a.end:g}")
+    base = {"time.end": F["end"](a.ratio) if a.end is None else a.end, "motions.0.height": a.ratio * H0}
     sets = {"fine": {**base, "particles.dx": a.dx / 2},
             "band": {**base, "particles.dx": a.dx, "resolution": BAND.format(top=F["top"])},
             "follow": {**base, "particles.dx": a.dx, "resolution": FOLLOW.format(top=F["top"])},
