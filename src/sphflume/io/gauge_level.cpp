@@ -13,8 +13,6 @@ namespace sph {
 using namespace gauge_detail;
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
 /// water_level: the level on the vertical line through `point` (or x).
 template <int D>
 class WaterLevelGauge final : public GaugeType<D> {

@@ -14,8 +14,6 @@ namespace sph {
 using namespace gauge_detail;
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
 /// One column name per point and component: prefix(i).
 template <class F>
 std::string per_point(const GaugeConfig& g, F&& name) {

@@ -10,8 +10,6 @@ namespace sph {
 using namespace gauge_detail;
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
 /// The point of a point gauge.
 void read_point(Reader& r, GaugeConfig& g, const Node& n, std::size_t d) {
   g.point = r.vec("point", d);

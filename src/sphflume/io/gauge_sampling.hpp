@@ -11,6 +11,9 @@
 
 namespace sph::gauge_detail {
 
+/// A gauge value with no reading (no water at a point, an empty line): NaN.
+inline constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
 /// ∫ u ds over the wet part of a line sampled every ds (fluid fraction f ≥ 0.5): trapezoids over
 /// the wet segments; a segment crossing the surface (f = 0.5, linearly interpolated) counts its
 /// wet part, so the integral does not jump by a whole segment as the surface moves past a point.

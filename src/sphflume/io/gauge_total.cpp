@@ -12,8 +12,6 @@ namespace sph {
 using namespace gauge_detail;
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
 /// energy: kinetic, potential (−Σ m g·x relative to the origin), total [J (per m in 2D)].
 template <int D>
 class EnergyGauge final : public GaugeType<D> {
