@@ -429,6 +429,41 @@ class CellList {
       }
     }
   }
+  /// near[c] = the OR of bits(i) over every particle i in the stencil of occupied cell c (bits: a few flags per
+  /// particle, e.g. its level's bit: near then tells which levels a cell's stencil holds, in one sweep where
+  /// mark_near would take one per level). The stencil as mark_near's with `radius`.
+  template <class Bits>
+  void or_near(std::vector<char>& near, Bits&& bits, double radius) const {
+    const int reach = radius > 0.0 && !multi_ ? reach_for(radius) : -1;
+    const std::size_t nocc = occupied_.size();
+    tmp_.assign(cell_count(), 0);  // tmp_[c]: the OR over cell c's own particles
+    near.assign(cell_count(), 0);
+    char* __restrict has = tmp_.data();
+#pragma omp parallel if (sorted_.size() > 4096)
+    {
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        const std::uint32_t c = occupied_[oc];
+        char b = 0;
+        for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) b = static_cast<char>(b | bits(static_cast<std::size_t>(sorted_[k])));
+        has[c] = b;
+      }
+#pragma omp for schedule(static)
+      for (std::size_t oc = 0; oc < nocc; ++oc) {
+        const std::uint32_t c = occupied_[oc];
+        if (multi_) {
+          char any = 0;
+          grid_rows(c, radius, [&](std::uint32_t k0, std::uint32_t k1) {
+            for (std::uint32_t k = k0; k < k1; ++k) any = static_cast<char>(any | has[k]);
+          });
+          near[c] = any;
+          continue;
+        }
+        const int R = reach >= 0 ? reach : this->reach(c);
+        near[c] = window(has, c, R, char(0), [](char a, char b) { return char(a | b); });
+      }
+    }
+  }
   /// Cell of particle i (as binned by the last build).
   std::uint32_t cell_of(std::size_t i) const { return cell_of_[i]; }
 

@@ -9,6 +9,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <tuple>
 #include <type_traits>
 #include <cstdint>
@@ -483,6 +484,65 @@ struct LaneSums {
   }
 };
 
+/// Each thread's range of cells [front, end) of a sweep, claimed from the front by its owner a piece at a time and
+/// from the back by a thread that has run out (sweep_cells): one 64-bit word per thread (front in the low half, end
+/// in the high), changed only by compare-and-swap, each on its own cache line.
+class StealRanges {
+ public:
+  explicit StealRanges(int nt) : slot_(static_cast<std::size_t>(nt)) {}
+  void set(int t, std::size_t front, std::size_t end) { slot_[idx(t)].v.store(pack(front, end), std::memory_order_relaxed); }
+  /// The owner's next piece [f, e) of its range (an eighth of what is left, at least one cell); false when it is empty.
+  bool claim(int t, std::size_t& f, std::size_t& e) {
+    auto& a = slot_[idx(t)].v;
+    std::uint64_t v = a.load(std::memory_order_acquire);
+    for (;;) {
+      const std::size_t f0 = lo(v), e0 = hi(v);
+      if (f0 >= e0) return false;
+      const std::size_t f1 = f0 + std::max<std::size_t>(1, (e0 - f0) / 8);
+      if (a.compare_exchange_weak(v, pack(f1, e0), std::memory_order_acq_rel)) {
+        f = f0;
+        e = f1;
+        return true;
+      }
+    }
+  }
+  /// Thread t (its own range empty) takes the back half, by the running work sums wk, of the largest unclaimed range
+  /// of another thread and makes it its own range; false when no other thread has any left.
+  bool steal(int t, const std::uint64_t* wk) {
+    for (;;) {
+      int victim = -1;
+      std::uint64_t most = 0, v = 0;
+      for (int q = 0; q < static_cast<int>(slot_.size()); ++q) {
+        if (q == t) continue;
+        const std::uint64_t w = slot_[idx(q)].v.load(std::memory_order_acquire);
+        if (lo(w) < hi(w) && wk[hi(w)] - wk[lo(w)] >= most) {
+          most = wk[hi(w)] - wk[lo(w)];
+          victim = q;
+          v = w;
+        }
+      }
+      if (victim < 0) return false;
+      const std::size_t f = lo(v), e = hi(v);
+      const std::uint64_t goal = wk[f] + (wk[e] - wk[f]) / 2;
+      const std::size_t mid = std::clamp<std::size_t>(static_cast<std::size_t>(std::lower_bound(wk + f, wk + e, goal) - wk), f, e - 1);
+      if (slot_[idx(victim)].v.compare_exchange_strong(v, pack(f, mid), std::memory_order_acq_rel)) {
+        set(t, mid, e);
+        return true;
+      }
+    }
+  }
+
+ private:
+  struct alignas(64) Slot {
+    std::atomic<std::uint64_t> v{0};
+  };
+  std::vector<Slot> slot_;
+  static std::size_t idx(int t) { return static_cast<std::size_t>(t); }
+  static std::uint64_t pack(std::size_t f, std::size_t e) { return static_cast<std::uint64_t>(f) | (static_cast<std::uint64_t>(e) << 32); }
+  static std::size_t lo(std::uint64_t v) { return static_cast<std::size_t>(v & 0xffffffffu); }
+  static std::size_t hi(std::uint64_t v) { return static_cast<std::size_t>(v >> 32); }
+};
+
 /// The skeleton every vectorised pair loop shares (the WCSPH sweep, the dual integrator's passes,
 /// the dummy walls' extrapolation, the walls' backup, the scalar transport's pair sums): needs(cell), evaluated once per occupied
 /// cell, returns how many of its particles the pass runs (0: the cell is skipped); for each
@@ -499,8 +559,12 @@ struct LaneSums {
 /// 2D passes took 1.27x as long as on 1 (bench/README.md). The runs are balanced by a cell's
 /// work, (particles + 1) x candidates, each thread's share scaled by the rate (work per
 /// second) it ran at in the last calls of the same pass (the passes' costs per candidate vary
-/// across the tank, with the walls among them). The results do not depend on the partition:
-/// a cell's sums are its own, and the pair counts are integers.
+/// across the tank, with the walls among them). What the estimate misses (a multirate run's
+/// fast and full passes share one rate and run different cells; the rates sweep of a band run
+/// on two threads waited 10 % of its time at the end) is taken up by stealing (StealRanges): a
+/// thread claims its run from the front a piece at a time, and one that has finished takes the
+/// back half, by work, of what another has not yet claimed. The results do not depend on the
+/// partition: a cell's sums are its own, and the pair counts are integers.
 template <class T, int D, class Need, class Body>
 std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes, Need&& needs, Body&& body, double radius = 0.0) {
   const auto& occupied = cells.occupied();
@@ -516,6 +580,8 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
   std::uint64_t* __restrict wk = work.data();
   std::vector<std::size_t> first(static_cast<std::size_t>(maxt) + 1, nocc);  // each thread's first cell
   std::vector<double> took(static_cast<std::size_t>(maxt), 0.0);
+  std::vector<std::uint64_t> did(static_cast<std::size_t>(maxt), 0);  // the work each thread ran (its own and stolen)
+  StealRanges ranges(maxt);
   int team = 1;
   std::uint64_t total = 0;
 #pragma omp parallel reduction(+ : total)
@@ -563,13 +629,22 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
           const auto goal = static_cast<std::uint64_t>(share * static_cast<double>(wk[nocc]));
           first[static_cast<std::size_t>(q)] = static_cast<std::size_t>(std::lower_bound(wk, wk + nocc + 1, goal) - wk);
         }
+        for (int q = 0; q < nt; ++q) ranges.set(q, first[static_cast<std::size_t>(q)], first[static_cast<std::size_t>(q) + 1]);
       }
 #ifdef _OPENMP
       const double t0 = omp_get_wtime();
 #endif
       const std::size_t u = static_cast<std::size_t>(t);
-      for (std::size_t oc = first[u]; oc < first[u + 1]; ++oc)
-        if (wk[oc + 1] > wk[oc]) run(occupied[oc]);
+      std::uint64_t w = 0;  // the work this thread ran
+      do {
+        std::size_t f = 0, e = 0;
+        while (ranges.claim(t, f, e)) {
+          for (std::size_t oc = f; oc < e; ++oc)
+            if (wk[oc + 1] > wk[oc]) run(occupied[oc]);
+          w += wk[e] - wk[f];
+        }
+      } while (ranges.steal(t, wk));
+      did[u] = w;
 #ifdef _OPENMP
       took[u] = omp_get_wtime() - t0;
 #endif
@@ -579,7 +654,7 @@ std::uint64_t sweep_cells(const CellList<D>& cells, int ncol, std::size_t lanes,
   // or a run too short to time keeps its rate)
   for (int q = 0; q < team && team > 1; ++q) {
     const std::size_t u = static_cast<std::size_t>(q);
-    const double w = static_cast<double>(wk[first[u + 1]] - wk[first[u]]);
+    const double w = static_cast<double>(did[u]);
     if (w <= 0.0 || took[u] <= 1.0e-6) continue;
     const double r = w / took[u];
     rate[u] = rate[u] > 0.0 ? 0.75 * rate[u] + 0.25 * r : r;

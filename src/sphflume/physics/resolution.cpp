@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -24,22 +25,17 @@ void smooth_level_h(System<D>& S) {
   if (S.cells.sorted().size() < np)
     throw std::logic_error("smooth_level_h: the cell list does not hold every particle (update_neighbours first)");
   // cells whose stencil holds particles of more than one level: only their particles average
-  // (elsewhere the average is the level's own h)
-  std::vector<char> mixed, near;
+  // (elsewhere the average is the level's own h); the levels of each cell's stencil as bits, in one sweep
   // (the average's level-0 support: the widest stencil)
-  for (int l = 0; l <= S.levels; ++l) {
-    S.cells.mark_near(near, [&](std::size_t i) { return static_cast<int>(lv[i]) == l; }, S.support);
-    if (mixed.empty()) mixed.assign(near.size(), 0);
-    for (std::size_t c = 0; c < near.size(); ++c) mixed[c] = static_cast<char>(mixed[c] + near[c]);
-  }
+  std::vector<char> levels_near;
+  S.cells.or_near(levels_near, [&](std::size_t i) { return static_cast<char>(1 << std::clamp(static_cast<int>(lv[i]), 0, 7)); }, S.support);
   std::vector<float> vol(np), hl(np);  // each candidate's m/ρ and its level's h
 #pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < np; ++b) {
     vol[b] = static_cast<float>(P.mass[b] / P.rho[b]);
     hl[b] = static_cast<float>(level_h(S.h, static_cast<int>(lv[b])));
+    if (b < n) hs[b] = level_h(S.h, static_cast<int>(lv[b]));
   }
-#pragma omp parallel for schedule(static)
-  for (std::size_t a = 0; a < n; ++a) hs[a] = level_h(S.h, static_cast<int>(lv[a]));
   // the mixed cells' particles: Σ_b V_b W_ab h_b / Σ_b V_b W_ab over the level-0 support, in float
   // columns over the cell's stencil (the pair-pass seam, core/pair_pass.hpp): this average was
   // half a swash-band run's time as a double-precision neighbour loop (bench/README.md)
@@ -49,7 +45,7 @@ void smooth_level_h(System<D>& S) {
   const double h_fine = S.finest_h();
   S.with_kernel([&](const auto& K) {
     sweep_cells<float>(cells, D + 2, L, [&](std::size_t cell) -> std::size_t {
-      if (mixed[cell] <= 1) return 0;
+      if (std::popcount(static_cast<unsigned char>(levels_near[cell])) <= 1) return 0;
       std::size_t m = 0;
       for (std::uint32_t k = cells.cell_begin(cell); k < cells.cell_end(cell); ++k) m += sorted[k] < n ? 1 : 0;
       return m;

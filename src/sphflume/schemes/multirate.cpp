@@ -131,6 +131,10 @@ void MultirateIntegrator<D>::step(System<D>& S, double dt, const RatesPass& rate
   // (the per-particle stages are independent: each loop runs on the threads, the same bits on any count; the owned
   // count is read again at each loop: a pass's update_neighbours may hand particles to other ranks)
   S.update_neighbours();  // rates at t for every particle
+  // h at the particles' places once per step Δ: every pass of the step keeps it (the fast ones move a quarter step
+  // between passes, the slow ones less than a tenth of their spacing in the step: h is a smooth field, and both
+  // sides of a pair read the same h_ab; bench/README.md, session 45, has the cost of a second average per step).
+  S.resolution->smooth_h(S);
   if (S.transport) S.transport->begin_step(S);  // scalars: explicit midpoint over Δ for every particle (as two_stage_step)
   rates(S, false);
   // (no fast particle on any rank, e.g. a refined zone the flow has not reached: the fast-only

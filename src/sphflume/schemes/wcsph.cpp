@@ -125,7 +125,7 @@ void WCSPH<D>::step(System<D>& S, double dt) {
     if (cfg_.integrator != Integrator::Verlet) S.update_neighbours();
     shift_.compute(S, dt);
   }
-  if (multirate_ && S.levels > 0) multirate_->step(S, dt, [this](System<D>& s, bool fast_only) { rates_pass(s, fast_only); });
+  if (multirate_ && S.levels > 0) multirate_->step(S, dt, [this](System<D>& s, bool fast_only) { rates_pass(s, fast_only, false); });
   else if (cfg_.integrator == Integrator::Verlet) verlet_step(S, dt);
   else two_stage_step(S, dt);
   if (shift_.on()) shift_.apply(S);

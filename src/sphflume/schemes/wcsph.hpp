@@ -70,8 +70,9 @@ class WCSPH final : public Scheme<D> {
 
  private:
   /// A rates pass; fast_only: the multirate integrator's pass of its fast particles (store field "_fast" != 0),
-  /// the others keeping their rates.
-  void rates_pass(System<D>& S, bool fast_only);
+  /// the others keeping their rates. smooth_h: resolution levels' h set at the particles' places first (the
+  /// multirate integrator sets it once per step itself and passes false).
+  void rates_pass(System<D>& S, bool fast_only, bool smooth_h = true);
   /// fast: the fast particles' flags of a fast-only pass (null: every particle).
   template <class K>
   void pair_loop(System<D>& S, const K& kernel, const double* fast);

@@ -112,7 +112,7 @@ void WCSPH<D>::sweep(System<D>& S, const K& ker, const double* fast) {
 }
 
 template <int D>
-void WCSPH<D>::rates_pass(System<D>& S, bool fast_only) {
+void WCSPH<D>::rates_pass(System<D>& S, bool fast_only, bool smooth_h) {
   if (cfg_.frozen) {  // only the scalars move
     if (S.transport) S.transport->rates(S);
     return;
@@ -144,9 +144,9 @@ void WCSPH<D>::rates_pass(System<D>& S, bool fast_only) {
   }
   if (S.porous) S.porous->update(S);  // φ at the current positions (before the pair loop reads it)
   if (S.grenier) grenier_gamma(S);  // Γ of Grenier's pressure gradient
-  // resolution levels: h at the particles' places (a multirate fast pass keeps the h of the last
-  // full pass, a quarter step old: h is a smooth field, and both sides of a pair read the same)
-  if (S.resolution && !fast_only) S.resolution->smooth_h(S);
+  // resolution levels: h at the particles' places (the multirate integrator sets it at the start of its step and
+  // every pass of the step keeps it: schemes/multirate.cpp)
+  if (S.resolution && smooth_h && !fast_only) S.resolution->smooth_h(S);
   const double* near_fast = fast_only ? P.scalar(field::fast.name).data() : nullptr;  // (the walls near the fast ones)
   S.walls->prepare(S, near_fast);
   // the plain terms visit each fluid pair once (half stencils: schemes/wcsph_rates_half.cpp); the other models and
@@ -184,7 +184,7 @@ void WCSPH<D>::rates_pass(System<D>& S, bool fast_only) {
   if (!std::isfinite(max_acc_)) check_finite(S);
 }
 
-template void WCSPH<2>::rates_pass(System<2>&, bool);
-template void WCSPH<3>::rates_pass(System<3>&, bool);
+template void WCSPH<2>::rates_pass(System<2>&, bool, bool);
+template void WCSPH<3>::rates_pass(System<3>&, bool, bool);
 
 }  // namespace sph
