@@ -16,8 +16,12 @@ the fine run, wall and CPU time (summary.json's cpu_seconds), steps, particle
 counts, particle-steps per second; the band run's time as a ratio to the fine run's. Issue 42's gates: Flume A
 (5 mm in the band, 10 mm elsewhere): R within 2 % of the uniform 5 mm run's at <= 1/3 of its wall time; Flume B at
 H/h0 = 0.28: R within 10 % of Synolakis at <= 1/3 of the uniform 5 mm run's wall time.
+--repeat N runs the chosen runs N times in turn (fine, band, fine, band, ...; the repeats into OUT/TAG_rK) and gives
+each refined run's time ratio to the fine run of the same round, and their median: on a VM whose speed drifts by
+±10 % between identical runs one pair measures the ratio to about ±15 % (bench/README.md, session 45); R is the
+first round's (the runs are deterministic: every round gives the same gauges).
 Usage: /usr/bin/python3 bench/resolution_band.py [--sphflume build/sphflume] [--out DIR] [--threads 1] [--flume a]
-       [--ratio 0.163] [--dx 0.01] [--runs fine,band,coarse] [--end T] [--reuse] [--cells level0|finest]
+       [--ratio 0.163] [--dx 0.01] [--runs fine,band,coarse] [--end T] [--reuse] [--cells level0|finest] [--repeat N]
 """
 import argparse
 import math
@@ -65,8 +69,8 @@ def multirate(res):
     return res[:-1] + ", multirate: true}"
 
 
-def run(a, tag, sets):
-    out = os.path.join(a.out, tag)
+def run(a, tag, sets, folder=None):
+    out = os.path.join(a.out, folder or tag)
     s, wall, rc = run_case(a.sphflume, os.path.join(ROOT, "cases", FLUMES[a.flume]["case"]), out, sets, a.threads, a.reuse)
     if s is None:
         sys.exit(f"{tag} failed ({rc})")
@@ -94,6 +98,7 @@ def main():
     ap.add_argument("--cells", choices=("levels", "level0", "finest"), default="levels",
                     help="the refined runs' cell list (`resolution.cells`, docs/numerics.md §14); level0 or finest: "
                          "runs go to OUT/cells_level0 or OUT/cells_finest")
+    ap.add_argument("--repeat", type=int, default=1, help="rounds of the runs in turn; the median of the rounds' time ratios")
     a = ap.parse_args()
     F = FLUMES[a.flume]
     if a.ratio is None:
@@ -114,7 +119,9 @@ def main():
     if a.cells != "levels":  # (the refined runs only: the uniform ones have one level)
         for tag in ("band", "follow", "band_mr", "follow_mr"):
             sets[tag]["resolution"] = sets[tag]["resolution"][:-1] + f", cells: {a.cells}}}"
-    res = {tag: run(a, tag, sets[tag]) for tag in ("fine", "band", "follow", "band_mr", "follow_mr", "coarse") if tag in a.runs.split(",")}
+    tags = [tag for tag in ("fine", "band", "follow", "band_mr", "follow_mr", "coarse") if tag in a.runs.split(",")]
+    rounds = [{tag: run(a, tag, sets[tag], tag if k == 0 else f"{tag}_r{k}") for tag in tags} for k in range(max(1, a.repeat))]
+    res = rounds[0]
     ref = F["ref"](a.ratio)
     print(f"Flume {a.flume.upper()}, H/h0 = {a.ratio:g}, to t = {base['time.end']} s, {a.threads} thread(s); "
           f"{F['ref_name']} R/h0 = {ref:.4f}")
@@ -131,6 +138,11 @@ def main():
             d = res[tag]["R"] / res["fine"]["R"] - 1
             print(f"{tag} / fine: wall time {q:.3f}, CPU time {qc:.3f} (gate <= 1/3), run-up {100 * d:+.2f} % "
                   f"(Flume A's gate: within 2 %)")
+            if len(rounds) > 1:
+                qs = [r[tag]["wall"] / r["fine"]["wall"] for r in rounds]
+                walls = ", ".join(f"{r['fine']['wall']:.1f}/{r[tag]['wall']:.1f}" for r in rounds)
+                print(f"{tag} / fine over {len(rounds)} rounds (fine/{tag} wall s: {walls}): ratios "
+                      f"{', '.join(f'{x:.3f}' for x in qs)}; median {float(np.median(qs)):.3f} (gate <= 1/3)")
     return 0
 
 

@@ -699,6 +699,42 @@ TEST(Resolution, WallModelsOnOneLevelEverywhereAreTheUniformFineWalls) {
   }
 }
 
+// The dummy walls' backup against penetration on levels (session 45): each wall particle holds the fluid over its own
+// level's spacing (s0 = dx_l/4 from the surface, its first layer within dx_l, h_l in the strength). A level-1 region
+// over the whole tank is the uniform dx/2 run: the bed's fluid row pushed to 1 mm above the bed (its lattice place is
+// 2.5 mm), inside the fine backup's reach (1.25 mm), gets the uniform run's rates. At level 0's spacing the backup's
+// reach was 2.5 mm, its second fine wall layer pushed too and its strength took level 0's h: 9x the force and more.
+TEST(Resolution, WallBackupOnOneLevelEverywhereIsTheUniformFineBackup) {
+  const std::string walls = "walls: {type: dummy, backup: true}\n";
+  const std::string lev = pool("{shape: box, min: [-0.1, -0.1], max: [0.7, 0.5], level: 1}", walls);
+  const std::string uniform = lev.substr(0, lev.find("resolution:")) + "time: {end: 0.1}\n";
+  test::Setup<2> a(uniform + walls, {"particles.dx=0.005"}), b(lev), c(uniform + "walls: {type: dummy, backup: false}\n", {"particles.dx=0.005"});
+  ASSERT_EQ(b.S.levels, 1);
+  for (auto* s : {&a, &b, &c}) {  // (the bed's fluid row, at y = dx/4 of level 0, to 1 mm)
+    auto& P = s->S.particles;
+    for (std::size_t i = 0; i < P.n_owned(); ++i)
+      if (P.kind[i] == Kind::Fluid && P.pos[i][1] < 0.004) P.pos[i][1] = 0.001;
+  }
+  for (auto* s : {&a, &b, &c}) s->scheme->initialise(s->S);
+  const auto &Pa = a.S.particles, &Pb = b.S.particles, &Pc = c.S.particles;
+  ASSERT_EQ(Pa.n_owned(), Pc.n_owned());
+  auto site = [](const Vec<2>& x) { return std::make_pair(std::lround(x[0] / 0.0025), std::lround(x[1] / 0.0025 - 0.4)); };
+  std::map<std::pair<long, long>, std::size_t> in_b;
+  for (std::size_t j = 0; j < Pb.n_owned(); ++j)
+    if (Pb.kind[j] == Kind::Fluid) in_b[site(Pb.pos[j])] = j;
+  double amax = 0.0, da = 0.0, backup = 0.0;
+  for (std::size_t i = 0; i < Pa.n_owned(); ++i) {
+    if (Pa.kind[i] != Kind::Fluid) continue;
+    const auto it = in_b.find(site(Pa.pos[i]));
+    ASSERT_NE(it, in_b.end()) << Pa.pos[i][0] << ", " << Pa.pos[i][1];
+    amax = std::max(amax, norm(Pa.acc[i]));
+    da = std::max(da, norm(Pa.acc[i] - Pb.acc[it->second]));
+    backup = std::max(backup, norm(Pa.acc[i] - Pc.acc[i]));  // (the same store order: the same set-up)
+  }
+  ASSERT_GT(backup, 0.05 * amax);  // (the backup acts on the pushed row: the comparison tests it)
+  EXPECT_LT(da, 1e-4 * amax);  // (float pair sums, as above)
+}
+
 // The Shepard filter on levels (issue 58): each pair's kernel at h_ab. A level-1 region over the whole tank is the
 // uniform dx/2 run: a ±1 % checkerboard of density, one step of 1e-5 s with the filter after it, gives the uniform run's
 // densities at every lattice site (the filter halves the checkerboard; at the level-0 h it would average over twice

@@ -500,6 +500,11 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   const double dx = S.dx;
   const double s0 = 0.25 * dx;  // the fluid's normal distance from the surface is dx/2
   const double reach = std::hypot(dx + s0, dx);
+  // resolution levels: each wall particle holds the fluid over its own level's spacing dx_l (its first layer lies
+  // within dx_l of the surface, the fluid beside it dx_l/2 off, its children dx_l apart: docs/numerics.md §14), as
+  // the repulsive walls do; the gathers and the float pre-test keep level 0's (the widest) reach
+  const double* lv = S.levels > 0 ? P.scalar(field::level).data() : nullptr;
+  const auto dx_of = [lv, dx](std::size_t k) { return lv ? level_h(dx, static_cast<int>(lv[k])) : dx; };  // (l = 0: dx)
   // Found from the first-layer wall particles' side (far fewer than the fluid near walls; owned
   // walls and images alike, pushing only owned fluid, so that a periodic image or another
   // rank's wall pushes this part's fluid exactly once), in cells with fluid within reach
@@ -514,8 +519,8 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
   find_moving_covered(S);
   const auto first_layer = [&, cov = covered ? covered->data() : nullptr](std::size_t k) {  // (owned or image: images carry the fields)
     if (P.kind[k] != Kind::Wall || (cov && cov[k] != 0.0)) return false;
-    const double depth2 = dot(to[k], to[k]);
-    if (!(depth2 > 0.0 && depth2 < dx * dx)) return false;  // a corner's own point has no normal
+    const double depth2 = dot(to[k], to[k]), dxk = dx_of(k);
+    if (!(depth2 > 0.0 && depth2 < dxk * dxk)) return false;  // a corner's own point has no normal
     return moving_covered_.empty() || !std::binary_search(moving_covered_.begin(), moving_covered_.end(), static_cast<std::uint32_t>(k));
   };
   const auto has_first_layer = [&](std::size_t cell) {  // (only such a cell reads its mark)
@@ -530,9 +535,9 @@ void WallModel<D>::add_backup(System<D>& S, const double* near_only) const {
     const Vec<D> r = P.pos[k] - P.pos[j];
     const double r2 = dot(r, r);
     if (!(r2 < reach * reach)) return false;
-    const double depth = std::sqrt(dot(to[k], to[k]));
+    const double depth = std::sqrt(dot(to[k], to[k])), dxk = dx_of(k);
     const double rn = -dot(r, (1.0 / depth) * to[k]);
-    return rn - depth < s0 && r2 - rn * rn < dx * dx;  // a's distance from the surface; tangential
+    return rn - depth < 0.25 * dxk && r2 - rn * rn < dxk * dxk;  // a's distance from the surface; tangential
   };
   constexpr int IDX = D;  // the candidates' store indices, bit-cast (after the positions)
   const float w = 1.0f + 1.0e-3f;  // the float test's relative widening
@@ -578,9 +583,11 @@ void WallModel<D>::apply_backup(System<D>& S) const {
   auto& P = S.particles;
   const auto& to = P.vector(field::wall_to_surface);
   const double dx = S.dx, c0 = S.eos.c0, h = S.h, pi = std::acos(-1.0);
-  const double s0 = 0.25 * dx;  // (as add_backup)
   const double b1 = cfg.beta1 * c0 * c0, b2 = cfg.beta2 * c0;
+  const double* lv = S.levels > 0 ? P.scalar(field::level).data() : nullptr;  // (as add_backup: wall k's level)
   for (const auto& [j, k] : hits_) {
+    const int l = lv ? static_cast<int>(lv[k]) : 0;
+    const double dxk = level_h(dx, l), hk = level_h(h, l), s0 = 0.25 * dxk;  // (l = 0: dx and h exactly)
     const std::size_t a = j;  // (owned: every part pushes its own fluid, from its walls and its images' walls)
     const double depth = std::sqrt(dot(to[k], to[k]));
     const Vec<D> nk = (1.0 / depth) * to[k];
@@ -589,9 +596,9 @@ void WallModel<D>::apply_backup(System<D>& S) const {
     const double sd = rn - depth;  // signed distance of a from the surface (positive: fluid side)
     const double rt = std::sqrt(std::max(0.0, dot(r, r) - rn * rn));
     const double approach = -dot(P.vel[a] - P.vel[k], nk);
-    const double A = std::max(0.0, b1 + b2 * approach) / h;
+    const double A = std::max(0.0, b1 + b2 * approach) / hk;
     const double q = 1.0 - sd / s0;  // 0 at s0, 1 on the surface, > 1 past it
-    P.acc[a] += (A * q * q * 0.5 * (1.0 + std::cos(pi * rt / dx))) * nk;
+    P.acc[a] += (A * q * q * 0.5 * (1.0 + std::cos(pi * rt / dxk))) * nk;
   }
 }
 

@@ -89,6 +89,8 @@ class WallModel {
   /// Monaghan–Kos strength A5 and tangential weight P. The fluid's normal distance from the
   /// surface is dx/2, so a flow the wall model holds never feels it. A wall particle whose face
   /// another fixed wall covers ("wall_covered", set up by fill_shapes) has no surface to hold.
+  /// Resolution levels: dx, s0 and h are wall particle k's level's (its children stand dx_l apart, the fluid beside
+  /// them dx_l/2 off the surface).
   void add_backup(System<D>& S, const double* near_only) const;
   void apply_backup(System<D>& S) const;  // the force of each (fluid, wall) pair in hits_, in their sorted order
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> hits_;  // (fluid, wall) pairs within reach
