@@ -455,3 +455,76 @@ void half_stencils_cover_each_pair_once(int n, double radius, unsigned seed) {
 }
 TEST(CellList, HalfStencilsCoverEachPairOnce2D) { half_stencils_cover_each_pair_once<2>(2000, 0.07, 10); }
 TEST(CellList, HalfStencilsCoverEachPairOnce3D) { half_stencils_cover_each_pair_once<3>(3000, 0.12, 11); }
+
+// The half stencils on one grid per level (CellList::grid_half_ranges; h fine for x < 1, ramping to coarse, as
+// above): after set_reach, each pair within kappa (h_i + h_j)/2 lies in both of its cells' whole stencils (half,
+// other and cross); a pair of one grid in exactly one of its two cells' halves (the cell itself first in its own),
+// a pair between grids in no half (it is visited from both ends); some cells reach two of their grid's cells, and
+// the cells of one colour (half_colour) have disjoint halves.
+template <int D>
+void level_grid_half_stencils_cover_each_pair_once(int n, double h_fine, unsigned seed) {
+  std::mt19937 rng(seed);
+  const std::vector<Vec<D>> pos = random_positions<D>(n, rng);
+  const double kappa = 2.0, h_coarse = 2.0 * h_fine;
+  std::vector<double> h(pos.size()), level(pos.size());
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    level[i] = pos[i][0] < 1.0 ? 1.0 : 0.0;
+    h[i] = level[i] == 0.0 ? h_coarse : h_fine + (h_coarse - h_fine) * std::clamp((pos[i][0] - 0.8) / 0.2, 0.0, 1.0);
+  }
+  CellList<D> cl;
+  cl.build(pos, pos.size(), kappa * h_coarse, false, 0.0, level.data(), 2);
+  ASSERT_TRUE(cl.level_grids());
+  EXPECT_FALSE(cl.pair_once());  // (the stencils need each cell's reach)
+  cl.set_reach([&](std::uint32_t j) { return h[j]; }, kappa);
+  ASSERT_TRUE(cl.pair_once());
+  const auto& occ = cl.occupied();
+  const std::size_t np = pos.size();
+  std::vector<std::size_t> cell_of(np);  // by store entry
+  for (const std::uint32_t c : occ)
+    for (std::uint32_t k = cl.cell_begin(c); k < cl.cell_end(c); ++k) cell_of[k] = c;
+  std::vector<std::set<std::uint32_t>> half(cl.cell_count()), rest(cl.cell_count());
+  std::uint32_t hr[CellList<D>::kMaxRanges][2], orr[CellList<D>::kMaxRanges][2], cr[CellList<D>::kMaxRanges][2];
+  int wide = 0;
+  for (const std::uint32_t c : occ) {
+    int no = 0, nc = 0;
+    const int nh = cl.grid_half_ranges(c, hr, orr, no, cr, nc);
+    ASSERT_GT(nh, 0);
+    EXPECT_EQ(hr[0][0], cl.cell_begin(c));  // the cell itself first
+    for (int r = 0; r < nh; ++r)
+      for (std::uint32_t k = hr[r][0]; k < hr[r][1]; ++k) half[c].insert(k);
+    for (auto [rg, nr] : {std::pair{orr, no}, std::pair{cr, nc}})
+      for (int r = 0; r < nr; ++r)
+        for (std::uint32_t k = rg[r][0]; k < rg[r][1]; ++k) EXPECT_TRUE(rest[c].insert(k).second && !half[c].count(k)) << "entry twice";
+    wide += cl.reach(c) > 1 ? 1 : 0;
+  }
+  EXPECT_GT(wide, 0);
+  const auto& sorted = cl.sorted();
+  std::size_t same = 0, between = 0;
+  for (std::uint32_t k = 0; k < np; ++k)
+    for (std::uint32_t m = k + 1; m < np; ++m) {
+      const std::uint32_t i = sorted[k], j = sorted[m];
+      const double s = 0.5 * kappa * (h[i] + h[j]);
+      if (dot(pos[i] - pos[j], pos[i] - pos[j]) >= s * s) continue;
+      const std::size_t ck = cell_of[k], cm = cell_of[m];
+      ASSERT_TRUE(half[ck].count(m) + rest[ck].count(m) == 1 && half[cm].count(k) + rest[cm].count(k) == 1) << "pair missed";
+      if (level[i] == level[j]) {
+        if (ck == cm) continue;
+        EXPECT_EQ(half[ck].count(m) + half[cm].count(k), 1u) << "pair " << k << ", " << m;
+        ++same;
+      } else {
+        EXPECT_EQ(half[ck].count(m) + half[cm].count(k), 0u) << "pair between levels in a half";
+        ++between;
+      }
+    }
+  EXPECT_GT(same, 0u);
+  EXPECT_GT(between, 0u);
+  std::vector<std::vector<std::uint32_t>> by(static_cast<std::size_t>(cl.half_colours()));
+  for (const std::uint32_t c : occ) by[static_cast<std::size_t>(cl.half_colour(c))].push_back(c);
+  for (const auto& list : by) {
+    std::set<std::uint32_t> seen;
+    for (const std::uint32_t c : list)
+      for (const std::uint32_t k : half[c]) EXPECT_TRUE(seen.insert(k).second) << "colour shares entry " << k;
+  }
+}
+TEST(CellList, LevelGridHalfStencilsCoverEachPairOnce2D) { level_grid_half_stencils_cover_each_pair_once<2>(3000, 0.006, 12); }
+TEST(CellList, LevelGridHalfStencilsCoverEachPairOnce3D) { level_grid_half_stencils_cover_each_pair_once<3>(5000, 0.02, 13); }

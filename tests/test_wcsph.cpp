@@ -267,9 +267,10 @@ time: {end: 1.0}
 // particle's whole stencil gives, to float round-off: a pool with dummy no-slip walls, sheared and compressed, with
 // and without XSPH, in 2D and 3D. The same single-precision pair terms summed in another order: each rate is a sum
 // of ~30 (2D) to ~100 (3D) terms, some several times the result, so the two agree to ~1e-5 of the largest rate (a
-// term with a wrong sign or a missed pair is of the order of the rates themselves).
+// term with a wrong sign or a missed pair is of the order of the rates themselves). `levels`: a refined block in the
+// pool (per-pair h, one cell grid per level: CellList::grid_half_ranges; or level 0's cells).
 template <int D>
-void half_sweep_equals_full_sweep(const char* xsph) {
+void half_sweep_equals_full_sweep(const char* xsph, const char* levels = nullptr) {
   const std::string yaml = D == 2 ? R"(
 dimension: 2
 gravity: [0.0, -9.81]
@@ -293,10 +294,15 @@ geometry:
   - {type: box, fill: fluid, min: [0.0, 0.0, 0.0], max: [0.2, 0.1, 0.1]}
 time: {end: 1.0}
 )";
-  const std::vector<std::string> common = {std::string("scheme.xsph=") + xsph};
+  std::vector<std::string> common = {std::string("scheme.xsph=") + xsph};
+  if (levels) common.push_back(levels);
   auto full = common;
   full.push_back("scheme.pair_sweep=full");
   test::Setup<D> a(yaml, common), b(yaml, full);
+  if (levels) {  // (the refined block and its cells are there)
+    ASSERT_GT(a.S.levels, 0);
+    ASSERT_EQ(a.S.particles.n_owned(), b.S.particles.n_owned());
+  }
   for (auto* s : {&a, &b}) {
     auto& P = s->S.particles;
     for (std::size_t i = 0; i < P.n_owned(); ++i) {
@@ -344,3 +350,9 @@ TEST(WCSPH, HalfSweepEqualsFullSweep2D) {
   half_sweep_equals_full_sweep<2>("0.5");
 }
 TEST(WCSPH, HalfSweepEqualsFullSweep3D) { half_sweep_equals_full_sweep<3>("0.5"); }
+TEST(WCSPH, HalfSweepEqualsFullSweepOnLevels2D) {
+  const char* block = "resolution={regions: [{shape: box, min: [0.1, 0.05], max: [0.2, 0.2], level: 1}]}";
+  half_sweep_equals_full_sweep<2>("0", block);
+  half_sweep_equals_full_sweep<2>("0.5", block);
+  half_sweep_equals_full_sweep<2>("0", "resolution={regions: [{shape: box, min: [0.1, 0.05], max: [0.2, 0.2], level: 1}], cells: level0}");
+}

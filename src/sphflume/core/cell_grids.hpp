@@ -253,6 +253,68 @@ class LevelGrids {
         }
     }
   }
+  /// The stencils of a pass that visits each pair once (CellList::grid_half_ranges): cell `cell`'s block within ±r
+  /// cells on its own grid, split into `half`, the cell itself first and then the cells after it in store order (its
+  /// row to its right, the rows above, in 3D the planes above) that take(global cell, Chebyshev distance in cells)
+  /// admits, and `other`, the cells before it; and every other grid's rows of rows() with widths w into `cross`.
+  /// Each callback gets one run (first, end) of global cells.
+  template <class Take, class Half, class Other, class Cross>
+  void half_rows(std::size_t cell, int r, const int* w, Take&& take, Half&& half, Other&& other, Cross&& cross) const {
+    int c[D];
+    const int g = locate(cell, c);
+    const Grid& G = g_[g];
+    auto row_of = [&](int z, int y) {
+      return G.off + static_cast<std::uint32_t>((static_cast<std::size_t>(z) * G.dims[1] + y) * G.dims[0]);
+    };
+    const int zc = D == 3 ? c[D - 1] : 0;
+    const int x0 = std::max(c[0] - r, 0), x1 = std::min(c[0] + r, G.dims[0] - 1);
+    const int y0 = std::max(c[1] - r, 0), y1 = std::min(c[1] + r, G.dims[1] - 1);
+    const int z0 = D == 3 ? std::max(zc - r, 0) : 0, z1 = D == 3 ? std::min(zc + r, G.dims[D - 1] - 1) : 0;
+    auto runs = [&](int z, int y, int xa, int xb) {  // the runs of taken cells of one row
+      const std::uint32_t row = row_of(z, y);
+      const int gyz = std::max(std::abs(y - c[1]), std::abs(z - zc));
+      int run = -1;
+      for (int x = xa; x <= xb + 1; ++x) {
+        const bool t = x <= xb && take(row + static_cast<std::uint32_t>(x), std::max(gyz, std::abs(x - c[0])));
+        if (t && run < 0) run = x;
+        if (!t && run >= 0) {
+          half(row + static_cast<std::uint32_t>(run), row + static_cast<std::uint32_t>(x));
+          run = -1;
+        }
+      }
+    };
+    runs(zc, c[1], c[0], x1);
+    for (int y = c[1] + 1; y <= y1; ++y) runs(zc, y, x0, x1);
+    for (int z = zc + 1; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y) runs(z, y, x0, x1);
+    for (int z = z0; z < zc; ++z)
+      for (int y = y0; y <= y1; ++y) other(row_of(z, y) + static_cast<std::uint32_t>(x0), row_of(z, y) + static_cast<std::uint32_t>(x1) + 1);
+    for (int y = y0; y < c[1]; ++y) other(row_of(zc, y) + static_cast<std::uint32_t>(x0), row_of(zc, y) + static_cast<std::uint32_t>(x1) + 1);
+    if (c[0] > x0) other(row_of(zc, c[1]) + static_cast<std::uint32_t>(x0), row_of(zc, c[1]) + static_cast<std::uint32_t>(c[0]));
+    const std::size_t end = G.off + G.cells();
+    rows(cell, w, [&](std::uint32_t k0, std::uint32_t k1) {
+      if (k0 < G.off || k0 >= end) cross(k0, k1);
+    });
+  }
+  /// The colour of cell `cell` for half_rows' passes, its grid's half stencils at most ±R[grid] wide: two cells of
+  /// one colour and one grid have disjoint half blocks (the uniform grid's colouring, CellList::half_colour, per
+  /// grid); cells of different grids write into different particles (a pass writes only into its own grid's).
+  int half_colour(std::size_t cell, const int* R) const {
+    int c[D];
+    const int g = locate(cell, c);
+    const int w = 2 * R[g] + 1;
+    if constexpr (D == 2) return c[0] % w + w * (c[1] % (R[g] + 1));
+    else return c[0] % w + w * (c[1] % w + w * (c[2] % (R[g] + 1)));
+  }
+  int half_colours(const int* R) const {
+    int n = 1;
+    for (int g = 0; g < n_; ++g) {
+      const int w = 2 * R[g] + 1;
+      n = std::max(n, D == 2 ? w * (R[g] + 1) : w * w * (R[g] + 1));
+    }
+    return n;
+  }
+
   /// Each occupied cell's own-grid reach into reach[cell] (cells of its grid), from hcell (each
   /// cell's largest h): ceil(kappa (h_max of the cell + h_max of the 3^D level-0 lattice cells
   /// around it) / (2 side)), the latter from each lattice cell's largest h (the window covers
@@ -298,6 +360,12 @@ class LevelGrids {
       if (r > (1 << g)) r = static_cast<int>(std::ceil(f * (hc + hmax_[g]) * g_[g].inv));  // (beyond the window)
       reach[occupied[oc]] = static_cast<std::uint8_t>(std::clamp(r, 1, 255));
     }
+    for (int g = 0; g < kMaxGrids; ++g) rmax_[g] = 1;
+    for (std::size_t oc = 0; oc < nocc; ++oc) {  // (each grid's widest reach: half_colour)
+      int c[D];
+      const int g = locate(occupied[oc], c);
+      rmax_[g] = std::max(rmax_[g], static_cast<int>(reach[occupied[oc]]));
+    }
     for (int g = 0; g < n_; ++g)
       for (int q = 0; q < n_; ++q) wpair_[g][q] = std::max(1, static_cast<int>(std::ceil(f * (hmax_[g] + hmax_[q]) * g_[q].inv)));
   }
@@ -312,6 +380,8 @@ class LevelGrids {
     while (g > 0 && cell < g_[g].off) --g;
     for (int q = 0; q < n_; ++q) w[q] = q == g ? own : wpair_[g][q];
   }
+  /// Each grid's widest own-grid reach (set_reach), in cells of that grid.
+  const int* reach_max() const { return rmax_; }
   std::size_t bytes() const {
     std::size_t b = 0;
     for (const auto& v : hsum_) b += v.capacity() * sizeof(float);
@@ -335,6 +405,7 @@ class LevelGrids {
   double hmax_[kMaxGrids] = {};                // each grid's largest h (set_reach)
   std::vector<float> hsum_[kMaxGrids];         // each grid's level-0 lattice cells' largest h (set_reach)
   int wpair_[kMaxGrids][kMaxGrids] = {};       // the cells between grids (set_reach)
+  int rmax_[kMaxGrids] = {1, 1, 1, 1};          // each grid's widest own-grid reach (set_reach)
 
   /// The index of grid g's cell c's level-0 lattice cell (dx, dy, dz further) in hsum_[g].
   std::size_t lattice_index(int g, const int* c, int dx, int dy, int dz) const {

@@ -230,10 +230,41 @@ class CellList {
     n_other = no;
     return nh;
   }
+  /// Whether the passes that visit each pair once apply: uniform_stencil(), or one grid per level after set_reach
+  /// (grid_half_ranges).
+  bool pair_once() const { return uniform_stencil() || (multi_ && !hcell_.empty()); }
+  /// half_ranges on one grid per level (after set_reach; docs/numerics.md §14): `half` the cell itself, then the
+  /// cells after it on its grid within its reach that hold no particle or whose own reach reaches back (a pair
+  /// lies within both cells' reach: each holds every pair of its particles); `other` the cells before it on its
+  /// grid within its reach; `cross` the cells of the other grids its pairs reach (cell_ranges' rows). A pass writes
+  /// into the particles of `half` only: a pair between grids is visited from both ends. Returns the number of
+  /// `half` ranges.
+  int grid_half_ranges(std::size_t cell, std::uint32_t (*half)[2], std::uint32_t (*other)[2], int& n_other,
+                       std::uint32_t (*cross)[2], int& n_cross) const {
+    int w[LevelGrids<D>::kMaxGrids];
+    grids_.widths(cell, 0.0, reach_[cell], w);
+    int nh = 0, no = 0, nc = 0;
+    auto put = [this](std::uint32_t (*out)[2], int& n) {
+      return [this, out, &n](std::uint32_t k0, std::uint32_t k1) {
+        out[n][0] = cell_start_[k0];
+        out[n][1] = cell_start_[k1];
+        ++n;
+      };
+    };
+    grids_.half_rows(
+        cell, reach_[cell], w,
+        [this](std::uint32_t k, int gap) { return cell_start_[k] == cell_start_[k + 1] || gap <= static_cast<int>(reach_[k]); },
+        put(half, nh), put(other, no), put(cross, nc));
+    n_other = no;
+    n_cross = nc;
+    return nh;
+  }
   /// The colour of a cell for passes that write into their half stencil (half_ranges): two cells of one colour
   /// have disjoint half stencils, so the cells of a colour may run concurrently and every particle receives its
-  /// sums in the order of the colours, whatever the threads. 6 colours in 2D, 18 in 3D (R = 1).
+  /// sums in the order of the colours, whatever the threads. 6 colours in 2D, 18 in 3D (R = 1). One grid per level:
+  /// LevelGrids::half_colour.
   int half_colour(std::size_t cell) const {
+    if (multi_) return grids_.half_colour(cell, grids_.reach_max());
     const int R = reach_max_, w = 2 * R + 1;
     int c[D];
     coords(cell, c);
@@ -241,6 +272,7 @@ class CellList {
     else return c[0] % w + w * (c[1] % w + w * (c[2] % (R + 1)));
   }
   int half_colours() const {
+    if (multi_) return grids_.half_colours(grids_.reach_max());
     const int R = reach_max_, w = 2 * R + 1;
     return D == 2 ? w * (R + 1) : w * w * (R + 1);
   }

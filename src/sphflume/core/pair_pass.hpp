@@ -329,16 +329,18 @@ template <int D, class T, class First, class... Cols>
 /// The gather of a pass that visits each pair once (CellList::half_ranges): part one, from entry 0, the candidates
 /// j of the half stencil `half` with first(j), in stencil order (the cell's own first), their store indices into
 /// ids, padded up to `second` (a multiple of `lanes`, at least half.count); part two, from `second`, the others of
-/// both halves (`half`, then `other`), padded to a multiple of `lanes` (end). The cell's own rows visit part one
-/// for the pairs with the candidates after them, part two for the pairs with everything else (the walls among a
-/// fluid particle's candidates). B must hold second + half.count + other.count + lanes entries, ids half.count. For a
-/// store in cell order, seconds_before[k] counts the entries before k that belong to part two (so that a range
-/// without any is copied as one run).
+/// both halves (`half`, then `other`), then every candidate of `cross` (pairs the pass visits from both ends:
+/// CellList::grid_half_ranges; empty on one grid), padded to a multiple of `lanes` (end). The cell's own rows visit
+/// part one for the pairs with the candidates after them, part two for the pairs with everything else (the walls
+/// among a fluid particle's candidates). B must hold second + half.count + other.count + cross.count + lanes
+/// entries, ids half.count. For a store in cell order, seconds_before[k] counts the entries before k that belong to
+/// part two (so that a range without any is copied as one run).
 struct HalvesEnds {
   std::size_t count_first, second, end;
 };
 template <int D, class T, class First, class... Cols>
-[[gnu::always_inline]] inline HalvesEnds gather_halves(const CellStencil<D>& half, const CellStencil<D>& other, ScratchColumns<T>& B,
+[[gnu::always_inline]] inline HalvesEnds gather_halves(const CellStencil<D>& half, const CellStencil<D>& other,
+                                                       const CellStencil<D>& cross, ScratchColumns<T>& B,
                                                        std::uint32_t* __restrict ids, const Vec<D>* pos, const Vec<D>& origin,
                                                        std::size_t lanes, std::size_t second, const std::uint32_t* seconds_before,
                                                        First&& first, const Cols&... cols) {
@@ -378,111 +380,23 @@ template <int D, class T, class First, class... Cols>
     };
     runs(half, true);
     runs(other, false);
+    cross.for_ranges([&](std::uint32_t k0, std::size_t len, std::size_t) __attribute__((always_inline)) {
+      copy_run(k0, len, ms, true);
+      ms += len;
+    });
   } else {
     half.for_each([&](std::size_t, std::uint32_t j) {
       if (first(j)) { ids[mf] = j; copy.put(mf++, j); }
       else copy.put(ms++, j);
     });
     other.for_each([&](std::size_t, std::uint32_t j) { if (!first(j)) copy.put(ms++, j); });
+    cross.for_each([&](std::size_t, std::uint32_t j) { copy.put(ms++, j); });
   }
   const std::size_t end = (ms + lanes - 1) / lanes * lanes;
   detail::pad_entries<D>(B, mf, first_end, cols...);
   detail::pad_entries<D>(B, ms, end, cols...);
   return {mf, second, end};
 }
-
-/// The skeleton of a pass that visits each pair once and writes into its candidates (the WCSPH rates pass's
-/// half-stencil sweep): the occupied cells run colour by colour (CellList::half_colour), the cells of one colour
-/// shared among the threads, a barrier between colours. Two cells of a colour write disjoint particles, and each
-/// particle receives its sums in the order of the colours, so the results do not depend on the thread count.
-/// Each thread takes one contiguous run of a colour's cells, the runs balanced by weight(cell) (the cell's work; handed
-/// out a few at a time, neighbouring cells of one colour ran on both threads at once and wrote into the same cache
-/// lines of their neighbours' rates). body(cell, B, ids) with the thread's scratch columns (ncol) and index scratch;
-/// returns the sum of what body returns.
-template <class T, int D, class Weight, class Body>
-std::uint64_t sweep_colours(const CellList<D>& cells, int ncol, Weight&& weight, Body&& body) {
-  const auto& occupied = cells.occupied();
-  const int ncolour = cells.half_colours();
-  static thread_local std::vector<std::vector<std::uint32_t>> kept;  // (the lists' memory kept between calls)
-  static thread_local std::vector<std::vector<std::uint64_t>> kept_work;
-  auto& by_colour = kept;  // (the calling thread's, shared by the team below)
-  auto& work = kept_work;   // each colour's running sum of its cells' weights
-  by_colour.resize(static_cast<std::size_t>(ncolour));
-  work.resize(static_cast<std::size_t>(ncolour));
-  for (auto& l : by_colour) l.clear();
-  for (auto& w : work) w.assign(1, 0);
-  for (const std::uint32_t c : occupied) {
-    const auto col = static_cast<std::size_t>(cells.half_colour(c));
-    by_colour[col].push_back(c);
-    work[col].push_back(work[col].back() + static_cast<std::uint64_t>(weight(c)));
-  }
-  std::uint64_t total = 0;
-#pragma omp parallel reduction(+ : total)
-  {
-    const auto place = team_place();
-    const int t = place.first, nt = place.second;
-    ScratchColumns<T> B(ncol);
-    std::vector<std::uint32_t> ids;
-    for (int col = 0; col < ncolour; ++col) {
-      const auto& list = by_colour[static_cast<std::size_t>(col)];
-      const auto& w = work[static_cast<std::size_t>(col)];
-      auto start = [&](int q) {  // the first cell of thread q's run
-        if (q >= nt) return list.size();
-        const std::uint64_t goal = w.back() * static_cast<std::uint64_t>(q) / static_cast<std::uint64_t>(nt);
-        return static_cast<std::size_t>(std::lower_bound(w.begin(), w.end(), goal) - w.begin());
-      };
-      const std::size_t i0 = t == 0 ? 0 : start(t), i1 = start(t + 1);
-      for (std::size_t i = i0; i < i1; ++i) total += body(list[i], B, ids);
-#pragma omp barrier
-    }
-  }
-  return total;
-}
-
-/// The candidates j with keep(j) only, in stencil order, from entry 0, padded to a multiple of
-/// `lanes` (a pass that runs a few particles over a filtered stencil: the walls' backup runs the
-/// first-layer walls over the fluid); returns how many were kept.
-template <int D, class T, class Keep, class... Cols>
-std::size_t gather_if(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
-                      std::size_t lanes, Keep&& keep, const Cols&... cols) {
-  T* __restrict x[D];
-  for (int d = 0; d < D; ++d) x[d] = B[d];
-  const auto put = detail::putter(B, cols...);
-  std::size_t m = 0;
-  st.for_each([&](std::size_t, std::uint32_t j) {
-    if (!keep(j)) return;
-    for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
-    put(m++, j);
-  });
-  detail::pad_entries<D>(B, m, (m + lanes - 1) / lanes * lanes, cols...);
-  return m;
-}
-
-/// A per-pair functor summed in fixed lanes: add(terms) runs terms(l, v) for the L lanes of one
-/// block of candidates; the functor reads its columns through pointers offset to the block (an
-/// index k0 + l was a "complicated access pattern" to GCC's AVX2 vectoriser) and adds each of
-/// its N terms into lane l of its accumulator, v[i][l] += term. sums() then adds the lanes in
-/// a fixed order (lane_sum), so that AVX2 and AVX-512 builds give bitwise the same sums. The
-/// functor has no branches (masks as factors), so the block's loop vectorises. (Terms added in
-/// place, not returned as an array or through a callback: each accumulation stays one
-/// expression, which the compiler contracts to a fused multiply-add as the hand-written loops
-/// did, and the loop vectorises.)
-template <std::size_t L, std::size_t N, class T = float>
-struct LaneSums {
-  alignas(64) T v[N][L] = {};
-  template <class Terms>
-  void add(Terms&& terms) {
-#pragma omp simd
-    for (std::size_t l = 0; l < L; ++l) terms(l, v);
-  }
-  /// The N sums (overwrites the lanes).
-  std::array<T, N> sums() {
-    std::array<T, N> s;
-#pragma GCC unroll 16
-    for (std::size_t i = 0; i < N; ++i) s[i] = lane_sum<L>(v[i]);
-    return s;
-  }
-};
 
 /// Each thread's range of cells [front, end) of a sweep, claimed from the front by its owner a piece at a time and
 /// from the back by a thread that has run out (sweep_cells): one 64-bit word per thread (front in the low half, end
@@ -541,6 +455,119 @@ class StealRanges {
   static std::uint64_t pack(std::size_t f, std::size_t e) { return static_cast<std::uint64_t>(f) | (static_cast<std::uint64_t>(e) << 32); }
   static std::size_t lo(std::uint64_t v) { return static_cast<std::size_t>(v & 0xffffffffu); }
   static std::size_t hi(std::uint64_t v) { return static_cast<std::size_t>(v >> 32); }
+};
+
+/// The skeleton of a pass that visits each pair once and writes into its candidates (the WCSPH rates pass's
+/// half-stencil sweep): the occupied cells run colour by colour (CellList::half_colour), the cells of one colour
+/// shared among the threads, a barrier between colours. Two cells of a colour write disjoint particles, and each
+/// particle receives its sums in the order of the colours, so the results do not depend on the thread count.
+/// Each thread takes one contiguous run of a colour's cells, the runs balanced by weight(cell) (the cell's work; handed
+/// out a few at a time, neighbouring cells of one colour ran on both threads at once and wrote into the same cache
+/// lines of their neighbours' rates), claimed a piece at a time, and a thread that has finished its run takes the
+/// back half of another's unclaimed cells (StealRanges): the weights miss the walls' and the levels' costs (a Flume A
+/// band run on two threads waited at the colours' barriers for a fifth of its time). Any thread may run any cell
+/// of a colour: the sums do not depend on which. body(cell, B, ids) with the thread's scratch columns (ncol) and index scratch;
+/// returns the sum of what body returns.
+template <class T, int D, class Weight, class Body>
+std::uint64_t sweep_colours(const CellList<D>& cells, int ncol, Weight&& weight, Body&& body) {
+  const auto& occupied = cells.occupied();
+  const int ncolour = cells.half_colours();
+  static thread_local std::vector<std::vector<std::uint32_t>> kept;  // (the lists' memory kept between calls)
+  static thread_local std::vector<std::vector<std::uint64_t>> kept_work;
+  auto& by_colour = kept;  // (the calling thread's, shared by the team below)
+  auto& work = kept_work;   // each colour's running sum of its cells' weights
+  by_colour.resize(static_cast<std::size_t>(ncolour));
+  work.resize(static_cast<std::size_t>(ncolour));
+  for (auto& l : by_colour) l.clear();
+  for (auto& w : work) w.assign(1, 0);
+  for (const std::uint32_t c : occupied) {
+    const auto col = static_cast<std::size_t>(cells.half_colour(c));
+    by_colour[col].push_back(c);
+    work[col].push_back(work[col].back() + static_cast<std::uint64_t>(weight(c)));
+  }
+  int maxt = 1;
+#ifdef _OPENMP
+  maxt = omp_get_max_threads();
+#endif
+  // each colour's runs, one per thread, balanced by weight (a team smaller than maxt: the runs of the absent threads
+  // are taken by stealing)
+  std::vector<StealRanges> ranges;
+  ranges.reserve(static_cast<std::size_t>(ncolour));
+  for (int col = 0; col < ncolour; ++col) {
+    const auto& list = by_colour[static_cast<std::size_t>(col)];
+    const auto& w = work[static_cast<std::size_t>(col)];
+    auto start = [&](int q) {  // the first cell of thread q's run
+      if (q >= maxt) return list.size();
+      if (q == 0) return std::size_t(0);
+      const std::uint64_t goal = w.back() * static_cast<std::uint64_t>(q) / static_cast<std::uint64_t>(maxt);
+      return static_cast<std::size_t>(std::lower_bound(w.begin(), w.end(), goal) - w.begin());
+    };
+    ranges.emplace_back(maxt);
+    for (int q = 0; q < maxt; ++q) ranges.back().set(q, start(q), start(q + 1));
+  }
+  std::uint64_t total = 0;
+#pragma omp parallel reduction(+ : total)
+  {
+    const int t = team_place().first;
+    ScratchColumns<T> B(ncol);
+    std::vector<std::uint32_t> ids;
+    for (int col = 0; col < ncolour; ++col) {
+      const auto& list = by_colour[static_cast<std::size_t>(col)];
+      StealRanges& r = ranges[static_cast<std::size_t>(col)];
+      do {
+        std::size_t f = 0, e = 0;
+        while (r.claim(t, f, e))
+          for (std::size_t i = f; i < e; ++i) total += body(list[i], B, ids);
+      } while (r.steal(t, work[static_cast<std::size_t>(col)].data()));
+#pragma omp barrier
+    }
+  }
+  return total;
+}
+
+/// The candidates j with keep(j) only, in stencil order, from entry 0, padded to a multiple of
+/// `lanes` (a pass that runs a few particles over a filtered stencil: the walls' backup runs the
+/// first-layer walls over the fluid); returns how many were kept.
+template <int D, class T, class Keep, class... Cols>
+std::size_t gather_if(const CellStencil<D>& st, ScratchColumns<T>& B, const Vec<D>* pos, const Vec<D>& origin,
+                      std::size_t lanes, Keep&& keep, const Cols&... cols) {
+  T* __restrict x[D];
+  for (int d = 0; d < D; ++d) x[d] = B[d];
+  const auto put = detail::putter(B, cols...);
+  std::size_t m = 0;
+  st.for_each([&](std::size_t, std::uint32_t j) {
+    if (!keep(j)) return;
+    for (int d = 0; d < D; ++d) x[d][m] = T(pos[j][d] - origin[d]);
+    put(m++, j);
+  });
+  detail::pad_entries<D>(B, m, (m + lanes - 1) / lanes * lanes, cols...);
+  return m;
+}
+
+/// A per-pair functor summed in fixed lanes: add(terms) runs terms(l, v) for the L lanes of one
+/// block of candidates; the functor reads its columns through pointers offset to the block (an
+/// index k0 + l was a "complicated access pattern" to GCC's AVX2 vectoriser) and adds each of
+/// its N terms into lane l of its accumulator, v[i][l] += term. sums() then adds the lanes in
+/// a fixed order (lane_sum), so that AVX2 and AVX-512 builds give bitwise the same sums. The
+/// functor has no branches (masks as factors), so the block's loop vectorises. (Terms added in
+/// place, not returned as an array or through a callback: each accumulation stays one
+/// expression, which the compiler contracts to a fused multiply-add as the hand-written loops
+/// did, and the loop vectorises.)
+template <std::size_t L, std::size_t N, class T = float>
+struct LaneSums {
+  alignas(64) T v[N][L] = {};
+  template <class Terms>
+  void add(Terms&& terms) {
+#pragma omp simd
+    for (std::size_t l = 0; l < L; ++l) terms(l, v);
+  }
+  /// The N sums (overwrites the lanes).
+  std::array<T, N> sums() {
+    std::array<T, N> s;
+#pragma GCC unroll 16
+    for (std::size_t i = 0; i < N; ++i) s[i] = lane_sum<L>(v[i]);
+    return s;
+  }
 };
 
 /// The skeleton every vectorised pair loop shares (the WCSPH sweep, the dual integrator's passes,

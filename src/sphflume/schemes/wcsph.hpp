@@ -78,9 +78,10 @@ class WCSPH final : public Scheme<D> {
   void pair_loop(System<D>& S, const K& kernel, const double* fast);
   template <class K, bool Xsph, bool Turb, bool Porous, bool Multi, bool Press = true, bool VarH = false>
   void sweep(System<D>& S, const K& kernel, const double* fast);
-  /// The same pass visiting each fluid pair once (half stencils, wcsph_rates_half.cpp): the plain terms, no levels.
+  /// The same pass visiting each fluid pair once (half stencils, wcsph_rates_half.cpp): the plain terms, on one grid
+  /// or on one cell grid per level (per-pair h: VarH).
   void half_sweep(System<D>& S);
-  template <class K, bool Xsph>
+  template <class K, bool Xsph, bool VarH>
   void sweep_once(System<D>& S, const K& kernel);
   void frozen_step(System<D>& S, double dt);
   void verlet_step(System<D>& S, double dt);

@@ -149,10 +149,11 @@ void WCSPH<D>::rates_pass(System<D>& S, bool fast_only, bool smooth_h) {
   if (S.resolution && smooth_h && !fast_only) S.resolution->smooth_h(S);
   const double* near_fast = fast_only ? P.scalar(field::fast.name).data() : nullptr;  // (the walls near the fast ones)
   S.walls->prepare(S, near_fast);
-  // the plain terms visit each fluid pair once (half stencils: schemes/wcsph_rates_half.cpp); the other models and
-  // resolution levels run each particle over its whole stencil
-  if (cfg_.half_sweep && cfg_.pressure && S.levels == 0 && S.phase_eos.empty() && !turb_.on() && !S.porous && !near_fast &&
-      !S.walls->evolves_density() && S.cells.uniform_stencil())
+  // the plain terms visit each fluid pair once (half stencils: schemes/wcsph_rates_half.cpp; with levels on one cell
+  // grid per level or on level 0's); the other models and a multirate fast pass run each particle over its whole
+  // stencil
+  if (cfg_.half_sweep && cfg_.pressure && S.phase_eos.empty() && !turb_.on() && !S.porous && !near_fast &&
+      !S.walls->evolves_density() && (S.levels == 0 ? S.cells.uniform_stencil() : S.cells.pair_once()))
     half_sweep(S);
   else
     S.with_kernel([&](const auto& K) { this->pair_loop(S, K, near_fast); });
