@@ -238,7 +238,7 @@ class CellList {
   /// lies within both cells' reach: each holds every pair of its particles); `other` the cells before it on its
   /// grid within its reach; `cross` the cells of the other grids its pairs reach (cell_ranges' rows). A pass writes
   /// into the particles of `half` only: a pair between grids is visited from both ends. Returns the number of
-  /// `half` ranges.
+  /// `half` ranges. (Cells of reach over 2 take their half's rows whole.)
   int grid_half_ranges(std::size_t cell, std::uint32_t (*half)[2], std::uint32_t (*other)[2], int& n_other,
                        std::uint32_t (*cross)[2], int& n_cross) const {
     int w[LevelGrids<D>::kMaxGrids];
@@ -251,9 +251,14 @@ class CellList {
         ++n;
       };
     };
+    // (beyond a reach of 2, whole rows: a cell left out would only have given zeros, and a row splits into at most
+    // (r + 2) / 2 runs, which kMaxRanges holds for r <= 2 in 2D and 3D; deeper levels' cells reach further)
+    const int r = reach_[cell];
     grids_.half_rows(
-        cell, reach_[cell], w,
-        [this](std::uint32_t k, int gap) { return cell_start_[k] == cell_start_[k + 1] || gap <= static_cast<int>(reach_[k]); },
+        cell, r, w,
+        [this, r](std::uint32_t k, int gap) {
+          return r > 2 || cell_start_[k] == cell_start_[k + 1] || gap <= static_cast<int>(reach_[k]);
+        },
         put(half, nh), put(other, no), put(cross, nc));
     n_other = no;
     n_cross = nc;
