@@ -398,6 +398,18 @@ void level_grids_hold_every_pair(int n, double h_fine, unsigned seed) {
 TEST(CellList, LevelGridsHoldEveryPair2D) { level_grids_hold_every_pair<2>(4000, 0.006, 8); }
 TEST(CellList, LevelGridsHoldEveryPair3D) { level_grids_hold_every_pair<3>(8000, 0.02, 9); }
 
+// Two cells of one colour (half_colour) have disjoint half stencils: half[c] the entries of occupied cell c's half.
+template <int D, class Set>
+void expect_colours_disjoint(const CellList<D>& cl, const std::vector<Set>& half) {
+  std::vector<std::vector<std::uint32_t>> by(static_cast<std::size_t>(cl.half_colours()));
+  for (const std::uint32_t c : cl.occupied()) by[static_cast<std::size_t>(cl.half_colour(c))].push_back(c);
+  for (const auto& list : by) {
+    std::set<std::size_t> seen;
+    for (const std::uint32_t c : list)
+      for (const auto k : half[c]) EXPECT_TRUE(seen.insert(k).second) << "colour shares entry " << k;
+  }
+}
+
 // The half stencils of a pass that visits each pair once (CellList::half_ranges): a cell's half and other ranges
 // together are its whole stencil, for two cells within each other's stencil exactly one holds the other in its half
 // (the cell itself is in its own half), and two cells of one colour (half_colour) have disjoint half stencils.
@@ -444,14 +456,7 @@ void half_stencils_cover_each_pair_once(int n, double radius, unsigned seed) {
         ++pairs;
       }
   EXPECT_GT(pairs, 0u);
-  // one colour: disjoint half stencils
-  std::vector<std::vector<std::uint32_t>> by(static_cast<std::size_t>(cl.half_colours()));
-  for (const std::uint32_t c : occ) by[static_cast<std::size_t>(cl.half_colour(c))].push_back(c);
-  for (const auto& list : by) {
-    std::set<std::size_t> seen;
-    for (const std::uint32_t c : list)
-      for (const std::size_t k : half[c]) EXPECT_TRUE(seen.insert(k).second) << "colour shares entry " << k;
-  }
+  expect_colours_disjoint(cl, half);
 }
 TEST(CellList, HalfStencilsCoverEachPairOnce2D) { half_stencils_cover_each_pair_once<2>(2000, 0.07, 10); }
 TEST(CellList, HalfStencilsCoverEachPairOnce3D) { half_stencils_cover_each_pair_once<3>(3000, 0.12, 11); }
@@ -518,13 +523,7 @@ void level_grid_half_stencils_cover_each_pair_once(int n, double h_fine, unsigne
     }
   EXPECT_GT(same, 0u);
   EXPECT_GT(between, 0u);
-  std::vector<std::vector<std::uint32_t>> by(static_cast<std::size_t>(cl.half_colours()));
-  for (const std::uint32_t c : occ) by[static_cast<std::size_t>(cl.half_colour(c))].push_back(c);
-  for (const auto& list : by) {
-    std::set<std::uint32_t> seen;
-    for (const std::uint32_t c : list)
-      for (const std::uint32_t k : half[c]) EXPECT_TRUE(seen.insert(k).second) << "colour shares entry " << k;
-  }
+  expect_colours_disjoint(cl, half);
 }
 TEST(CellList, LevelGridHalfStencilsCoverEachPairOnce2D) { level_grid_half_stencils_cover_each_pair_once<2>(3000, 0.006, 12); }
 TEST(CellList, LevelGridHalfStencilsCoverEachPairOnce3D) { level_grid_half_stencils_cover_each_pair_once<3>(5000, 0.02, 13); }
