@@ -80,19 +80,33 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
     double* c = col.data();
     const std::uint32_t* sorted = S.cells.sorted().data();
     const double support2 = K.support2;
-    std::size_t k = 0;  // the candidates that carry water within the support, compacted
+    // the candidates that carry water within the support, their store indices compacted without a branch (the test
+    // is taken by about one candidate in seven in 3D: as a branch per candidate it was four fifths of this function,
+    // which is half of a 3D run with fixed ghost walls)
+    thread_local std::vector<std::uint32_t> kept;
+    if (kept.size() < m + 1) kept.resize(m + 1);
+    std::uint32_t* __restrict kp = kept.data();
+    const Vec<D>* __restrict pos = P.pos.data();
+    const Kind* __restrict kind = P.kind.data();
+    std::size_t nk = 0;
     for (int r = 0; r < nr; ++r)
       for (std::uint32_t e = rg[r][0]; e < rg[r][1]; ++e) {
         const std::uint32_t b = sorted[e];
-        const Vec<D> rb = P.pos[b] - x;
-        if (!(dot(rb, rb) < support2) || !fluid_like(P.kind[b])) continue;
-        for (int d = 0; d < D; ++d) c[d * stride + k] = rb[d];
-        c[D * stride + k] = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
-        c[(D + 1) * stride + k] = hs ? 1.0 / hs[b] : 0.0;
-        const std::array<double, NF> fb = f(b);
-        for (int j = 0; j < NF; ++j) c[(D + 2 + j) * stride + k] = fb[j];
-        ++k;
+        const Vec<D> rb = pos[b] - x;
+        kp[nk] = b;
+        nk += static_cast<std::size_t>((dot(rb, rb) < support2) & fluid_like(kind[b]));
       }
+    std::size_t k = 0;  // (the columns' entries)
+    for (std::size_t i = 0; i < nk; ++i) {
+      const std::uint32_t b = kp[i];
+      const Vec<D> rb = pos[b] - x;
+      for (int d = 0; d < D; ++d) c[d * stride + k] = rb[d];
+      c[D * stride + k] = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
+      c[(D + 1) * stride + k] = hs ? 1.0 / hs[b] : 0.0;
+      const std::array<double, NF> fb = f(b);
+      for (int j = 0; j < NF; ++j) c[(D + 2 + j) * stride + k] = fb[j];
+      ++k;
+    }
     const int n = static_cast<int>(k);
     const std::size_t npad = (k + L - 1) / L * L;
     for (; k < npad; ++k)
