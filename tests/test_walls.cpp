@@ -248,6 +248,34 @@ void mls_reproduces_linear_fields(const std::string& yaml, const std::vector<Vec
     ASSERT_TRUE(v.has_value());
     for (int k = 0; k <= D; ++k) EXPECT_NEAR((*v)[k], lin(x, k), 1e-10) << "field " << k << " at " << x[0] << ", " << x[1];
   }
+  // several points under one stencil (interpolate_mls_shared, the fixed ghost walls' cells): each point's values are
+  // bitwise those of interpolate_mls_n there (the same candidates in the same order)
+  auto fields = [&](std::uint32_t b) {
+    std::array<double, D + 1> f;
+    for (int k = 0; k <= D; ++k) f[k] = lin(P.pos[b], k) + 0.1 * std::sin(37.0 * P.pos[b][0] + 11.0 * P.pos[b][D - 1] * k);
+    return f;
+  };
+  const double support = S.with_kernel([](const auto& K) { return K.support; });
+  for (const auto& x : points) {
+    std::vector<Vec<D>> near;
+    for (int k = 0; k < 7; ++k) {
+      Vec<D> y = x;
+      for (int d = 0; d < D; ++d) y[d] += 0.3 * support * std::sin(1.7 * k + d);
+      near.push_back(y);
+    }
+    std::vector<std::array<std::uint32_t, 2>> rg(CellList<D>::kMaxRanges);
+    auto* r = reinterpret_cast<std::uint32_t(*)[2]>(rg.data());
+    const int nr = S.cells.ranges(x, r, 2.0 * support);  // (covers each point's support)
+    std::size_t seen = 0;
+    interpolate_mls_shared<D, D + 1>(S, r, nr, near.data(), near.size(), fields, [&](std::size_t j, const auto& v) {
+      const auto one = interpolate_mls_n<D, D + 1>(S, near[j], fields);
+      ASSERT_EQ(v.has_value(), one.has_value());
+      if (v)
+        for (int k = 0; k <= D; ++k) EXPECT_EQ((*v)[k], (*one)[k]) << "point " << j << ", field " << k;
+      ++seen;
+    });
+    EXPECT_EQ(seen, near.size());
+  }
   // no water within the support: empty
   Vec<D> far{};
   far[0] = 10.0;

@@ -278,6 +278,15 @@ class DummyWalls final : public WallModel<D> {
   std::vector<float> corr_;  // no-slip: v − v_ghost of each wall particle (viscous_correction)
 };
 
+/// A stencil's ranges as one 64-bit key (FNV-1a; equal ranges, equal keys).
+inline std::uint64_t stencil_key(const std::uint32_t (*rg)[2], int nr) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+  mix(static_cast<std::uint64_t>(nr));
+  for (int r = 0; r < nr; ++r) mix((static_cast<std::uint64_t>(rg[r][0]) << 32) | rg[r][1]);
+  return h;
+}
+
 /// Fixed ghost particles (Marrone et al. 2011, Federico §5.2.6): each wall particle is a ghost
 /// with an interpolation point mirrored across the wall surface into the fluid
 /// (store field "ghost_mirror", made with the geometry). Before each rates pass the fluid's
@@ -306,21 +315,20 @@ class FixedGhostWalls final : public WallModel<D> {
     const std::size_t n = P.n_owned();
     const bool no_slip = this->cfg.no_slip, clamp = this->cfg.clamp_negative_pressure;
     const double rho_bg = S.eos.density(S.eos.background);
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (P.kind[i] != Kind::Wall) continue;
+    auto fields = [&](std::uint32_t b) {
+      std::array<double, D + 1> f;
+      f[0] = P.p[b];
+      for (int d = 0; d < D; ++d) f[d + 1] = P.vel[b][d];
+      return f;
+    };
+    // the ghost's state from the fluid's at its mirror point
+    auto set_ghost = [&](std::size_t i, const std::optional<std::array<double, D + 1>>& v) {
       const Vec<D> xi = mir[i];
-      const auto v = interpolate_mls_n<D, D + 1>(S, xi, [&](std::uint32_t b) {
-        std::array<double, D + 1> f;
-        f[0] = P.p[b];
-        for (int d = 0; d < D; ++d) f[d + 1] = P.vel[b][d];
-        return f;
-      });
       if (!v) {  // no fluid near the interpolation point: the background state
         P.p[i] = S.eos.background;
         P.rho[i] = rho_bg;
         P.vel[i] = Vec<D>{};
-        continue;
+        return;
       }
       const Vec<D> dxg = P.pos[i] - xi;  // from the interpolation point to the ghost
       const double rho_i = S.eos.density((*v)[0]);
@@ -341,9 +349,59 @@ class FixedGhostWalls final : public WallModel<D> {
       P.p[i] = pg;
       P.rho[i] = S.eos.density(pg);
       P.vel[i] = u;
+    };
+    // the wall particles grouped by their mirror points' candidate stencils (those of one cell share its ranges: the
+    // stencil's water is listed once, interpolate_mls_shared; the same bits as one interpolation per wall particle)
+    const double support = S.with_kernel([](const auto& K) { return K.support; });
+    group_.clear();
+    {
+      std::uint32_t rg[CellList<D>::kMaxRanges][2];
+      for (std::size_t i = 0; i < n; ++i) {
+        if (P.kind[i] != Kind::Wall) continue;
+        const int nr = S.cells.ranges(mir[i], rg, support);
+        group_.push_back({stencil_key(rg, nr), static_cast<std::uint32_t>(i)});
+      }
+    }
+    std::sort(group_.begin(), group_.end());
+    starts_.clear();
+    for (std::size_t g = 0; g < group_.size(); ++g)
+      if (g == 0 || group_[g].first != group_[g - 1].first) starts_.push_back(g);
+    starts_.push_back(group_.size());
+    const std::size_t ng = starts_.size() - 1;
+#pragma omp parallel
+    {
+      std::vector<std::array<std::uint32_t, 2>> r0(CellList<D>::kMaxRanges), r1(CellList<D>::kMaxRanges);
+      auto* p0 = reinterpret_cast<std::uint32_t(*)[2]>(r0.data());
+      auto* p1 = reinterpret_cast<std::uint32_t(*)[2]>(r1.data());
+      std::vector<Vec<D>> xs;
+      std::vector<std::uint32_t> ids;
+#pragma omp for schedule(dynamic, 1)
+      for (std::size_t g = 0; g < ng; ++g) {
+        // (a member whose ranges are not the first's, a collision of the keys, is interpolated alone)
+        const std::uint32_t lead = group_[starts_[g]].second;
+        const int n0 = S.cells.ranges(mir[lead], p0, support);
+        xs.clear();
+        ids.clear();
+        for (std::size_t k = starts_[g]; k < starts_[g + 1]; ++k) {
+          const std::uint32_t i = group_[k].second;
+          const int n1 = S.cells.ranges(mir[i], p1, support);
+          if (n1 == n0 && std::equal(r1.begin(), r1.begin() + n1, r0.begin())) {
+            xs.push_back(mir[i]);
+            ids.push_back(i);
+          } else {
+            set_ghost(i, interpolate_mls_n<D, D + 1>(S, mir[i], fields));
+          }
+        }
+        interpolate_mls_shared<D, D + 1>(S, p0, n0, xs.data(), xs.size(), fields,
+                                         [&](std::size_t j, const auto& v) { set_ghost(ids[j], v); });
+      }
     }
     S.refresh_halos();
   }
+
+ private:
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> group_;  // (stencil key, wall particle), sorted
+  std::vector<std::size_t> starts_;                              // each group's first entry in group_, then the end
 };
 
 /// Monaghan & Kos (1999) walls alone: the wall particles are outside every pair sum; only the

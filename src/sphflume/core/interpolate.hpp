@@ -53,15 +53,15 @@ double fluid_fraction(const System<D>& S, const Vec<D>& x) {
   });
 }
 
-/// Values of NF fields (f(b) returns them as an array) at x with a first-order (linear) moving-least-squares correction, which
-/// reproduces linear fields exactly also where the kernel is truncated (walls, surface).
-/// Falls back to the Shepard average when the moment matrix is ill-conditioned; empty when
-/// no fluid particle is within the kernel support.
-/// The particles that carry water within the support are copied into columns (x_b − x, V_b = m_b/(ρ_b φ_b), 1/h_b on
-/// levels, the fields) and the moments Σ w q qᵀ and Σ w f q (q = (1, (x_b − x)/h), w = V_b W) summed in blocks of
-/// eight lanes, vectorised: the fixed ghost walls call this for every wall particle before every pass.
-template <int D, int NF, class Fields>
-std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, const Vec<D>& x, Fields&& f) {
+namespace mls {
+/// First-order MLS at x from the candidates kp[0..nk) (store indices, within the support, carrying water, in stencil
+/// order): their columns (x_b − x, V_b = m_b/(ρ_b φ_b), 1/h_b on levels, the fields) into c (stride apart, at least
+/// nk + 8 entries each), the moments Σ w q qᵀ and Σ w f q (q = (1, (x_b − x)/h), w = V_b W) summed in blocks of eight
+/// lanes, vectorised, and the MLS solve (the Shepard average where the moment matrix is ill-conditioned; empty without
+/// candidates).
+template <int D, int NF, class Ker, class Fields>
+std::optional<std::array<double, NF>> from_candidates(const System<D>& S, const Ker& K, const Vec<D>& x, const std::uint32_t* kp,
+                                                      std::size_t nk, double* c, std::size_t stride, Fields& f) {
   const auto& P = S.particles;
   constexpr int NQ = D + 1, NM = NQ * (NQ + 1) / 2, NA = NM + NF * NQ, L = 8;
   constexpr int NC = D + 2 + NF;  // columns: x_b − x (D), V_b, 1/h_b, the fields
@@ -69,6 +69,91 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
   using Vv = Eigen::Matrix<double, NQ, 1>;
   const double* phi = porosity_field(S);
   const double* hs = level_h_field(S);
+  const Vec<D>* __restrict pos = P.pos.data();
+  std::size_t k = 0;  // (the columns' entries)
+  for (std::size_t i = 0; i < nk; ++i) {
+    const std::uint32_t b = kp[i];
+    const Vec<D> rb = pos[b] - x;
+    for (int d = 0; d < D; ++d) c[d * stride + k] = rb[d];
+    c[D * stride + k] = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
+    c[(D + 1) * stride + k] = hs ? 1.0 / hs[b] : 0.0;
+    const std::array<double, NF> fb = f(b);
+    for (int j = 0; j < NF; ++j) c[(D + 2 + j) * stride + k] = fb[j];
+    ++k;
+  }
+  const int n = static_cast<int>(k);
+  const std::size_t npad = (k + L - 1) / L * L;
+  for (; k < npad; ++k)
+    for (int j = 0; j < NC; ++j) c[j * stride + k] = 0.0;  // (padding: no volume, so no weight)
+  const auto kl = K;  // (the loop's constants as locals)
+  const double ih = 1.0 / K.h;
+  alignas(64) double acc[NA][L] = {};
+  auto blocks = [&](auto lev) {
+    constexpr bool Lev = decltype(lev)::value;
+    for (std::size_t b0 = 0; b0 < npad; b0 += L) {
+      const double* __restrict cb = c + b0;
+#pragma omp simd
+      for (int l = 0; l < L; ++l) {
+        double r2 = 0.0;
+#pragma GCC unroll 3
+        for (int d = 0; d < D; ++d) r2 += cb[d * stride + l] * cb[d * stride + l];
+        const double r = std::sqrt(r2);
+        double W;
+        if constexpr (Lev) W = kl.Wh(r, cb[(D + 1) * stride + l]);
+        else W = kl.W(r);
+        const double vb = cb[D * stride + l];
+        const double w = vb * W;  // (the padding's volume is 0)
+        double q[NQ];
+        q[0] = 1.0;
+#pragma GCC unroll 3
+        for (int d = 0; d < D; ++d) q[d + 1] = cb[d * stride + l] * ih;
+#pragma GCC unroll 16
+        for (int u = 0; u < NQ; ++u)
+#pragma GCC unroll 16
+          for (int v = u; v < NQ; ++v) acc[u * NQ - u * (u - 1) / 2 + (v - u)][l] += w * q[u] * q[v];
+#pragma GCC unroll 8
+        for (int j = 0; j < NF; ++j) {
+          const double wf = w * cb[(D + 2 + j) * stride + l];
+#pragma GCC unroll 4
+          for (int u = 0; u < NQ; ++u) acc[NM + j * NQ + u][l] += wf * q[u];
+        }
+      }
+    }
+  };
+  if (hs) blocks(std::true_type{});
+  else blocks(std::false_type{});
+  double sum[NA];
+  for (int a = 0; a < NA; ++a) {
+    double t = 0.0;
+    for (int l = 0; l < L; ++l) t += acc[a][l];
+    sum[a] = t;
+  }
+  const double sw = sum[0];
+  if (n == 0 || sw <= 0.0) return std::nullopt;
+  M A;
+  for (int u = 0, a = 0; u < NQ; ++u)
+    for (int v = u; v < NQ; ++v, ++a) A(u, v) = A(v, u) = sum[a];
+  std::array<double, NF> out{};
+  Eigen::FullPivLU<M> lu(A);
+  if (n > D + 1 && lu.rank() == D + 1 && std::abs(lu.determinant()) > 1e-6 * std::pow(A(0, 0), D + 1)) {
+    for (int j = 0; j < NF; ++j) out[j] = Vv(lu.solve(Vv(Eigen::Map<const Vv>(sum + NM + j * NQ))))[0];
+  } else {
+    for (int j = 0; j < NF; ++j) out[j] = sum[NM + j * NQ] / sw;
+  }
+  return out;
+}
+}  // namespace mls
+
+/// Values of NF fields (f(b) returns them as an array) at x with a first-order (linear) moving-least-squares correction, which
+/// reproduces linear fields exactly also where the kernel is truncated (walls, surface).
+/// Falls back to the Shepard average when the moment matrix is ill-conditioned; empty when
+/// no fluid particle is within the kernel support. The candidates that carry water within the support are kept
+/// (their test without a branch) and handed to mls::from_candidates.
+template <int D, int NF, class Fields>
+std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, const Vec<D>& x, Fields&& f) {
+  const auto& P = S.particles;
+  constexpr int NF_ = NF, L = 8;
+  constexpr int NC = D + 2 + NF_;
   return S.with_kernel([&](const auto& K) -> std::optional<std::array<double, NF>> {
     thread_local std::vector<double> col;
     std::uint32_t rg[CellList<D>::kMaxRanges][2];
@@ -77,7 +162,6 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
     for (int r = 0; r < nr; ++r) m += rg[r][1] - rg[r][0];
     if (col.size() < NC * (m + L)) col.resize(NC * (m + L));
     const std::size_t stride = m + L;  // (every candidate might be kept)
-    double* c = col.data();
     const std::uint32_t* sorted = S.cells.sorted().data();
     const double support2 = K.support2;
     // the candidates that carry water within the support, their store indices compacted without a branch (the test
@@ -96,77 +180,67 @@ std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, cons
         kp[nk] = b;
         nk += static_cast<std::size_t>((dot(rb, rb) < support2) & fluid_like(kind[b]));
       }
-    std::size_t k = 0;  // (the columns' entries)
-    for (std::size_t i = 0; i < nk; ++i) {
-      const std::uint32_t b = kp[i];
-      const Vec<D> rb = pos[b] - x;
-      for (int d = 0; d < D; ++d) c[d * stride + k] = rb[d];
-      c[D * stride + k] = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
-      c[(D + 1) * stride + k] = hs ? 1.0 / hs[b] : 0.0;
-      const std::array<double, NF> fb = f(b);
-      for (int j = 0; j < NF; ++j) c[(D + 2 + j) * stride + k] = fb[j];
-      ++k;
-    }
-    const int n = static_cast<int>(k);
-    const std::size_t npad = (k + L - 1) / L * L;
-    for (; k < npad; ++k)
-      for (int j = 0; j < NC; ++j) c[j * stride + k] = 0.0;  // (padding: no volume, so no weight)
-    const auto kl = K;  // (the loop's constants as locals)
-    const double ih = 1.0 / K.h;
-    alignas(64) double acc[NA][L] = {};
-    auto blocks = [&](auto lev) {
-      constexpr bool Lev = decltype(lev)::value;
-      for (std::size_t b0 = 0; b0 < npad; b0 += L) {
-        const double* __restrict cb = c + b0;
-#pragma omp simd
-        for (int l = 0; l < L; ++l) {
-          double r2 = 0.0;
-#pragma GCC unroll 3
-          for (int d = 0; d < D; ++d) r2 += cb[d * stride + l] * cb[d * stride + l];
-          const double r = std::sqrt(r2);
-          double W;
-          if constexpr (Lev) W = kl.Wh(r, cb[(D + 1) * stride + l]);
-          else W = kl.W(r);
-          const double vb = cb[D * stride + l];
-          const double w = vb * W;  // (the padding's volume is 0)
-          double q[NQ];
-          q[0] = 1.0;
-#pragma GCC unroll 3
-          for (int d = 0; d < D; ++d) q[d + 1] = cb[d * stride + l] * ih;
-#pragma GCC unroll 16
-          for (int u = 0; u < NQ; ++u)
-#pragma GCC unroll 16
-            for (int v = u; v < NQ; ++v) acc[u * NQ - u * (u - 1) / 2 + (v - u)][l] += w * q[u] * q[v];
-#pragma GCC unroll 8
-          for (int j = 0; j < NF; ++j) {
-            const double wf = w * cb[(D + 2 + j) * stride + l];
-#pragma GCC unroll 4
-            for (int u = 0; u < NQ; ++u) acc[NM + j * NQ + u][l] += wf * q[u];
-          }
-        }
+    return mls::from_candidates<D, NF>(S, K, x, kp, nk, col.data(), stride, f);
+  });
+}
+
+/// interpolate_mls_n at several points whose supports one stencil covers (the ranges rg[0..nr) of sorted(): the fixed
+/// ghost walls' mirror points of one cell), out(j, value) for the point xs[j]. The stencil's particles that carry
+/// water are listed once with their positions as columns, and each point keeps those within its support by a
+/// vectorised test, in stencil order: the candidates, their order and values are interpolate_mls_n's, and so are the
+/// bits.
+template <int D, int NF, class Fields, class Out>
+void interpolate_mls_shared(const System<D>& S, const std::uint32_t (*rg)[2], int nr, const Vec<D>* xs, std::size_t nx,
+                            Fields&& f, Out&& out) {
+  const auto& P = S.particles;
+  constexpr int NC = D + 2 + NF, L = 8;
+  if (nx == 0) return;
+  S.with_kernel([&](const auto& K) {
+    thread_local std::vector<double> col, px;
+    thread_local std::vector<std::uint32_t> ids, kept;
+    thread_local std::vector<unsigned char> in;
+    std::size_t m = 0;
+    for (int r = 0; r < nr; ++r) m += rg[r][1] - rg[r][0];
+    const std::size_t stride = m + L;
+    if (col.size() < NC * stride) col.resize(NC * stride);
+    if (px.size() < D * stride) px.resize(D * stride);
+    if (ids.size() < stride) { ids.resize(stride); kept.resize(stride); in.resize(stride); }
+    const std::uint32_t* sorted = S.cells.sorted().data();
+    const Vec<D>* __restrict pos = P.pos.data();
+    const Kind* __restrict kind = P.kind.data();
+    std::uint32_t* __restrict id = ids.data();
+    std::size_t nf = 0;  // the stencil's particles that carry water
+    for (int r = 0; r < nr; ++r)
+      for (std::uint32_t e = rg[r][0]; e < rg[r][1]; ++e) {
+        const std::uint32_t b = sorted[e];
+        id[nf] = b;
+        nf += static_cast<std::size_t>(fluid_like(kind[b]));
       }
-    };
-    if (hs) blocks(std::true_type{});
-    else blocks(std::false_type{});
-    double sum[NA];
-    for (int a = 0; a < NA; ++a) {
-      double t = 0.0;
-      for (int l = 0; l < L; ++l) t += acc[a][l];
-      sum[a] = t;
+    double* __restrict xc = px.data();
+    for (std::size_t i = 0; i < nf; ++i)
+      for (int d = 0; d < D; ++d) xc[d * stride + i] = pos[id[i]][d];
+    const double support2 = K.support2;
+    unsigned char* __restrict hit = in.data();
+    std::uint32_t* __restrict kp = kept.data();
+    for (std::size_t j = 0; j < nx; ++j) {
+      const Vec<D> x = xs[j];
+#pragma omp simd
+      for (std::size_t i = 0; i < nf; ++i) {
+        double s = 0.0;  // (dot(x_b − x, x_b − x), as interpolate_mls_n's test)
+#pragma GCC unroll 3
+        for (int d = 0; d < D; ++d) {
+          const double t = xc[d * stride + i] - x[d];
+          s += t * t;
+        }
+        hit[i] = s < support2 ? 1 : 0;
+      }
+      std::size_t nk = 0;
+      for (std::size_t i = 0; i < nf; ++i) {
+        kp[nk] = id[i];
+        nk += hit[i];
+      }
+      out(j, mls::from_candidates<D, NF>(S, K, x, kp, nk, col.data(), stride, f));
     }
-    const double sw = sum[0];
-    if (n == 0 || sw <= 0.0) return std::nullopt;
-    M A;
-    for (int u = 0, a = 0; u < NQ; ++u)
-      for (int v = u; v < NQ; ++v, ++a) A(u, v) = A(v, u) = sum[a];
-    std::array<double, NF> out{};
-    Eigen::FullPivLU<M> lu(A);
-    if (n > D + 1 && lu.rank() == D + 1 && std::abs(lu.determinant()) > 1e-6 * std::pow(A(0, 0), D + 1)) {
-      for (int j = 0; j < NF; ++j) out[j] = Vv(lu.solve(Vv(Eigen::Map<const Vv>(sum + NM + j * NQ))))[0];
-    } else {
-      for (int j = 0; j < NF; ++j) out[j] = sum[NM + j * NQ] / sw;
-    }
-    return out;
   });
 }
 
