@@ -270,8 +270,9 @@ void mls_reproduces_linear_fields(const std::string& yaml, const std::vector<Vec
     interpolate_mls_shared<D, D + 1>(S, r, nr, near.data(), near.size(), fields, [&](std::size_t j, const auto& v) {
       const auto one = interpolate_mls_n<D, D + 1>(S, near[j], fields);
       ASSERT_EQ(v.has_value(), one.has_value());
-      if (v)
+      if (v) {
         for (int k = 0; k <= D; ++k) EXPECT_EQ((*v)[k], (*one)[k]) << "point " << j << ", field " << k;
+      }
       ++seen;
     });
     EXPECT_EQ(seen, near.size());

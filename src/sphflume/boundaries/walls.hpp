@@ -101,4 +101,8 @@ class WallModel {
 template <int D>
 Registry<WallModel<D>, const WallConfig&>& wall_registry();
 
+/// The fixed ghost walls (boundaries/walls_fixed_ghost.cpp), for wall_registry().
+template <int D>
+std::unique_ptr<WallModel<D>> make_fixed_ghost_walls(const WallConfig& c);
+
 }  // namespace sph
