@@ -50,7 +50,6 @@ class FixedGhostWalls final : public WallModel<D> {
     if (!P.has(field::ghost_mirror))
       throw std::logic_error("fixed_ghost walls: the geometry made no mirror points (ghost_mirror)");
     const auto& mir = P.vector(field::ghost_mirror);
-    const std::size_t n = P.n_owned();
     const bool no_slip = this->cfg.no_slip, clamp = this->cfg.clamp_negative_pressure;
     const double rho_bg = S.eos.density(S.eos.background);
     auto fields = [&](std::uint32_t b) {
@@ -91,20 +90,7 @@ class FixedGhostWalls final : public WallModel<D> {
     // the wall particles grouped by their mirror points' candidate stencils (those of one cell share its ranges: the
     // stencil's water is listed once, interpolate_mls_shared; the same bits as one interpolation per wall particle)
     const double support = S.with_kernel([](const auto& K) { return K.support; });
-    group_.clear();
-    {
-      std::uint32_t rg[CellList<D>::kMaxRanges][2];
-      for (std::size_t i = 0; i < n; ++i) {
-        if (P.kind[i] != Kind::Wall) continue;
-        const int nr = S.cells.ranges(mir[i], rg, support);
-        group_.push_back({stencil_key(rg, nr), static_cast<std::uint32_t>(i)});
-      }
-    }
-    std::sort(group_.begin(), group_.end());
-    starts_.clear();
-    for (std::size_t g = 0; g < group_.size(); ++g)
-      if (g == 0 || group_[g].first != group_[g - 1].first) starts_.push_back(g);
-    starts_.push_back(group_.size());
+    group_walls(S, mir, support);
     const std::size_t ng = starts_.size() - 1;
 #pragma omp parallel
     {
@@ -138,6 +124,23 @@ class FixedGhostWalls final : public WallModel<D> {
   }
 
  private:
+  /// group_ and starts_: the owned wall particles by the key of their mirror points' stencil ranges, in a fixed order.
+  void group_walls(const System<D>& S, const std::vector<Vec<D>>& mir, double support) {
+    const auto& P = S.particles;
+    group_.clear();
+    std::uint32_t rg[CellList<D>::kMaxRanges][2];
+    for (std::size_t i = 0; i < P.n_owned(); ++i) {
+      if (P.kind[i] != Kind::Wall) continue;
+      const int nr = S.cells.ranges(mir[i], rg, support);
+      group_.push_back({stencil_key(rg, nr), static_cast<std::uint32_t>(i)});
+    }
+    std::sort(group_.begin(), group_.end());
+    starts_.clear();
+    for (std::size_t g = 0; g < group_.size(); ++g)
+      if (g == 0 || group_[g].first != group_[g - 1].first) starts_.push_back(g);
+    starts_.push_back(group_.size());
+  }
+
   std::vector<std::pair<std::uint64_t, std::uint32_t>> group_;  // (stencil key, wall particle), sorted
   std::vector<std::size_t> starts_;                              // each group's first entry in group_, then the end
 };
