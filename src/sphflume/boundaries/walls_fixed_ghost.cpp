@@ -94,29 +94,27 @@ class FixedGhostWalls final : public WallModel<D> {
     const std::size_t ng = starts_.size() - 1;
 #pragma omp parallel
     {
-      std::vector<std::array<std::uint32_t, 2>> r0(CellList<D>::kMaxRanges), r1(CellList<D>::kMaxRanges);
-      auto* p0 = reinterpret_cast<std::uint32_t(*)[2]>(r0.data());
-      auto* p1 = reinterpret_cast<std::uint32_t(*)[2]>(r1.data());
+      std::uint32_t r0[CellList<D>::kMaxRanges][2], r1[CellList<D>::kMaxRanges][2];
       std::vector<Vec<D>> xs;
       std::vector<std::uint32_t> ids;
 #pragma omp for schedule(dynamic, 1)
       for (std::size_t g = 0; g < ng; ++g) {
         // (a member whose ranges are not the first's, a collision of the keys, is interpolated alone)
         const std::uint32_t lead = group_[starts_[g]].second;
-        const int n0 = S.cells.ranges(mir[lead], p0, support);
+        const int n0 = S.cells.ranges(mir[lead], r0, support);
         xs.clear();
         ids.clear();
         for (std::size_t k = starts_[g]; k < starts_[g + 1]; ++k) {
           const std::uint32_t i = group_[k].second;
-          const int n1 = S.cells.ranges(mir[i], p1, support);
-          if (n1 == n0 && std::equal(r1.begin(), r1.begin() + n1, r0.begin())) {
+          const int n1 = S.cells.ranges(mir[i], r1, support);
+          if (n1 == n0 && std::equal(&r1[0][0], &r1[0][0] + 2 * n1, &r0[0][0])) {
             xs.push_back(mir[i]);
             ids.push_back(i);
           } else {
             set_ghost(i, interpolate_mls_n<D, D + 1>(S, mir[i], fields));
           }
         }
-        interpolate_mls_shared<D, D + 1>(S, p0, n0, xs.data(), xs.size(), fields,
+        interpolate_mls_shared<D, D + 1>(S, r0, n0, xs.data(), xs.size(), fields,
                                          [&](std::size_t j, const auto& v) { set_ghost(ids[j], v); });
       }
     }

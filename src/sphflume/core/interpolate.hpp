@@ -71,15 +71,14 @@ std::optional<std::array<double, NF>> from_candidates(const System<D>& S, const 
   const double* hs = level_h_field(S);
   const Vec<D>* __restrict pos = P.pos.data();
   std::size_t k = 0;  // (the columns' entries)
-  for (std::size_t i = 0; i < nk; ++i) {
-    const std::uint32_t b = kp[i];
+  for (; k < nk; ++k) {
+    const std::uint32_t b = kp[k];
     const Vec<D> rb = pos[b] - x;
     for (int d = 0; d < D; ++d) c[d * stride + k] = rb[d];
     c[D * stride + k] = P.mass[b] / (P.rho[b] * (phi ? phi[b] : 1.0));
     c[(D + 1) * stride + k] = hs ? 1.0 / hs[b] : 0.0;
     const std::array<double, NF> fb = f(b);
     for (int j = 0; j < NF; ++j) c[(D + 2 + j) * stride + k] = fb[j];
-    ++k;
   }
   const int n = static_cast<int>(k);
   const std::size_t npad = (k + L - 1) / L * L;
@@ -152,8 +151,7 @@ std::optional<std::array<double, NF>> from_candidates(const System<D>& S, const 
 template <int D, int NF, class Fields>
 std::optional<std::array<double, NF>> interpolate_mls_n(const System<D>& S, const Vec<D>& x, Fields&& f) {
   const auto& P = S.particles;
-  constexpr int NF_ = NF, L = 8;
-  constexpr int NC = D + 2 + NF_;
+  constexpr int NC = D + 2 + NF, L = 8;
   return S.with_kernel([&](const auto& K) -> std::optional<std::array<double, NF>> {
     thread_local std::vector<double> col;
     std::uint32_t rg[CellList<D>::kMaxRanges][2];
