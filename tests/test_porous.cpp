@@ -5,8 +5,10 @@
 // point-implicit drag (docs/porous-closures.md; Tsurudome §4.1.1 leaves R's integration open).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "sphflume/core/shapes.hpp"
 #include "sphflume/io/gauges.hpp"
 #include "sphflume/physics/porous.hpp"
 #include "test_helpers.hpp"
@@ -146,6 +148,50 @@ TEST(PorousField, PorousParticleSumAndItsTwoNormalisations) {
   EXPECT_GT(face, phi0 + 0.1);
   EXPECT_LT(face, 1.0 - 0.1);
   EXPECT_EQ(full.porosity(Vec<2>{{0.3 + 2.0 * h + 1e-6, 0.15}}), 1.0);
+}
+
+// Tsurudome eq 4.2.1 on a permeable 1:20 beach (a polygon: each porous particle's inside test made once per lattice
+// node, and the stencils wholly inside or outside answered from the nodes' counts): at points above, across and
+// under the face the field is its definition, Σ_{nodes inside} W / Σ_{nodes} W over the lattice dx/sqrt(φ0) from
+// the polygon's corner, summed here node by node (round-off: the same terms in the same order).
+TEST(PorousField, PorousParticleSumOfASlopeIsItsDefinition) {
+  const double phi0 = 0.49, dx = 0.01, h = 2.0 * dx;
+  PorousConfig c;
+  c.field = "particles";
+  PorousRegionConfig r;
+  r.shape = "polygon";
+  r.vertices = {{2.0, 0.0}, {10.0, 0.0}, {10.0, 0.4}};  // the 1:20 wedge of cases/runup_permeable_b.yaml
+  r.porosity = phi0;
+  r.diameter = 0.001;
+  c.regions.push_back(r);
+  const PorousMedia<2> pm(c, KernelType::WendlandC2, h, dx);
+  const double step = dx / std::sqrt(phi0), reach = kernel_support_factor(KernelType::WendlandC2) * h;
+  const double ox = 2.0 + 0.5 * step, oz = 0.5 * step;
+  const auto defined = [&](double x, double z) {
+    return with_kernel<2>(KernelType::WendlandC2, h, [&](const auto& K) {
+      double in = 0.0, all = 0.0;
+      for (int i = int(std::ceil((x - reach - ox) / step)); i <= int(std::floor((x + reach - ox) / step)); ++i)
+        for (int j = int(std::ceil((z - reach - oz) / step)); j <= int(std::floor((z + reach - oz) / step)); ++j) {
+          const double cx = ox + i * step, cz = oz + j * step, r2 = (x - cx) * (x - cx) + (z - cz) * (z - cz);
+          if (r2 >= reach * reach) continue;
+          const double w = K.W(std::sqrt(r2));
+          all += w;
+          if (inside_polygon(r.vertices, cx, cz)) in += w;
+        }
+      return 1.0 - (1.0 - phi0) * (all > 0.0 ? in / all : 0.0);
+    });
+  };
+  int inside = 0, outside = 0, across = 0;
+  for (double x = 1.93; x < 10.05; x += 0.0937)
+    for (double dz = -0.07; dz <= 0.07; dz += 0.00731) {  // normal to the face within and beyond one reach
+      const double z = (x - 2.0) / 20.0 + dz;
+      const double phi = pm.porosity(Vec<2>{{x, z}}), ref = std::clamp(defined(x, z), phi0, 1.0);
+      EXPECT_NEAR(phi, ref, 1e-14) << x << ", " << z;
+      (phi == 1.0 ? outside : phi < phi0 + 1e-12 ? inside : across) += 1;
+    }
+  EXPECT_GT(inside, 100);  // (every kind of stencil met)
+  EXPECT_GT(outside, 100);
+  EXPECT_GT(across, 100);
 }
 
 // Kazemi's Situation #2: φ(z) and φ(x, z) tables, linear in between, constant beyond.

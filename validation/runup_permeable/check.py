@@ -30,7 +30,10 @@ Metrics (dx = 0.01 m, twice the thesis's d0):
 Information: at Dc = 0.25 mm the mean speed of the water inside the beach (more than 2h below the face) at the time of the
 run-up (< 0.05 m/s: the beach acts as solid, §5.4.2); wall times.
 Modes: fine = all parts; coarse = part a at Dc = 1 mm (CTest).
+--refine L: each run of parts a, b, a2 with a band of level L (dx/2^L) along the face that follows the waterline
+(issue 58: the 1:20 beach with 2.5 mm and 1.25 mm at its face); runs go to OUT/PART/refineL_TAG.
 Usage: /usr/bin/python3 validation/runup_permeable/check.py [--mode coarse|fine] [--parts a,layers,b] [--dcs 1,10] [--out DIR] [--reuse]
+       [--refine L] [--set KEY=VALUE]
 (--dcs: the grain diameters in mm for every part of the call, e.g. --parts b,layers_b --dcs 10 runs the 1:20 layer
 against the beach's Dc = 10 mm run without the beach's other grains)
 """
@@ -67,6 +70,12 @@ PARTS = {
            "dcs": [1.0, 100.0], "fit": (131.46, -0.054), "law": (0.61, -0.052), "toe": (2.07, 0.0), "gradient": 1 / 2.08},
     "layers_b": {"case": "runup_layer_b.yaml", "end": 11.0, "dcs": [10.0], "beach": "b", "tol": LAYER_B_TOL},
 }
+# --refine L (issue 58, the permeable beaches refined at the face): a band normal to the face, REFINE_ABOVE into the
+# water and (porous beaches) REFINE_BELOW into the beach, two level-0 supports at d0 (2h = 2 cm), whose elevations
+# follow the waterline from 6 cm under it to 5 cm over it (the swash; docs/case-file.md, resolution), multirate
+REFINE_ABOVE, REFINE_BELOW = 0.05, 0.02
+REFINE = ("{{regions: [{{shape: band, {on}, above: " + str(REFINE_ABOVE) + ", z_min: 0.15, z_max: 0.40, "
+          "follow: waterline, waterline_below: 0.06, waterline_above: 0.05, level: {level}}}], multirate: true}}")
 MODES = {"coarse": {"parts": "a", "dcs": {"a": [1.0]}}, "fine": {"parts": "a,layers,b,layers_b,a2", "dcs": {}}}
 
 
@@ -74,6 +83,9 @@ def args():
     def extra(ap):
         ap.add_argument("--parts", default=None)
         ap.add_argument("--dcs", default=None, help="comma-separated grain diameters (mm) for every part of this call")
+        ap.add_argument("--refine", type=int, default=0,
+                        help="resolution level L of a band along the beach's face that follows the waterline (the "
+                             "solid slope's and the porous beach's alike; dx/2^L there, multirate), issue 58")
     return validation_args(NAME, __doc__, MODES, extra=extra)
 
 
@@ -110,8 +122,11 @@ def main():
     res = {}
 
     def run(part, case, tag, sets_extra):
-        out = os.path.join(a.out, part, tag)
+        out = os.path.join(a.out, part, tag if not a.refine else f"refine{a.refine}_{tag}")
         sets = {"particles.dx": DX, "time.end": PARTS[part]["end"], **sets_extra, **parse_sets(a.set)}
+        if a.refine:
+            on = "slope: 2, below: 0.01" if tag == "solid" else f"porous: 0, below: {REFINE_BELOW}"
+            sets["resolution"] = REFINE.format(on=on, level=a.refine)
         s, wall, rc = run_case(a.sphflume, os.path.join(CASES, case), out, sets, a.threads, a.reuse)
         if s is None:
             print(f"[FAIL] {part} {tag}: run exit code = {rc}   (threshold: 0)")
@@ -156,7 +171,7 @@ def main():
                            abs(R / Rs / law - 1) <= FIT_TOL, "within 10 %",
                            "eq 5.4.6 / 6.4.3 with R_s the solid-slope run-up of the same model (as the thesis defines it)")
                 if dc == 0.25:
-                    h = 2 * DX
+                    h = 2 * float(parse_sets(a.set).get("particles.dx", DX))
                     us = interior_speed(out, tR, P["toe"], P["gradient"], h)
                     info(f"{part} Dc = 0.25 mm: mean |u| inside the beach (> 2h below the face) at the run-up", f"{us:.4f} m/s",
                          us < AT_REST, "< 0.05 m/s", "thesis §5.4.2: the beach acts as solid")

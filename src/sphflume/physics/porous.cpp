@@ -13,7 +13,7 @@ namespace sph {
 
 template <int D>
 PorousMedia<D>::PorousMedia(const PorousConfig& c, KernelType kernel, double h, double dx, int levels)
-    : cfg_(c), kernel_(kernel), dx_(dx) {
+    : cfg_(c), sharp_(c.field == "sharp"), literal_(c.field == "particles" && c.literal_normalisation), kernel_(kernel), dx_(dx) {
   for (const auto& rc : c.regions) {
     phi_min_ = std::min(phi_min_, rc.porosity);
     regions_.push_back(make_region(rc, h, dx));
@@ -34,7 +34,9 @@ typename PorousMedia<D>::Region PorousMedia<D>::make_region(const PorousRegionCo
   const auto& c = cfg_;
   Region g;
   g.cfg = rc;
-  if (rc.shape == "profile") return g;
+  g.box = rc.shape == "box";
+  g.profile = rc.shape == "profile";
+  if (g.profile) return g;
   if (rc.shape == "box") {
     for (int d = 0; d < D; ++d) { g.lo[d] = rc.min[d]; g.hi[d] = rc.max[d]; }
   } else if (rc.shape == "mesh") {
@@ -71,7 +73,72 @@ typename PorousMedia<D>::Region PorousMedia<D>::make_region(const PorousRegionCo
     }
     g.origin[d] = g.lo[d] + 0.5 * g.step[d];
   }
+  make_node_mask(g);
   return g;
+}
+
+namespace {
+constexpr std::size_t kMaxMaskNodes = std::size_t(1) << 22;  // (4 M nodes: 4 MB of mask, 16 MB of sums)
+}
+
+template <int D>
+std::size_t PorousMedia<D>::Region::node(const int* i) const {
+  return (std::size_t(i[0]) * std::size_t(count[1]) + std::size_t(i[1])) * std::size_t(count[2]) + std::size_t(i[2]);
+}
+
+template <int D>
+std::uint32_t PorousMedia<D>::Region::inside_count(const int* lo, const int* hi) const {
+  // summed[(a, b, c)] = nodes inside among those with relative index < (a, b, c); inclusion-exclusion over the box
+  const std::size_t n1 = std::size_t(count[1]) + 1, n2 = std::size_t(count[2]) + 1;
+  const auto S = [&](std::size_t a, std::size_t b, std::size_t c) { return std::int64_t(summed[(a * n1 + b) * n2 + c]); };
+  const std::size_t a0 = std::size_t(lo[0]), a1 = std::size_t(hi[0]) + 1, b0 = std::size_t(lo[1]), b1 = std::size_t(hi[1]) + 1;
+  const std::size_t c0 = std::size_t(lo[2]), c1 = std::size_t(hi[2]) + 1;
+  const std::int64_t v = S(a1, b1, c1) - S(a0, b1, c1) - S(a1, b0, c1) - S(a1, b1, c0) + S(a0, b0, c1) + S(a0, b1, c0) +
+                         S(a1, b0, c0) - S(a0, b0, c0);
+  return static_cast<std::uint32_t>(v);
+}
+
+template <int D>
+void PorousMedia<D>::make_node_mask(Region& g) const {
+  // The nodes a particle's stencil can reach: indicator() reads nodes within the reach of x, and x within the reach
+  // of the bounding box (one node more each side for the round-off of the index bounds).
+  if (g.profile || sharp_) return;
+  std::size_t total = 1;
+  double smax = 0.0;
+  for (int d = 0; d < D; ++d) {
+    g.first[d] = static_cast<int>(std::floor((g.lo[d] - 2.0 * g.reach - g.origin[d]) / g.step[d])) - 1;
+    const int last = static_cast<int>(std::ceil((g.hi[d] + 2.0 * g.reach - g.origin[d]) / g.step[d])) + 1;
+    g.count[d] = last - g.first[d] + 1;
+    total *= std::size_t(g.count[d]);
+    smax = std::max(smax, g.step[d]);
+  }
+  // a stencil's box holds the node nearest x in each direction (reach >= step/2), at most step/2 off in each:
+  // that node is within the reach (and its W > 0) when D (step/2)^2 < reach^2 (here with a margin)
+  g.nearest_in_reach = D * 0.25 * smax * smax < 0.81 * g.reach * g.reach;
+  if (total > kMaxMaskNodes) return;
+  g.mask.assign(total, 0);
+  int a[3] = {0, 0, 0};
+  Vec<D> c{};
+  for (a[0] = 0; a[0] < g.count[0]; ++a[0]) {
+    c[0] = g.origin[0] + (g.first[0] + a[0]) * g.step[0];  // (as indicator() places node i: origin + i step)
+    for (a[1] = 0; a[1] < g.count[1]; ++a[1]) {
+      c[1] = g.origin[1] + (g.first[1] + a[1]) * g.step[1];
+      for (a[2] = 0; a[2] < g.count[2]; ++a[2]) {
+        if constexpr (D == 3) c[2] = g.origin[2] + (g.first[2] + a[2]) * g.step[2];
+        g.mask[g.node(a)] = inside(g, c) ? 1 : 0;
+      }
+    }
+  }
+  const std::size_t n1 = std::size_t(g.count[1]) + 1, n2 = std::size_t(g.count[2]) + 1;
+  g.summed.assign((std::size_t(g.count[0]) + 1) * n1 * n2, 0);
+  const auto at = [&](std::size_t i, std::size_t j, std::size_t k) -> std::uint32_t& { return g.summed[(i * n1 + j) * n2 + k]; };
+  for (std::size_t i = 1; i <= std::size_t(g.count[0]); ++i)
+    for (std::size_t j = 1; j < n1; ++j)
+      for (std::size_t k = 1; k < n2; ++k) {
+        const int r[3] = {int(i - 1), int(j - 1), int(k - 1)};
+        at(i, j, k) = g.mask[g.node(r)] + at(i - 1, j, k) + at(i, j - 1, k) + at(i, j, k - 1) - at(i - 1, j - 1, k) -
+                      at(i - 1, j, k - 1) - at(i, j - 1, k - 1) + at(i - 1, j - 1, k - 1);
+      }
 }
 
 template <int D>
@@ -112,11 +179,11 @@ bool PorousMedia<D>::inside(std::size_t r, const Vec<D>& x) const {
 
 template <int D>
 double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x, double dx) const {
-  if (cfg_.field == "sharp") return inside(g, x) ? 1.0 : 0.0;
+  if (sharp_) return inside(g, x) ? 1.0 : 0.0;
   for (int d = 0; d < D; ++d)
     if (x[d] < g.lo[d] - g.reach || x[d] > g.hi[d] + g.reach) return 0.0;
-  const bool literal = cfg_.field == "particles" && cfg_.literal_normalisation;
-  if (g.cfg.shape == "box" && !literal) {  // deep inside a box the normalised sum is exactly 1
+  const bool literal = literal_;
+  if (g.box && !literal) {  // deep inside a box the normalised sum is exactly 1
     bool deep = true;
     for (int d = 0; d < D; ++d) deep &= x[d] > g.lo[d] + g.reach && x[d] < g.hi[d] - g.reach;
     if (deep) return 1.0;
@@ -130,6 +197,30 @@ double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x, double dx) co
   }
   // particles: porous particles are the lattice nodes inside the region; smoothed: mesh nodes
   // carry the indicator. Both: the sum over nodes inside, normalised by the sum over all nodes.
+  // With the nodes' tests made once (make_node_mask): no node of the stencil's box inside, the sum is 0; every one
+  // inside, the two sums are the same sum and the quotient exactly 1 (the nearest node's W > 0): the same bits as the
+  // loop below, which reads the mask for the mixed stencils of the interface.
+  const bool masked = !g.mask.empty();
+  if (masked) {
+    int rl[3] = {0, 0, 0}, rh[3] = {0, 0, 0};
+    std::uint64_t nodes = 1;
+    for (int d = 0; d < D; ++d) {
+      nodes *= std::uint64_t(std::max(0, hi[d] - lo[d] + 1));
+      rl[d] = std::max(lo[d] - g.first[d], 0);
+      rh[d] = std::min(hi[d] - g.first[d], g.count[d] - 1);
+      if (rh[d] < rl[d]) return 0.0;  // (no node stored: none inside)
+    }
+    const std::uint32_t in_box = g.inside_count(rl, rh);
+    if (in_box == 0) return 0.0;
+    if (!literal && g.nearest_in_reach && in_box == nodes) return 1.0;
+  }
+  const auto node_inside = [&](const Vec<D>& c, int i, int j, int k) {
+    if (!masked) return inside(g, c);
+    const int r[3] = {i - g.first[0], j - g.first[1], D == 3 ? k - g.first[D - 1] : 0};
+    for (int d = 0; d < D; ++d)
+      if (r[d] < 0 || r[d] >= g.count[d]) return false;  // (beyond the box and twice the reach: outside)
+    return g.mask[g.node(r)] != 0;
+  };
   return with_kernel<D>(kernel_, g.h, [&](const auto& K) {
     double in = 0.0, all = 0.0;
     Vec<D> c{};
@@ -145,7 +236,7 @@ double PorousMedia<D>::indicator(const Region& g, const Vec<D>& x, double dx) co
           if (r2 >= R2) continue;
           const double w = K.W(std::sqrt(r2));
           all += w;
-          if (inside(g, c)) in += w;
+          if (node_inside(c, i, j, k)) in += w;
         }
       }
     }
@@ -187,7 +278,7 @@ double PorousMedia<D>::porosity(const Vec<D>& x, int* region, int level) const {
   const double dx = fine ? dx_ / double(1 << level) : dx_;
   for (std::size_t r = 0; r < regs.size(); ++r) {
     const Region& g = regs[r];
-    const double c = g.cfg.shape == "profile" ? 1.0 - profile(g, x) : (1.0 - g.cfg.porosity) * indicator(g, x, dx);
+    const double c = g.profile ? 1.0 - profile(g, x) : (1.0 - g.cfg.porosity) * indicator(g, x, dx);
     phi -= c;
     if (c > best) { best = c; which = static_cast<int>(r); }
   }

@@ -31,6 +31,7 @@
 // dt > 1, so the schemes integrate the drag point-implicitly: u^{n+1} = (u_base + Δt a_other / M)
 // / (1 + Δt K / M), with K from the current |u| (steady balances are exact).
 #pragma once
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -81,13 +82,26 @@ class PorousMedia {
     double spacing = 0.0;       // nominal lattice spacing
     Vec<D> step{};              // lattice spacing per direction (a box's lattice fits it)
     double h = 0.0, reach = 0.0;  // G's smoothing length and support radius
+    bool box = false, profile = false;  // (the shape, read per node)
+    // Each lattice node's inside test, made once (make_node_mask): nodes first[d] .. first[d] + count[d] - 1 of each
+    // direction (the bounding box and twice the reach around it; every node beyond is outside), and their counts
+    // inside, summed from the first node (a summed-area table, (count + 1) per direction), which answer "all nodes
+    // of a particle's stencil inside" or "none" at once. Empty: too many nodes, each tested as it is met.
+    int first[3] = {0, 0, 0}, count[3] = {1, 1, 1};
+    std::vector<std::uint8_t> mask;
+    std::vector<std::uint32_t> summed;
+    bool nearest_in_reach = false;  // a stencil's nearest node lies within the reach (its W > 0)
+    std::size_t node(const int* i) const;  // (index into mask; i relative to first)
+    std::uint32_t inside_count(const int* lo, const int* hi) const;  // nodes inside in the index box [lo, hi]
   };
   Region make_region(const PorousRegionConfig& rc, double h, double dx) const;
+  void make_node_mask(Region& g) const;
   double indicator(const Region& g, const Vec<D>& x, double dx) const;
   double profile(const Region& g, const Vec<D>& x) const;
   bool inside(const Region& g, const Vec<D>& x) const;
 
   PorousConfig cfg_;
+  bool sharp_ = false, literal_ = false;  // field: sharp; field: particles with normalisation: thesis_literal
   KernelType kernel_;
   double dx_;
   double phi_min_ = 1.0;
