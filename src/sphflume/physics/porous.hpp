@@ -17,7 +17,9 @@
 //   profile    regions of shape `profile` prescribe 1 - S_r (1 - phi0) = phi(z) or phi(x, z)
 //              directly (Kazemi's Situation #2), bilinear in the table, constant beyond it.
 // The field depends on position only (G fixed in time, Kazemi's constraint #3); it is
-// re-evaluated at every particle before every rates pass.
+// re-evaluated at every particle before every rates pass. Each lattice node's inside test is made once per region
+// (a mask and its summed-area table): a stencil wholly inside or outside is answered at once, the interface's
+// stencils read the mask (the same sums, bitwise; bench/README.md, session 48).
 //
 // Drag (per unit mass, on the intrinsic velocity u): du/dt = ... - K u, K = a + b |u|, with
 //   ergun      a = c1 (1-φ)²/φ² ν/d²,  b = c2 (1-φ)/φ / d          Kazemi eq 4.29 (c1 150, c2 1.75)
