@@ -103,20 +103,25 @@ void PorousMedia<D>::make_node_mask(Region& g) const {
   // The nodes a particle's stencil can reach: indicator() reads nodes within the reach of x, and x within the reach
   // of the bounding box (one node more each side for the round-off of the index bounds).
   if (g.profile || sharp_) return;
-  std::size_t total = 1;
-  double smax = 0.0;
+  double total = 1.0, smax = 0.0;  // (in double: a fine mesh over a large region overflows an integer count)
   for (int d = 0; d < D; ++d) {
-    g.first[d] = static_cast<int>(std::floor((g.lo[d] - 2.0 * g.reach - g.origin[d]) / g.step[d])) - 1;
-    const int last = static_cast<int>(std::ceil((g.hi[d] + 2.0 * g.reach - g.origin[d]) / g.step[d])) + 1;
-    g.count[d] = last - g.first[d] + 1;
-    total *= std::size_t(g.count[d]);
+    const double first = std::floor((g.lo[d] - 2.0 * g.reach - g.origin[d]) / g.step[d]) - 1.0;
+    const double last = std::ceil((g.hi[d] + 2.0 * g.reach - g.origin[d]) / g.step[d]) + 1.0;
+    total *= last - first + 1.0;
     smax = std::max(smax, g.step[d]);
+    if (total <= double(kMaxMaskNodes)) {
+      g.first[d] = static_cast<int>(first);
+      g.count[d] = static_cast<int>(last - first + 1.0);
+    }
   }
   // a stencil's box holds the node nearest x in each direction (reach >= step/2), at most step/2 off in each:
   // that node is within the reach (and its W > 0) when D (step/2)^2 < reach^2 (here with a margin)
   g.nearest_in_reach = D * 0.25 * smax * smax < 0.81 * g.reach * g.reach;
-  if (total > kMaxMaskNodes) return;
-  g.mask.assign(total, 0);
+  if (total > double(kMaxMaskNodes)) {
+    for (int d = 0; d < 3; ++d) { g.first[d] = 0; g.count[d] = 1; }
+    return;
+  }
+  g.mask.assign(std::size_t(total), 0);
   int a[3] = {0, 0, 0};
   Vec<D> c{};
   for (a[0] = 0; a[0] < g.count[0]; ++a[0]) {
