@@ -30,8 +30,9 @@ Metrics (dx = 0.01 m, twice the thesis's d0):
 Information: at Dc = 0.25 mm the mean speed of the water inside the beach (more than 2h below the face) at the time of the
 run-up (< 0.05 m/s: the beach acts as solid, §5.4.2); wall times.
 Modes: fine = all parts; coarse = part a at Dc = 1 mm (CTest).
---refine L: each run of parts a, b, a2 with a band of level L (dx/2^L) along the face that follows the waterline
-(issue 58: the 1:20 beach with 2.5 mm and 1.25 mm at its face); runs go to OUT/PART/refineL_TAG.
+--refine L: every run of the call with a band of level L (dx/2^L) along the face that follows the waterline (the solid
+slopes' on geometry 2, the porous cases' on porous region 0; issue 58: the 1:20 beach with 2.5 mm and 1.25 mm at its
+face); runs go to OUT/PART/refineL_TAG.
 Usage: /usr/bin/python3 validation/runup_permeable/check.py [--mode coarse|fine] [--parts a,layers,b] [--dcs 1,10] [--out DIR] [--reuse]
        [--refine L] [--set KEY=VALUE]
 (--dcs: the grain diameters in mm for every part of the call, e.g. --parts b,layers_b --dcs 10 runs the 1:20 layer
